@@ -1,0 +1,223 @@
+//! Time integrators for second-order bead systems `ü = f(u)` written as the first-order system
+//! `z = (u, v)`, `ż = (v, f(u))` (paper appendix, eqs. A.2–A.3).
+//!
+//! - [`radau5`]: Radau IIA order 5, implicit and stiffly stable, with error control and the
+//!   collocation polynomial as continuous output (Hairer & Wanner, *Solving ODEs II*, IV.8). Its
+//!   Newton matrices reduce to tridiagonal systems in bead coordinates ([`crate::linalg`]).
+//! - [`dop853`]: Dormand–Prince 8(5,3), explicit, with its 7th-order dense output (Hairer,
+//!   Nørsett & Wanner, *Solving ODEs I*, II.10), an independent check from another family.
+//!
+//! Both integrate any contiguous range of beads (a [`System`]), so the dense engine (whole chain)
+//! and the hybrid engine (one contact cluster) share them. Both hold only scratch buffers sized
+//! at construction: a step allocates nothing.
+//!
+//! ## Tolerances
+//! The error of component `z_j` is weighed by `sc_j = atol·S_j + rtol·|z_j|`, where `S_j` is the
+//! characteristic length (for `u`) or velocity (for `v`) of the run ([`crate::model::Scales`]).
+//! So `atol` is *relative to the physical scales*: the same `rtol`/`atol` work whether
+//! displacements are 1 or 1e-7. Errors are measured in the max norm over components, so the
+//! meaning of a tolerance does not depend on how many beads are integrated together.
+
+pub mod dop853;
+pub mod radau5;
+
+use crate::model::{Chain, Scales};
+use serde::{Deserialize, Serialize};
+
+/// Default relative tolerance.
+pub const DEFAULT_RTOL: f64 = 1e-8;
+/// Default absolute tolerance (relative to the run's characteristic scales, see module docs).
+pub const DEFAULT_ATOL: f64 = 1e-10;
+
+/// A second-order system of `m` beads: `ü = f(u)`, with a contact structure giving tridiagonal
+/// stiffness.
+pub trait System {
+    /// Number of beads `m`.
+    fn len(&self) -> usize;
+    /// True for an empty system.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// Bead masses, length `m`.
+    fn mass(&self) -> &[f64];
+    /// Accelerations `f(u)`.
+    fn accel(&self, u: &[f64], acc: &mut [f64]);
+    /// Accelerations and stiffnesses: `k[c]` (c < m−1) for the contact between local beads `c`
+    /// and `c+1`, `k[m−1]`/`k[m]` for the left/right wall (0 when none). `k.len() == m + 1`.
+    fn accel_stiffness(&self, u: &[f64], acc: &mut [f64], k: &mut [f64]);
+}
+
+/// Beads `lo..lo+m` of a chain, as a [`System`].
+#[derive(Clone, Copy, Debug)]
+pub struct ChainRange<'a> {
+    /// The chain.
+    pub chain: &'a Chain,
+    /// First bead of the range.
+    pub lo: usize,
+    /// Number of beads.
+    pub m: usize,
+}
+
+impl<'a> ChainRange<'a> {
+    /// The whole chain.
+    pub fn whole(chain: &'a Chain) -> Self {
+        Self {
+            chain,
+            lo: 0,
+            m: chain.len(),
+        }
+    }
+}
+
+impl System for ChainRange<'_> {
+    fn len(&self) -> usize {
+        self.m
+    }
+    fn mass(&self) -> &[f64] {
+        &self.chain.mass[self.lo..self.lo + self.m]
+    }
+    fn accel(&self, u: &[f64], acc: &mut [f64]) {
+        self.chain.accel(self.lo, u, acc)
+    }
+    fn accel_stiffness(&self, u: &[f64], acc: &mut [f64], k: &mut [f64]) {
+        self.chain.accel_stiffness(self.lo, u, acc, k)
+    }
+}
+
+/// Integration method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Method {
+    /// Radau IIA order 5 (implicit).
+    #[default]
+    Radau5,
+    /// Dormand–Prince 8(5,3) (explicit).
+    Dop853,
+}
+
+impl Method {
+    /// The name used on the command line and in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Radau5 => "radau5",
+            Method::Dop853 => "dop853",
+        }
+    }
+}
+
+/// Relative and absolute tolerances, plus the scales that make `atol` unit-free.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Tolerances {
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance, in units of the characteristic scales.
+    pub atol: f64,
+    /// Characteristic scales of the run.
+    pub scales: Scales,
+}
+
+impl Tolerances {
+    /// Error weight of a displacement component.
+    #[inline(always)]
+    pub fn weight_u(&self, u_old: f64, u_new: f64) -> f64 {
+        self.atol * self.scales.length + self.rtol * u_old.abs().max(u_new.abs())
+    }
+    /// Error weight of a velocity component.
+    #[inline(always)]
+    pub fn weight_v(&self, v_old: f64, v_new: f64) -> f64 {
+        self.atol * self.scales.velocity + self.rtol * v_old.abs().max(v_new.abs())
+    }
+}
+
+/// Counters of an integration (summed over clusters by the hybrid engine).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Stats {
+    /// Accepted steps.
+    pub steps: u64,
+    /// Rejected steps (error test or Newton failure).
+    pub rejected: u64,
+    /// Right-hand side evaluations (one per bead range).
+    pub rhs_evals: u64,
+    /// Jacobian (stiffness) evaluations.
+    pub jac_evals: u64,
+    /// Numeric factorizations (a real + complex pair counts as one).
+    pub factorizations: u64,
+    /// Newton iterations.
+    pub newton_iters: u64,
+    /// Newton failures (non-convergence leading to a step cut).
+    pub newton_failures: u64,
+    /// Σ over accepted steps of the number of beads integrated ("active bead-steps").
+    pub bead_steps: u64,
+}
+
+impl Stats {
+    /// Adds another set of counters into this one.
+    pub fn add(&mut self, o: &Stats) {
+        self.steps += o.steps;
+        self.rejected += o.rejected;
+        self.rhs_evals += o.rhs_evals;
+        self.jac_evals += o.jac_evals;
+        self.factorizations += o.factorizations;
+        self.newton_iters += o.newton_iters;
+        self.newton_failures += o.newton_failures;
+        self.bead_steps += o.bead_steps;
+    }
+}
+
+/// Why an integration failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum IntegrationError {
+    /// The step size fell below what the floating-point time can resolve.
+    #[error("step size {h:e} too small at t = {t} (stiffness, a singularity, or tolerances too tight)")]
+    StepTooSmall {
+        /// Time reached.
+        t: f64,
+        /// Step size attempted.
+        h: f64,
+    },
+    /// The state became non-finite.
+    #[error("non-finite state at t = {t}")]
+    NonFinite {
+        /// Time reached.
+        t: f64,
+    },
+    /// The step budget was exhausted.
+    #[error("step budget of {0} steps exhausted")]
+    Budget(u64),
+}
+
+/// An adaptive one-step integrator with continuous output over the last accepted step.
+pub trait Integrator {
+    /// Starts (or restarts) from state `(u, v)` at time `t`.
+    fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]);
+    /// Advances one accepted step, never past `t_bound`. Returns the new time.
+    fn step(&mut self, sys: &dyn System, t_bound: f64) -> Result<f64, IntegrationError>;
+    /// Current time.
+    fn t(&self) -> f64;
+    /// Time at the start of the last accepted step.
+    fn t_prev(&self) -> f64;
+    /// Current state (u then v, length `2m`).
+    fn state(&self) -> &[f64];
+    /// Evaluates the continuous output of the last step at `t ∈ [t_prev, t]` into `z` (`2m`).
+    fn dense(&self, t: f64, z: &mut [f64]);
+    /// Counters so far.
+    fn stats(&self) -> &Stats;
+}
+
+/// The max-norm of `err` weighted componentwise (u-part then v-part of length `m` each).
+#[inline]
+pub fn weighted_max_norm(err: &[f64], z_old: &[f64], z_new: &[f64], tol: &Tolerances) -> f64 {
+    let m = err.len() / 2;
+    let mut n: f64 = 0.0;
+    for j in 0..m {
+        n = n.max((err[j] / tol.weight_u(z_old[j], z_new[j])).abs());
+    }
+    for j in m..2 * m {
+        n = n.max((err[j] / tol.weight_v(z_old[j], z_new[j])).abs());
+    }
+    // f64::max ignores NaN: make a non-finite error count as a failed test.
+    if err.iter().all(|x| x.is_finite()) {
+        n
+    } else {
+        f64::INFINITY
+    }
+}

@@ -1,0 +1,1 @@
+//! Radau IIA order 5.

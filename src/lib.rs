@@ -1,0 +1,9 @@
+//! beadchain: simulator for one-dimensional granular chains with Hertz-like contacts.
+//!
+//! See README.md for the scene format and CLI. The physics follows
+//! `paper-hertz-like-interfaces.tex` (eqs. 1–11 and appendix A).
+
+pub mod integrate;
+pub mod linalg;
+pub mod model;
+pub mod scene;

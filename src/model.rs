@@ -1,0 +1,356 @@
+//! The chain model: beads with Hertz-like contacts.
+//!
+//! Implements the paper's potential (eq. 1) `V = a δⁿ`, the overlap in displacement form (eq. 6)
+//! `δ_{i,i+1} = (Δ_{i,i+1} + u_i − u_{i+1})₊` and the equation of motion (eq. 7)
+//!
+//! ```text
+//! m_i ü_i = W_i + n_{i-1,i} a_{i-1,i} δ_{i-1,i}^{n-1} − n_{i,i+1} a_{i,i+1} δ_{i,i+1}^{n-1}
+//! ```
+//!
+//! Contact `c` joins beads `c` and `c+1` (there are `N−1` contacts). Optional rigid walls act
+//! on bead 0 (`δ_L = (Δ_L − u_0)₊`) and bead `N−1` (`δ_R = (Δ_R + u_{N−1})₊`).
+//!
+//! Effects are *declared*: `precompression` and `field` are `Option`s, and the force kernels are
+//! monomorphised on whether they are present (`const` generics), so a scene without them runs a
+//! loop that has no precompression or field code in it at all.
+//!
+//! All kernels work on a contiguous *range* of beads `lo..lo+m` so that the same code serves the
+//! whole chain (dense engine) and a single contact cluster (hybrid engine). Contacts leaving the
+//! range are ignored, except walls, which act when the range contains the chain end.
+
+use serde::{Deserialize, Serialize};
+
+/// A rigid wall at one end of the chain.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Wall {
+    /// Contact exponent `n` of the bead–wall contact.
+    pub exponent: f64,
+    /// Prefactor `a` of the bead–wall contact.
+    pub prefactor: f64,
+    /// Precompression `Δ` of the bead–wall contact (overlap at `u = 0`; negative = initial gap).
+    pub precompression: f64,
+}
+
+/// Plain, serializable description of a chain (the resolved scene physics).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Chain {
+    /// Bead masses `m_i`, length `N`.
+    pub mass: Vec<f64>,
+    /// Contact exponents `n_{i,i+1}`, length `N−1`.
+    pub exponent: Vec<f64>,
+    /// Contact prefactors `a_{i,i+1}`, length `N−1`.
+    pub prefactor: Vec<f64>,
+    /// Precompression `Δ_{i,i+1}` per contact (length `N−1`), if the scene declares it.
+    pub precompression: Option<Vec<f64>>,
+    /// Constant external force `W_i` per bead (length `N`), if the scene declares a field.
+    pub field: Option<Vec<f64>>,
+    /// Wall at the left end (acts on bead 0).
+    pub left_wall: Option<Wall>,
+    /// Wall at the right end (acts on bead `N−1`).
+    pub right_wall: Option<Wall>,
+}
+
+/// Force and stiffness of one power-law contact at overlap `delta` (≤ 0 means open).
+///
+/// Returns `(F, k)` with `F = n a δ^{n−1}` and `k = dF/dδ = n (n−1) a δ^{n−2}`; one `powf`.
+#[inline(always)]
+pub fn contact_force_stiffness(n: f64, a: f64, delta: f64) -> (f64, f64) {
+    if delta > 0.0 {
+        let p = delta.powf(n - 2.0);
+        let na = n * a;
+        (na * p * delta, na * (n - 1.0) * p)
+    } else {
+        (0.0, 0.0)
+    }
+}
+
+/// Force only, `n a δ^{n−1}` (0 for an open contact).
+#[inline(always)]
+pub fn contact_force(n: f64, a: f64, delta: f64) -> f64 {
+    if delta > 0.0 {
+        n * a * delta.powf(n - 1.0)
+    } else {
+        0.0
+    }
+}
+
+/// Potential `a δⁿ` of one contact (0 for an open contact).
+#[inline(always)]
+pub fn contact_potential(n: f64, a: f64, delta: f64) -> f64 {
+    if delta > 0.0 {
+        a * delta.powf(n)
+    } else {
+        0.0
+    }
+}
+
+impl Chain {
+    /// Number of beads `N`.
+    pub fn len(&self) -> usize {
+        self.mass.len()
+    }
+
+    /// True when the chain has no beads (never true for a validated chain).
+    pub fn is_empty(&self) -> bool {
+        self.mass.is_empty()
+    }
+
+    /// Overlap of contact `c` (between beads `c` and `c+1`) for displacements `ui`, `uj`.
+    #[inline(always)]
+    pub fn overlap(&self, c: usize, ui: f64, uj: f64) -> f64 {
+        match &self.precompression {
+            Some(d) => d[c] + ui - uj,
+            None => ui - uj,
+        }
+    }
+
+    /// Accelerations `a = f(u)` of beads `lo..lo+u.len()` (paper eq. 7).
+    pub fn accel(&self, lo: usize, u: &[f64], acc: &mut [f64]) {
+        match (self.precompression.is_some(), self.field.is_some()) {
+            (false, false) => self.kernel::<false, false, false>(lo, u, acc, &mut []),
+            (true, false) => self.kernel::<true, false, false>(lo, u, acc, &mut []),
+            (false, true) => self.kernel::<false, true, false>(lo, u, acc, &mut []),
+            (true, true) => self.kernel::<true, true, false>(lo, u, acc, &mut []),
+        }
+    }
+
+    /// Accelerations plus contact stiffnesses: `k[c] = dF_c/dδ` for the `m−1` contacts inside the
+    /// range, and `k[m−1]`, `k[m]` hold the left/right wall stiffness (0 when no wall applies).
+    /// `k` must have length `m + 1`.
+    pub fn accel_stiffness(&self, lo: usize, u: &[f64], acc: &mut [f64], k: &mut [f64]) {
+        debug_assert_eq!(k.len(), u.len() + 1);
+        match (self.precompression.is_some(), self.field.is_some()) {
+            (false, false) => self.kernel::<false, false, true>(lo, u, acc, k),
+            (true, false) => self.kernel::<true, false, true>(lo, u, acc, k),
+            (false, true) => self.kernel::<false, true, true>(lo, u, acc, k),
+            (true, true) => self.kernel::<true, true, true>(lo, u, acc, k),
+        }
+    }
+
+    /// The force kernel, monomorphised on the declared effects (`PRE`, `FIELD`) and on whether
+    /// stiffnesses are wanted (`STIFF`). No allocation; one `powf` per closed contact.
+    #[inline(always)]
+    fn kernel<const PRE: bool, const FIELD: bool, const STIFF: bool>(
+        &self,
+        lo: usize,
+        u: &[f64],
+        acc: &mut [f64],
+        k: &mut [f64],
+    ) {
+        let m = u.len();
+        debug_assert_eq!(acc.len(), m);
+        if FIELD {
+            let w = &self.field.as_ref().expect("field declared")[lo..lo + m];
+            acc.copy_from_slice(w);
+        } else {
+            acc.fill(0.0);
+        }
+        let n = &self.exponent[lo..lo + m - 1];
+        let a = &self.prefactor[lo..lo + m - 1];
+        let pre: &[f64] = if PRE {
+            &self.precompression.as_ref().expect("precompression declared")[lo..lo + m - 1]
+        } else {
+            &[]
+        };
+        for c in 0..m - 1 {
+            let mut delta = u[c] - u[c + 1];
+            if PRE {
+                delta += pre[c];
+            }
+            if STIFF {
+                let (f, s) = contact_force_stiffness(n[c], a[c], delta);
+                acc[c] -= f;
+                acc[c + 1] += f;
+                k[c] = s;
+            } else {
+                let f = contact_force(n[c], a[c], delta);
+                acc[c] -= f;
+                acc[c + 1] += f;
+            }
+        }
+        // Walls: O(1) work outside the loop, only when the range holds the chain end.
+        if STIFF {
+            k[m - 1] = 0.0;
+            k[m] = 0.0;
+        }
+        if lo == 0 {
+            if let Some(w) = &self.left_wall {
+                let (f, s) = contact_force_stiffness(w.exponent, w.prefactor, w.precompression - u[0]);
+                acc[0] += f;
+                if STIFF {
+                    k[m - 1] = s;
+                }
+            }
+        }
+        if lo + m == self.len() {
+            if let Some(w) = &self.right_wall {
+                let (f, s) =
+                    contact_force_stiffness(w.exponent, w.prefactor, w.precompression + u[m - 1]);
+                acc[m - 1] -= f;
+                if STIFF {
+                    k[m] = s;
+                }
+            }
+        }
+        for (ai, mi) in acc.iter_mut().zip(&self.mass[lo..lo + m]) {
+            *ai /= mi;
+        }
+    }
+
+    /// Potential energy stored in the contacts (and walls) of the whole chain, plus the field
+    /// potential `−Σ W_i u_i`.
+    pub fn potential_energy(&self, u: &[f64]) -> f64 {
+        let mut e = 0.0;
+        for c in 0..self.len() - 1 {
+            e += contact_potential(
+                self.exponent[c],
+                self.prefactor[c],
+                self.overlap(c, u[c], u[c + 1]),
+            );
+        }
+        if let Some(w) = &self.left_wall {
+            e += contact_potential(w.exponent, w.prefactor, w.precompression - u[0]);
+        }
+        if let Some(w) = &self.right_wall {
+            let last = self.len() - 1;
+            e += contact_potential(w.exponent, w.prefactor, w.precompression + u[last]);
+        }
+        if let Some(f) = &self.field {
+            e -= f.iter().zip(u).map(|(w, x)| w * x).sum::<f64>();
+        }
+        e
+    }
+
+    /// Kinetic energy `½ Σ m_i v_i²`.
+    pub fn kinetic_energy(&self, v: &[f64]) -> f64 {
+        0.5 * self.mass.iter().zip(v).map(|(m, x)| m * x * x).sum::<f64>()
+    }
+
+    /// Total energy (kinetic + contact + wall + field potential).
+    pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
+        self.kinetic_energy(v) + self.potential_energy(u)
+    }
+
+    /// Total momentum `Σ m_i v_i`.
+    pub fn momentum(&self, v: &[f64]) -> f64 {
+        self.mass.iter().zip(v).map(|(m, x)| m * x).sum()
+    }
+
+    /// Characteristic scales of a state, used to make tolerances unit-free.
+    ///
+    /// The velocity scale is the speed every bead would have if the whole energy
+    /// `E = KE + contact PE` were kinetic in the lightest bead, `V = sqrt(2E/m_min)`; the length
+    /// scale is the overlap at which the softest-reaching contact stores that energy,
+    /// `L = max_c (E/a_c)^{1/n_c}` (and at least the largest precompression). Both scale exactly
+    /// like the similarity law of a uniform chain (`v → λv` gives `L → λ^{2/n} L`), so a run at
+    /// striker speed 1 and one at 1e-7 take the same steps after rescaling. When the state has no
+    /// energy (and no field), falls back to `L = V = 1`.
+    pub fn scales(&self, u: &[f64], v: &[f64]) -> Scales {
+        let mut pe = 0.0;
+        for c in 0..self.len() - 1 {
+            pe += contact_potential(
+                self.exponent[c],
+                self.prefactor[c],
+                self.overlap(c, u[c], u[c + 1]),
+            );
+        }
+        let e = self.kinetic_energy(v) + pe;
+        let m_min = self.mass.iter().cloned().fold(f64::INFINITY, f64::min);
+        let mut length: f64 = 0.0;
+        if e > 0.0 && e.is_finite() {
+            for c in 0..self.len() - 1 {
+                length = length.max((e / self.prefactor[c]).powf(1.0 / self.exponent[c]));
+            }
+        }
+        if let Some(p) = &self.precompression {
+            length = length.max(p.iter().fold(0.0_f64, |acc, x| acc.max(x.abs())));
+        }
+        let mut velocity = if e > 0.0 && e.is_finite() {
+            (2.0 * e / m_min).sqrt()
+        } else {
+            0.0
+        };
+        if length <= 0.0 || !length.is_finite() {
+            length = 1.0;
+        }
+        if velocity <= 0.0 || !velocity.is_finite() {
+            // A field (or precompression) without kinetic energy: velocity scale of a fall over L.
+            let g = self
+                .field
+                .as_ref()
+                .map(|f| {
+                    f.iter()
+                        .zip(&self.mass)
+                        .fold(0.0_f64, |acc, (w, m)| acc.max((w / m).abs()))
+                })
+                .unwrap_or(0.0);
+            velocity = if g > 0.0 { (2.0 * g * length).sqrt() } else { 1.0 };
+        }
+        Scales { length, velocity }
+    }
+}
+
+/// Characteristic length and velocity of a run (see [`Chain::scales`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Scales {
+    /// Characteristic displacement/overlap.
+    pub length: f64,
+    /// Characteristic velocity.
+    pub velocity: f64,
+}
+
+impl Scales {
+    /// Characteristic time `L / V`.
+    pub fn time(&self) -> f64 {
+        self.length / self.velocity
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn chain3() -> Chain {
+        Chain {
+            mass: vec![1.0, 2.0, 1.0],
+            exponent: vec![2.5, 3.0],
+            prefactor: vec![0.4, 0.7],
+            precompression: None,
+            field: None,
+            left_wall: None,
+            right_wall: None,
+        }
+    }
+
+    #[test]
+    fn stiffness_matches_finite_difference_of_force() {
+        let c = chain3();
+        let u = [0.3, 0.1, -0.05];
+        let mut acc = [0.0; 3];
+        let mut k = [0.0; 4];
+        c.accel_stiffness(0, &u, &mut acc, &mut k);
+        let h = 1e-6;
+        let f = |d: f64| contact_force(2.5, 0.4, d);
+        let fd = (f(0.2 + h) - f(0.2 - h)) / (2.0 * h);
+        assert!((k[0] - fd).abs() <= 1e-7 * fd.abs() + 1e-12, "{} vs {}", k[0], fd);
+    }
+
+    #[test]
+    fn forces_are_newton_third_law() {
+        let c = chain3();
+        let u = [0.3, 0.1, -0.05];
+        let mut acc = [0.0; 3];
+        c.accel(0, &u, &mut acc);
+        let total: f64 = acc.iter().zip(&c.mass).map(|(a, m)| a * m).sum();
+        assert!(total.abs() <= 1e-14, "net force {total}");
+    }
+
+    #[test]
+    fn open_contact_has_no_force() {
+        let c = chain3();
+        let u = [0.0, 0.5, 1.0];
+        let mut acc = [1.0; 3];
+        c.accel(0, &u, &mut acc);
+        assert_eq!(acc, [0.0, 0.0, 0.0]);
+    }
+}
