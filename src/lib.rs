@@ -3,6 +3,7 @@
 //! See README.md for the scene format and CLI. The physics follows
 //! `paper-hertz-like-interfaces.tex` (eqs. 1–11 and appendix A).
 
+pub mod engine;
 pub mod integrate;
 pub mod linalg;
 pub mod model;

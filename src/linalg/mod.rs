@@ -104,3 +104,11 @@ pub enum SolverKind {
     /// faer sparse LU.
     Faer,
 }
+
+/// Builds a solver of the given kind for systems of size `m` (with `pattern(m)` done).
+pub fn new_solver<T: Scalar>(kind: SolverKind, m: usize) -> Box<dyn TridiagSolver<T>> {
+    let _ = kind; // TEMPORARY until the faer solver lands: always the direct sweep.
+    let mut s = direct::DirectSweep::<T>::new();
+    s.pattern(m);
+    Box::new(s)
+}
