@@ -29,6 +29,7 @@ impl Integrator for Dop853 {
         &self.z
     }
     fn dense(&self, _t: f64, _z: &mut [f64]) {}
+    fn dense_at(&self, _t: f64, _j: usize) -> f64 { 0.0 }
     fn stats(&self) -> &Stats {
         &self.stats
     }

@@ -201,6 +201,8 @@ pub trait Integrator {
     fn state(&self) -> &[f64];
     /// Evaluates the continuous output of the last step at `t ∈ [t_prev, t]` into `z` (`2m`).
     fn dense(&self, t: f64, z: &mut [f64]);
+    /// Continuous output of one component `j` (`0..2m`) at `t ∈ [t_prev, t]` (no allocation).
+    fn dense_at(&self, t: f64, j: usize) -> f64;
     /// Counters so far.
     fn stats(&self) -> &Stats;
 }

@@ -587,6 +587,14 @@ impl Integrator for Radau5 {
         }
     }
 
+    fn dense_at(&self, t: f64, j: usize) -> f64 {
+        if !self.have_sol || self.t == self.t_old || t == self.t {
+            return self.z[j];
+        }
+        let x = (t - self.t_old) / (self.t - self.t_old);
+        self.z_old[j] + x * (self.q[0][j] + x * (self.q[1][j] + x * self.q[2][j]))
+    }
+
     fn stats(&self) -> &Stats {
         &self.stats
     }
