@@ -24,6 +24,7 @@
 //! numbers in README).
 
 pub mod direct;
+pub mod faer_lu;
 
 use num_complex::Complex64;
 use serde::{Deserialize, Serialize};
@@ -103,4 +104,32 @@ pub enum SolverKind {
     Direct,
     /// faer sparse LU.
     Faer,
+}
+
+/// Scalars both solvers support (`f64`, `Complex64`): what [`new_solver`] needs.
+pub trait SolverScalar: Scalar + faer::traits::ComplexField {}
+
+impl<T: Scalar + faer::traits::ComplexField> SolverScalar for T {}
+
+/// Resolves [`SolverKind::Auto`] for systems of size `m`.
+///
+/// AUTO_DOC_PLACEHOLDER
+pub fn resolve_auto(m: usize) -> SolverKind {
+    let _ = m;
+    SolverKind::Direct
+}
+
+/// A boxed solver of the requested kind (`Auto` resolved by [`resolve_auto`]) with
+/// [`TridiagSolver::pattern`] already called for size `m`.
+pub fn new_solver<T: SolverScalar>(kind: SolverKind, m: usize) -> Box<dyn TridiagSolver<T>> {
+    let kind = match kind {
+        SolverKind::Auto => resolve_auto(m),
+        k => k,
+    };
+    let mut solver: Box<dyn TridiagSolver<T>> = match kind {
+        SolverKind::Faer => Box::new(faer_lu::FaerLu::<T>::new()),
+        SolverKind::Direct | SolverKind::Auto => Box::new(direct::DirectSweep::<T>::new()),
+    };
+    solver.pattern(m);
+    solver
 }
