@@ -3,6 +3,9 @@
 //! See README.md for the scene format and CLI. The physics follows
 //! `paper-hertz-like-interfaces.tex` (eqs. 1–11 and appendix A).
 
+// Numerical kernels index several arrays in lock-step; index loops read closer to the formulas.
+#![allow(clippy::needless_range_loop)]
+
 pub mod engine;
 pub mod integrate;
 pub mod linalg;

@@ -1,36 +1,657 @@
-//! Dormand–Prince 8(5,3) (placeholder until the helper's implementation lands).
+//! Dormand–Prince 8(5,3) ("DOP853"): explicit Runge–Kutta of order 8 with a combined 5th/3rd
+//! order error estimator and a 7th-order continuous (dense) output.
+//!
+//! Reference: E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary Differential Equations I*,
+//! 2nd ed., Sec. II.10 (and Hairer's Fortran `dop853.f`). Coefficients and algorithm are
+//! transcribed from SciPy's `scipy/integrate/_ivp/dop853_coefficients.py` and class `DOP853` of
+//! `scipy/integrate/_ivp/rk.py` (`rk_step`, `_step_impl`, `_estimate_error_norm`,
+//! `_dense_output_impl`, `Dop853DenseOutput`); the starting step follows SciPy's
+//! `select_initial_step` (`_ivp/common.py`), i.e. the algorithm of HNW I, II.4, p. 169.
+//!
+//! It integrates the first-order form of the equation of motion (paper eq. 7, appendix eqs.
+//! A.2–A.3): `z = (u, v)`, `ż = (v, f(u))`, one [`System::accel`] call per stage.
+//!
+//! Departures from SciPy, all for the tolerance conventions of [`crate::integrate`]:
+//! - Error norms are **max norms** over components with weights
+//!   [`Tolerances::weight_u`]/[`Tolerances::weight_v`] instead of RMS norms. The combined estimator
+//!   is `err = |h|·e5² / sqrt(e5² + 0.01·e3²)` with `e5`, `e3` the weighted max norms of the 5th
+//!   and 3rd order estimates. A non-finite error (or new state) counts as a rejection.
+//! - The initial-step heuristic (Hairer's, as in SciPy, for error-estimator order 7) is made
+//!   dimensionless with the time scale `T = L/V` of [`Tolerances::scales`]: its absolute
+//!   constants (`1e-6`, `1e-5`, `1e-15`) are read in units of `T`. With [`crate::model::Chain::scales`]
+//!   the whole algorithm is then invariant under the similarity `v → λv`, `u → λ^{2/n}u`.
+//! - Step control: safety 0.9, factors in `[0.2, 10]`, exponent −1/8, no increase after a
+//!   rejection within the same step (as in SciPy). After an accepted step shortened to land on
+//!   `t_bound` (an event time of the caller) the next proposal is at least the interrupted one
+//!   (as OrdinaryDiffEq.jl does at `tstops`; SciPy would restart from the short step, whose
+//!   error estimate is mostly rounding noise when it is very short).
+//! - The three extra dense-output stages are evaluated eagerly after every accepted step (15
+//!   right-hand sides per accepted step, 12 per rejected one), because [`Integrator::dense`]
+//!   has no access to the system.
+
+mod coefficients;
+
 use super::{IntegrationError, Integrator, Stats, System, Tolerances};
-/// Placeholder.
+use coefficients::{A, D, E3, E5};
+
+/// Multiplier of the asymptotically optimal step.
+const SAFETY: f64 = 0.9;
+/// Smallest step-size factor after a rejection.
+const MIN_FACTOR: f64 = 0.2;
+/// Largest step-size factor after an acceptance.
+const MAX_FACTOR: f64 = 10.0;
+/// Step-size exponent `−1/(q+1)` for the error-estimator order `q = 7`.
+const ERROR_EXPONENT: f64 = -1.0 / 8.0;
+/// Main stages (0..12) plus the FSAL stage 12.
+const N_MAIN: usize = 13;
+/// All stages including the 3 extra dense-output stages.
+const N_STAGES: usize = 16;
+/// Number of coefficient vectors of the continuous output (degree 7).
+const N_DENSE: usize = 7;
+
+/// The DOP853 integrator for an `m`-bead [`System`]; all scratch is allocated by [`Dop853::new`].
+#[derive(Clone, Debug)]
 pub struct Dop853 {
-    stats: Stats,
+    m: usize,
+    tol: Tolerances,
+    t: f64,
+    t_prev: f64,
+    /// Proposed size of the next step (> 0).
+    h: f64,
+    /// Current state `(u, v)`, length `2m`.
     z: Vec<f64>,
+    /// State at `t_prev`.
+    z_old: Vec<f64>,
+    /// Stage state / candidate new state.
+    y: Vec<f64>,
+    /// Stage derivatives, `N_STAGES × 2m`; stage 0 is `f(t, z)`.
+    k: Vec<f64>,
+    /// Continuous-output coefficients of the last accepted step, `N_DENSE × 2m`.
+    f: Vec<f64>,
+    /// Scratch: 5th and 3rd order error estimates.
+    e5: Vec<f64>,
+    e3: Vec<f64>,
+    stats: Stats,
 }
-impl Dop853 {
-    /// Placeholder.
-    pub fn new(m: usize, _tol: Tolerances) -> Self {
-        Self {
-            stats: Stats::default(),
-            z: vec![0.0; 2 * m],
+
+/// Distance from `|t|` to the next larger float.
+#[inline]
+fn ulp(t: f64) -> f64 {
+    let a = t.abs();
+    if a.is_finite() {
+        f64::from_bits(a.to_bits() + 1) - a
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// `z = (u, v)` → `k = (v, f(u))`.
+#[inline]
+fn rhs(sys: &dyn System, stats: &mut Stats, z: &[f64], k: &mut [f64]) {
+    let m = z.len() / 2;
+    k[..m].copy_from_slice(&z[m..]);
+    sys.accel(&z[..m], &mut k[m..]);
+    stats.rhs_evals += 1;
+}
+
+/// `y = z + h Σ_j a_j K_j` over the stages `K_j` stored in `k` (allocation-free).
+#[inline]
+fn combine(y: &mut [f64], z: &[f64], h: f64, a: &[f64], k: &[f64]) {
+    let n = z.len();
+    y.fill(0.0);
+    for (j, &aj) in a.iter().enumerate() {
+        if aj != 0.0 {
+            for (yi, ki) in y.iter_mut().zip(&k[j * n..(j + 1) * n]) {
+                *yi += aj * ki;
+            }
         }
     }
+    for (yi, zi) in y.iter_mut().zip(z) {
+        *yi = zi + h * *yi;
+    }
 }
+
+impl Dop853 {
+    /// An integrator for `m` beads (state length `2m`) with tolerances `tol`. Call
+    /// [`Integrator::reset`] before stepping.
+    pub fn new(m: usize, tol: Tolerances) -> Self {
+        let n = 2 * m;
+        Self {
+            m,
+            tol,
+            t: 0.0,
+            t_prev: 0.0,
+            h: 0.0,
+            z: vec![0.0; n],
+            z_old: vec![0.0; n],
+            y: vec![0.0; n],
+            k: vec![0.0; N_STAGES * n],
+            f: vec![0.0; N_DENSE * n],
+            e5: vec![0.0; n],
+            e3: vec![0.0; n],
+            stats: Stats::default(),
+        }
+    }
+
+    /// Number of beads the integrator was built for.
+    pub fn len(&self) -> usize {
+        self.m
+    }
+
+    /// True when built for zero beads.
+    pub fn is_empty(&self) -> bool {
+        self.m == 0
+    }
+
+    /// The tolerances in use.
+    pub fn tolerances(&self) -> &Tolerances {
+        &self.tol
+    }
+
+    /// Replaces the tolerances (takes effect at the next step; call before [`Integrator::reset`]
+    /// for the initial step size to use them).
+    pub fn set_tolerances(&mut self, tol: Tolerances) {
+        self.tol = tol;
+    }
+
+    /// Size proposed for the next step.
+    pub fn step_size(&self) -> f64 {
+        self.h
+    }
+
+    /// Weight of component `i` (u-part `i < m`, v-part otherwise) between two states.
+    #[inline(always)]
+    fn weight(&self, i: usize, a: f64, b: f64) -> f64 {
+        if i < self.m {
+            self.tol.weight_u(a, b)
+        } else {
+            self.tol.weight_v(a, b)
+        }
+    }
+
+    /// Time scale for the dimensionless initial-step heuristic.
+    fn time_scale(&self) -> f64 {
+        let t = self.tol.scales.time();
+        if t.is_finite() && t > 0.0 {
+            t
+        } else {
+            1.0
+        }
+    }
+
+    /// Hairer's starting step (SciPy `select_initial_step`, order 7), in max norms and units of
+    /// the time scale. Needs `k[0] = f(z)`; uses stage 1 and `y` as scratch.
+    fn initial_step(&mut self, sys: &dyn System) -> f64 {
+        let n = 2 * self.m;
+        let ts = self.time_scale();
+        let (mut d0, mut d1) = (0.0_f64, 0.0_f64);
+        for i in 0..n {
+            let sc = self.weight(i, self.z[i], self.z[i]);
+            d0 = d0.max((self.z[i] / sc).abs());
+            d1 = d1.max((self.k[i] / sc).abs());
+        }
+        d1 *= ts;
+        let h0 = if d0 < 1e-5 || d1 < 1e-5 || !(d0 / d1).is_finite() {
+            1e-6
+        } else {
+            0.01 * d0 / d1
+        };
+        for i in 0..n {
+            self.y[i] = self.z[i] + h0 * ts * self.k[i];
+        }
+        rhs(sys, &mut self.stats, &self.y, &mut self.k[n..2 * n]);
+        let mut d2 = 0.0_f64;
+        for i in 0..n {
+            let sc = self.weight(i, self.z[i], self.z[i]);
+            d2 = d2.max(((self.k[n + i] - self.k[i]) / sc).abs());
+        }
+        d2 *= ts / h0;
+        let h1 = if d1 <= 1e-15 && d2 <= 1e-15 {
+            (h0 * 1e-3).max(1e-6)
+        } else {
+            (0.01 / d1.max(d2)).powf(-ERROR_EXPONENT)
+        };
+        let h = ts * (100.0 * h0).min(h1);
+        if h.is_finite() && h > 0.0 {
+            h
+        } else {
+            1e-6 * ts
+        }
+    }
+
+    /// Stages 1–12 of a step of size `h` from `z`; leaves the new state in `y` and
+    /// `f(y)` in stage 12.
+    fn main_stages(&mut self, sys: &dyn System, h: f64) {
+        let n = 2 * self.m;
+        for (s, a) in A.iter().enumerate().take(N_MAIN).skip(1) {
+            let (done, rest) = self.k.split_at_mut(s * n);
+            combine(&mut self.y, &self.z, h, a, done);
+            rhs(sys, &mut self.stats, &self.y, &mut rest[..n]);
+        }
+    }
+
+    /// Weighted max-norm error of the step just computed by [`Self::main_stages`] (`INFINITY`
+    /// when anything is non-finite).
+    fn error_norm(&mut self, h: f64) -> f64 {
+        let n = 2 * self.m;
+        self.e5.fill(0.0);
+        self.e3.fill(0.0);
+        for j in 0..E5.len() {
+            let kj = &self.k[j * n..(j + 1) * n];
+            let (c5, c3) = (E5[j], E3[j]);
+            if c5 != 0.0 || c3 != 0.0 {
+                for ((e5, e3), k) in self.e5.iter_mut().zip(self.e3.iter_mut()).zip(kj) {
+                    *e5 += c5 * k;
+                    *e3 += c3 * k;
+                }
+            }
+        }
+        let (mut n5, mut n3) = (0.0_f64, 0.0_f64);
+        let mut finite = true;
+        for i in 0..n {
+            let sc = self.weight(i, self.z[i], self.y[i]);
+            let (r5, r3) = ((self.e5[i] / sc).abs(), (self.e3[i] / sc).abs());
+            finite &= r5.is_finite() && r3.is_finite() && self.y[i].is_finite();
+            n5 = n5.max(r5);
+            n3 = n3.max(r3);
+        }
+        // The FSAL stage becomes the next step's first stage: it must be finite too.
+        finite &= self.k[12 * n..13 * n].iter().all(|x| x.is_finite());
+        if !finite {
+            return f64::INFINITY;
+        }
+        if n5 == 0.0 && n3 == 0.0 {
+            return 0.0;
+        }
+        let (n5sq, n3sq) = (n5 * n5, n3 * n3);
+        h.abs() * n5sq / (n5sq + 0.01 * n3sq).sqrt()
+    }
+
+    /// The 3 extra stages and the continuous-output coefficients of the step `z_old → z` of
+    /// size `h` (SciPy `_dense_output_impl`), then the FSAL shift of stage 12 into stage 0.
+    fn dense_coefficients(&mut self, sys: &dyn System, h: f64) {
+        let n = 2 * self.m;
+        for (s, a) in A.iter().enumerate().skip(N_MAIN) {
+            let (done, rest) = self.k.split_at_mut(s * n);
+            combine(&mut self.y, &self.z_old, h, a, done);
+            rhs(sys, &mut self.stats, &self.y, &mut rest[..n]);
+        }
+        let (f012, f3) = self.f.split_at_mut(3 * n);
+        for i in 0..n {
+            let dz = self.z[i] - self.z_old[i];
+            let (k0, k12) = (self.k[i], self.k[12 * n + i]);
+            f012[i] = dz;
+            f012[n + i] = h * k0 - dz;
+            f012[2 * n + i] = 2.0 * dz - h * (k12 + k0);
+        }
+        for (r, drow) in D.iter().enumerate() {
+            let fr = &mut f3[r * n..(r + 1) * n];
+            fr.fill(0.0);
+            for (j, &dj) in drow.iter().enumerate() {
+                if dj != 0.0 {
+                    for (x, kj) in fr.iter_mut().zip(&self.k[j * n..(j + 1) * n]) {
+                        *x += dj * kj;
+                    }
+                }
+            }
+            for x in fr.iter_mut() {
+                *x *= h;
+            }
+        }
+        self.k.copy_within(12 * n..13 * n, 0);
+    }
+}
+
 impl Integrator for Dop853 {
-    fn reset(&mut self, _sys: &dyn System, _t: f64, _u: &[f64], _v: &[f64]) {}
-    fn step(&mut self, _sys: &dyn System, _t_bound: f64) -> Result<f64, IntegrationError> {
-        Err(IntegrationError::Budget(0))
+    /// Starts from `(u, v)` at `t`: evaluates `f(z)` and Hairer's starting step (2 right-hand
+    /// sides). Counters accumulate across resets.
+    ///
+    /// # Panics
+    /// If `sys.len()`, `u.len()` or `v.len()` differs from the `m` given to [`Dop853::new`].
+    fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]) {
+        let m = self.m;
+        assert_eq!(sys.len(), m, "system size differs from the integrator's");
+        assert_eq!(
+            u.len(),
+            m,
+            "displacement length differs from the integrator's"
+        );
+        assert_eq!(v.len(), m, "velocity length differs from the integrator's");
+        self.t = t;
+        self.t_prev = t;
+        self.z[..m].copy_from_slice(u);
+        self.z[m..].copy_from_slice(v);
+        self.z_old.copy_from_slice(&self.z);
+        self.f.fill(0.0);
+        let (k0, _) = self.k.split_at_mut(2 * m);
+        rhs(sys, &mut self.stats, &self.z, k0);
+        self.h = self.initial_step(sys);
     }
+
+    /// One accepted step of at most `t_bound − t` (landing exactly on `t_bound` when shortened).
+    /// Returns `t` unchanged, without stepping, when `t_bound ≤ t`.
+    fn step(&mut self, sys: &dyn System, t_bound: f64) -> Result<f64, IntegrationError> {
+        debug_assert_eq!(sys.len(), self.m);
+        let t = self.t;
+        if !t.is_finite() || !self.z.iter().all(|x| x.is_finite()) {
+            return Err(IntegrationError::NonFinite { t });
+        }
+        if t_bound.is_nan() || t_bound <= t {
+            return Ok(t);
+        }
+        let min_step = 10.0 * ulp(t);
+        let mut h_abs = if self.h.is_finite() {
+            self.h.max(min_step)
+        } else {
+            min_step
+        };
+        let mut rejected = false;
+        let mut last_nonfinite = false;
+        loop {
+            if h_abs < min_step {
+                self.h = h_abs;
+                return Err(if last_nonfinite {
+                    IntegrationError::NonFinite { t }
+                } else {
+                    IntegrationError::StepTooSmall { t, h: h_abs }
+                });
+            }
+            let clipped = t + h_abs > t_bound;
+            let t_new = if clipped { t_bound } else { t + h_abs };
+            let h = t_new - t;
+            self.main_stages(sys, h);
+            let err = self.error_norm(h);
+            if err < 1.0 {
+                // Optimal next step from this step's error (uncapped).
+                let h_opt = if err == 0.0 {
+                    f64::INFINITY
+                } else {
+                    h * SAFETY * err.powf(ERROR_EXPONENT)
+                };
+                let mut h_next = (h * MAX_FACTOR).min(h_opt);
+                if rejected {
+                    h_next = h_next.min(h);
+                } else if clipped {
+                    // Shortened to land on t_bound: resume with the proposal it interrupted (the
+                    // error of a much shorter step is rounding noise, a poor predictor).
+                    h_next = h_next.max(h_abs);
+                }
+                self.h = h_next;
+                std::mem::swap(&mut self.z_old, &mut self.z);
+                std::mem::swap(&mut self.z, &mut self.y);
+                self.t_prev = t;
+                self.t = t_new;
+                self.dense_coefficients(sys, h);
+                self.stats.steps += 1;
+                self.stats.bead_steps += self.m as u64;
+                return Ok(t_new);
+            }
+            self.stats.rejected += 1;
+            rejected = true;
+            last_nonfinite = !err.is_finite();
+            let factor = if last_nonfinite {
+                MIN_FACTOR
+            } else {
+                MIN_FACTOR.max(SAFETY * err.powf(ERROR_EXPONENT))
+            };
+            h_abs = h * factor;
+        }
+    }
+
     fn t(&self) -> f64 {
-        0.0
+        self.t
     }
+
     fn t_prev(&self) -> f64 {
-        0.0
+        self.t_prev
     }
+
     fn state(&self) -> &[f64] {
         &self.z
     }
-    fn dense(&self, _t: f64, _z: &mut [f64]) {}
-    fn dense_at(&self, _t: f64, _j: usize) -> f64 { 0.0 }
+
+    /// The 7th-order continuous output of the last accepted step (SciPy `Dop853DenseOutput`);
+    /// exact copies of the endpoint states at `t_prev` and `t`.
+    fn dense(&self, t: f64, z: &mut [f64]) {
+        let n = 2 * self.m;
+        debug_assert_eq!(z.len(), n);
+        if t == self.t {
+            z.copy_from_slice(&self.z);
+            return;
+        }
+        if t == self.t_prev {
+            z.copy_from_slice(&self.z_old);
+            return;
+        }
+        let x = (t - self.t_prev) / (self.t - self.t_prev);
+        let x1 = 1.0 - x;
+        let f = &self.f;
+        for (i, zi) in z.iter_mut().enumerate() {
+            let mut p = f[5 * n + i] + x * f[6 * n + i];
+            p = f[4 * n + i] + x1 * p;
+            p = f[3 * n + i] + x * p;
+            p = f[2 * n + i] + x1 * p;
+            p = f[n + i] + x * p;
+            p = f[i] + x1 * p;
+            *zi = self.z_old[i] + x * p;
+        }
+    }
+
+    fn dense_at(&self, t: f64, j: usize) -> f64 {
+        let n = 2 * self.m;
+        if t == self.t {
+            return self.z[j];
+        }
+        if t == self.t_prev {
+            return self.z_old[j];
+        }
+        let x = (t - self.t_prev) / (self.t - self.t_prev);
+        let x1 = 1.0 - x;
+        let f = &self.f;
+        let mut p = f[5 * n + j] + x * f[6 * n + j];
+        p = f[4 * n + j] + x1 * p;
+        p = f[3 * n + j] + x * p;
+        p = f[2 * n + j] + x1 * p;
+        p = f[n + j] + x * p;
+        p = f[j] + x1 * p;
+        self.z_old[j] + x * p
+    }
+
     fn stats(&self) -> &Stats {
         &self.stats
+    }
+}
+
+#[cfg(test)]
+mod ode_tests;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrate::{ChainRange, DEFAULT_ATOL};
+    use crate::model::Chain;
+
+    /// `N` unit-mass beads, Hertz-like contacts `n = 2.5`, `a = 0.4`, no walls.
+    fn uniform_chain(beads: usize) -> Chain {
+        Chain {
+            mass: vec![1.0; beads],
+            exponent: vec![2.5; beads - 1],
+            prefactor: vec![0.4; beads - 1],
+            precompression: None,
+            field: None,
+            left_wall: None,
+            right_wall: None,
+        }
+    }
+
+    /// Striker initial condition (paper eq. 8): bead 0 moves at `v0`, all else at rest.
+    fn striker(beads: usize, v0: f64) -> (Vec<f64>, Vec<f64>) {
+        let mut v = vec![0.0; beads];
+        v[0] = v0;
+        (vec![0.0; beads], v)
+    }
+
+    fn tolerances(chain: &Chain, u: &[f64], v: &[f64], rtol: f64, atol: f64) -> Tolerances {
+        Tolerances {
+            rtol,
+            atol,
+            scales: chain.scales(u, v),
+        }
+    }
+
+    /// Integrates the whole chain from `(u, v)` at 0 to exactly `t_end`.
+    fn run(chain: &Chain, u: &[f64], v: &[f64], tol: Tolerances, t_end: f64) -> Dop853 {
+        let sys = ChainRange::whole(chain);
+        let mut ig = Dop853::new(chain.len(), tol);
+        ig.reset(&sys, 0.0, u, v);
+        while ig.t() < t_end {
+            ig.step(&sys, t_end).expect("integration failed");
+        }
+        assert_eq!(ig.t(), t_end, "must land exactly on t_bound");
+        ig
+    }
+
+    fn rel_energy_error(chain: &Chain, ig: &Dop853, e0: f64) -> f64 {
+        let m = chain.len();
+        let z = ig.state();
+        ((chain.energy(&z[..m], &z[m..]) - e0) / e0).abs()
+    }
+
+    #[test]
+    fn two_beads_exchange_velocities_and_conserve_energy() {
+        let chain = uniform_chain(2);
+        let (u, v) = striker(2, 1.0);
+        let e0 = chain.energy(&u, &v);
+        let ig = run(
+            &chain,
+            &u,
+            &v,
+            tolerances(&chain, &u, &v, 1e-11, 1e-13),
+            20.0,
+        );
+        let z = ig.state();
+        // Equal masses exchange velocities: abs 1e-8.
+        assert!(z[2].abs() <= 1e-8, "striker velocity {}", z[2]);
+        assert!((z[3] - 1.0).abs() <= 1e-8, "struck velocity {}", z[3]);
+        let de = rel_energy_error(&chain, &ig, e0);
+        assert!(de <= 1e-9, "relative energy error {de:e}");
+        assert!(ig.stats().steps > 5);
+    }
+
+    #[test]
+    fn twenty_bead_chain_conserves_energy() {
+        let chain = uniform_chain(20);
+        let (u, v) = striker(20, 1.0);
+        let e0 = chain.energy(&u, &v);
+        let ig = run(
+            &chain,
+            &u,
+            &v,
+            tolerances(&chain, &u, &v, 1e-10, 1e-12),
+            30.0,
+        );
+        let de = rel_energy_error(&chain, &ig, e0);
+        assert!(de <= 1e-8, "relative energy error {de:e}");
+        // Momentum is conserved by any Runge–Kutta method up to rounding: abs 1e-12.
+        let p = chain.momentum(&ig.state()[20..]);
+        assert!((p - 1.0).abs() <= 1e-12, "momentum {p}");
+        assert_eq!(ig.stats().bead_steps, 20 * ig.stats().steps);
+    }
+
+    #[test]
+    fn dense_output_agrees_with_stepping_to_the_time() {
+        let chain = uniform_chain(5);
+        let sys = ChainRange::whole(&chain);
+        let (u, v) = striker(5, 1.0);
+        let tol = tolerances(&chain, &u, &v, 1e-9, 1e-11);
+        let mut checked = 0;
+        for &ts in &[2.37, 4.1, 7.77, 11.3] {
+            let mut free = Dop853::new(5, tol);
+            free.reset(&sys, 0.0, &u, &v);
+            while free.t() < ts {
+                free.step(&sys, f64::INFINITY).expect("step");
+            }
+            let mut zd = [0.0; 10];
+            free.dense(ts, &mut zd);
+            let exact = run(&chain, &u, &v, tol, ts);
+            let ze = exact.state();
+            let size = ze.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+            for (a, b) in zd.iter().zip(ze) {
+                // Relative 1e-6 of the state's max norm (abs floor 1e-6 × size).
+                assert!((a - b).abs() <= 1e-6 * size, "t = {ts}: {a} vs {b}");
+            }
+            checked += 1;
+        }
+        assert_eq!(checked, 4);
+    }
+
+    #[test]
+    fn dense_output_reproduces_step_endpoints() {
+        let chain = uniform_chain(3);
+        let sys = ChainRange::whole(&chain);
+        let (u, v) = striker(3, 1.0);
+        let mut ig = Dop853::new(3, tolerances(&chain, &u, &v, 1e-8, DEFAULT_ATOL));
+        ig.reset(&sys, 0.0, &u, &v);
+        let mut z = [0.0; 6];
+        ig.dense(0.0, &mut z);
+        assert_eq!(&z[..], ig.state(), "before any step");
+        for _ in 0..20 {
+            let before = ig.state().to_vec();
+            let t = ig.step(&sys, f64::INFINITY).expect("step");
+            ig.dense(ig.t_prev(), &mut z);
+            assert_eq!(&z[..], &before[..], "start of step");
+            ig.dense(t, &mut z);
+            assert_eq!(&z[..], ig.state(), "end of step");
+            // Just inside the step the interpolant is continuous with slope f(z) (the FSAL
+            // stage 0): z(t − δ) ≈ z(t) − δ·f, abs 1e-13 (the δ² term is ~1e-20).
+            let dt = 1e-9 * (t - ig.t_prev());
+            ig.dense(t - dt, &mut z);
+            for ((a, b), f) in z.iter().zip(ig.state()).zip(&ig.k) {
+                assert!((a - (b - dt * f)).abs() <= 1e-13, "{a} vs {b} − {dt:e}·{f}");
+            }
+        }
+    }
+
+    #[test]
+    fn error_decreases_with_tolerance() {
+        let chain = uniform_chain(10);
+        let (u, v) = striker(10, 1.0);
+        let e0 = chain.energy(&u, &v);
+        let loose = run(&chain, &u, &v, tolerances(&chain, &u, &v, 1e-6, 1e-8), 20.0);
+        let tight = run(
+            &chain,
+            &u,
+            &v,
+            tolerances(&chain, &u, &v, 1e-10, 1e-12),
+            20.0,
+        );
+        let (el, et) = (
+            rel_energy_error(&chain, &loose, e0),
+            rel_energy_error(&chain, &tight, e0),
+        );
+        assert!(
+            el > et,
+            "energy error at rtol 1e-6 ({el:e}) vs 1e-10 ({et:e})"
+        );
+        assert!(loose.stats().steps < tight.stats().steps);
+    }
+
+    #[test]
+    fn similarity_scaling_gives_same_steps() {
+        let chain = uniform_chain(2);
+        let count = |v0: f64| {
+            let (u, v) = striker(2, v0);
+            let tol = tolerances(&chain, &u, &v, 1e-8, DEFAULT_ATOL);
+            // 20 characteristic times of the unit problem.
+            let t_end = 20.0 * tol.scales.time() / chain.scales(&[0.0; 2], &[1.0, 0.0]).time();
+            let ig = run(&chain, &u, &v, tol, t_end);
+            // Velocities exchanged: relative 1e-6 of v0.
+            assert!((ig.state()[3] - v0).abs() <= 1e-6 * v0, "v0 = {v0}");
+            (ig.stats().steps, ig.stats().rejected)
+        };
+        let (s1, r1) = count(1.0);
+        let (s2, r2) = count(1e-7);
+        assert!(s1.abs_diff(s2) <= 2, "steps {s1} (v=1) vs {s2} (v=1e-7)");
+        assert!(r1.abs_diff(r2) <= 2, "rejections {r1} vs {r2}");
     }
 }

@@ -31,6 +31,7 @@ const E: [f64; 3] = [
 const MU_REAL: f64 = 3.637_834_252_744_496;
 /// Complex eigenvalue: 3 + (3^(1/3) − 3^(2/3))/2 − i (3^(5/6) + 3^(7/6))/2.
 const MU_COMPLEX: (f64, f64) = (2.681_082_873_627_752, -3.050_430_199_247_411);
+#[allow(clippy::excessive_precision)] // SciPy/Hairer constants as published
 const T: [[f64; 3]; 3] = [
     [
         0.094_438_762_488_975_24,
@@ -44,6 +45,7 @@ const T: [[f64; 3]; 3] = [
     ],
     [1.0, 1.0, 0.0],
 ];
+#[allow(clippy::excessive_precision)]
 const TI: [[f64; 3]; 3] = [
     [
         4.178_718_591_551_904_28,
@@ -501,7 +503,7 @@ impl Integrator for Radau5 {
                 self.dw[0] = tmp;
                 self.dw[1] = fe;
             }
-            if !(err_norm <= 1.0) {
+            if err_norm.is_nan() || err_norm > 1.0 {
                 let factor = if err_norm.is_finite() {
                     predict_factor(h_abs, h_abs_old, err_norm, err_old)
                 } else {
@@ -518,7 +520,7 @@ impl Integrator for Radau5 {
             // accepted
             let factor = predict_factor(h_abs, h_abs_old, err_norm, err_old);
             let mut factor = MAX_FACTOR.min(safety * factor);
-            if factor < 1.2 && factor >= 1.0 {
+            if (1.0..1.2).contains(&factor) {
                 factor = 1.0;
             }
             if rejected {
