@@ -3,7 +3,9 @@
 //! See README.md for the scene format and CLI. The physics follows
 //! `paper-hertz-like-interfaces.tex` (eqs. 1–11 and appendix A).
 
+pub mod export;
 pub mod integrate;
 pub mod linalg;
 pub mod model;
 pub mod scene;
+pub mod snapshot;
