@@ -528,19 +528,32 @@ fn scan(
             TAG_HEADER => {
                 return Err(raw.corrupt("HEADER", pos, "a second HEADER section".into()));
             }
-            TAG_INDEX => {}
-            TAG_END => {
-                if h.end() != raw.len {
+            tag => {
+                // INDEX, END or an unknown tag. Its checksum also covers the tag, so a frame
+                // whose tag was damaged fails here: stop rather than renumber later frames.
+                if raw.read_payload(&h, &name).is_err() {
                     warn(format!(
-                        "{} bytes after the END section ignored",
-                        raw.len - h.end()
+                        "damaged section (checksum) at byte {pos}; kept {k} whole frames, \
+                         ignored everything after it"
                     ));
+                    break;
                 }
-                break;
+                match tag {
+                    TAG_INDEX => {}
+                    TAG_END => {
+                        if h.end() != raw.len {
+                            warn(format!(
+                                "{} bytes after the END section ignored",
+                                raw.len - h.end()
+                            ));
+                        }
+                        break;
+                    }
+                    t => warn(format!(
+                        "skipped a section with unknown tag {t:#010x} at byte {pos}"
+                    )),
+                }
             }
-            t => warn(format!(
-                "skipped a section with unknown tag {t:#010x} at byte {pos}"
-            )),
         }
         pos = h.end();
     }
