@@ -7,7 +7,9 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod engine;
+pub mod export;
 pub mod integrate;
 pub mod linalg;
 pub mod model;
 pub mod scene;
+pub mod snapshot;

@@ -1,0 +1,332 @@
+//! Export of snapshot frames to CSV and NumPy `.npy`, the event log to CSV, and the
+//! human-readable `inspect` report (energy of paper eq. 1 + kinetic, via [`Chain::energy`]).
+//!
+//! Numbers are written so they read back bit-identically: Rust's `{}`/`{:e}` formatting of
+//! `f64` prints the shortest decimal that round-trips, and we use the exponent form outside
+//! `1e-5 ≤ |x| < 1e16` so tiny displacements (1e-7 units) stay short.
+//!
+//! All outputs go through [`write_atomically`] in the CLI: a failed export leaves no file.
+
+use crate::model::Chain;
+use crate::snapshot::{
+    sync_parent_dir, temp_sibling, Frame, Snapshot, SnapshotError, FORMAT_VERSION,
+};
+use std::fmt;
+use std::fs::OpenOptions;
+use std::io::{self, BufWriter, Write};
+use std::ops::Range;
+use std::path::Path;
+use std::str::FromStr;
+
+/// Which frames to export.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrameSel {
+    /// Frame 0.
+    First,
+    /// The last whole frame.
+    Last,
+    /// Frame `K` (0-based).
+    Index(usize),
+    /// Every frame, in order.
+    All,
+}
+
+/// A `--frame` value that is neither `first`, `last`, `all` nor a frame number.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("invalid frame selector '{0}': expected first, last, all or a frame number K >= 0")]
+pub struct FrameSelError(pub String);
+
+impl FromStr for FrameSel {
+    type Err = FrameSelError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim() {
+            "first" => Ok(FrameSel::First),
+            "last" => Ok(FrameSel::Last),
+            "all" => Ok(FrameSel::All),
+            k => k
+                .parse::<usize>()
+                .map(FrameSel::Index)
+                .map_err(|_| FrameSelError(s.to_string())),
+        }
+    }
+}
+
+impl FrameSel {
+    /// The frame indices selected in `snap`; errors name the file, `K` and the frame count.
+    pub fn range(self, snap: &Snapshot) -> Result<Range<usize>, SnapshotError> {
+        let count = snap.frame_count();
+        let no_frames = || SnapshotError::NoFrames {
+            path: snap.path().to_path_buf(),
+        };
+        match self {
+            FrameSel::All => Ok(0..count),
+            FrameSel::First if count > 0 => Ok(0..1),
+            FrameSel::Last if count > 0 => Ok(count - 1..count),
+            FrameSel::First | FrameSel::Last => Err(no_frames()),
+            FrameSel::Index(k) if k < count => Ok(k..k + 1),
+            FrameSel::Index(k) => Err(SnapshotError::FrameOutOfRange {
+                path: snap.path().to_path_buf(),
+                index: k,
+                count,
+            }),
+        }
+    }
+}
+
+/// An `f64` printed as the shortest decimal that parses back to the same bits.
+struct Num(f64);
+
+impl fmt::Display for Num {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || !a.is_finite() || (1e-5..1e16).contains(&a) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
+/// Writes the selected frames as CSV: header `frame,t,bead,u,v`, one row per bead and frame.
+pub fn export_csv(
+    snap: &Snapshot,
+    sel: FrameSel,
+    out: &mut dyn Write,
+) -> Result<(), SnapshotError> {
+    let range = sel.range(snap)?;
+    let mut w = BufWriter::with_capacity(1 << 16, out);
+    writeln!(w, "frame,t,bead,u,v")?;
+    let mut f = Frame::default();
+    for k in range {
+        snap.read_frame_into(k, &mut f)?;
+        for (i, (u, v)) in f.u.iter().zip(&f.v).enumerate() {
+            writeln!(w, "{k},{},{i},{},{}", Num(f.t), Num(*u), Num(*v))?;
+        }
+    }
+    w.flush()?;
+    Ok(())
+}
+
+/// The `.npy` v1.0 header for a little-endian float64 C-order array of `rows × cols`
+/// (magic, version, u16 header length, dict padded with spaces to a 64-byte multiple, `\n`).
+pub fn npy_header(rows: u64, cols: u64) -> Vec<u8> {
+    let dict = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({rows}, {cols}), }}");
+    let unpadded = 10 + dict.len() + 1;
+    let pad = (64 - unpadded % 64) % 64;
+    let header_len = dict.len() + pad + 1;
+    let mut h = Vec::with_capacity(10 + header_len);
+    h.extend_from_slice(b"\x93NUMPY\x01\x00");
+    // The dict of a 2-D shape is < 100 bytes, far below the u16 limit of format 1.0.
+    h.extend_from_slice(&(header_len as u16).to_le_bytes());
+    h.extend_from_slice(dict.as_bytes());
+    h.resize(h.len() + pad, b' ');
+    h.push(b'\n');
+    h
+}
+
+/// Writes the selected frames as a NumPy `.npy` (v1.0) float64 array of shape `(rows, 5)` with
+/// the CSV's columns `frame, t, bead, u, v` (frame and bead as exact small integers).
+pub fn export_npy(
+    snap: &Snapshot,
+    sel: FrameSel,
+    out: &mut dyn Write,
+) -> Result<(), SnapshotError> {
+    let range = sel.range(snap)?;
+    let rows = range.len() as u64 * snap.header().n_beads;
+    let mut w = BufWriter::with_capacity(1 << 16, out);
+    w.write_all(&npy_header(rows, 5))?;
+    let mut f = Frame::default();
+    for k in range {
+        snap.read_frame_into(k, &mut f)?;
+        for (i, (u, v)) in f.u.iter().zip(&f.v).enumerate() {
+            for x in [k as f64, f.t, i as f64, *u, *v] {
+                w.write_all(&x.to_le_bytes())?;
+            }
+        }
+    }
+    w.flush()?;
+    Ok(())
+}
+
+/// Writes the event log as CSV with header `t,contact,kind,rel_velocity,peak_overlap`.
+pub fn export_events_csv(snap: &Snapshot, out: &mut dyn Write) -> Result<(), SnapshotError> {
+    let mut w = BufWriter::with_capacity(1 << 16, out);
+    writeln!(w, "t,contact,kind,rel_velocity,peak_overlap")?;
+    for e in snap.events() {
+        writeln!(
+            w,
+            "{},{},{},{},{}",
+            Num(e.t),
+            e.contact,
+            e.kind.name(),
+            Num(e.rel_velocity),
+            Num(e.peak_overlap)
+        )?;
+    }
+    w.flush()?;
+    Ok(())
+}
+
+/// Human-readable report: header fields, frame count and time span, total energy at the first
+/// and last frame (with `chain`, normally `&snap.header().scene.chain`) and its relative
+/// change, run statistics and warnings. Problems reading a frame are reported in the text.
+pub fn inspect(snap: &Snapshot, chain: &Chain) -> String {
+    use std::fmt::Write as _;
+    let h = snap.header();
+    let mut s = String::new();
+    let _ = writeln!(s, "file:        {}", snap.path().display());
+    let _ = writeln!(
+        s,
+        "format:      version {} (this build reads 1..={FORMAT_VERSION}), {}",
+        h.format_version,
+        if snap.is_complete() {
+            "complete"
+        } else {
+            "INCOMPLETE (no valid END/INDEX)"
+        }
+    );
+    let _ = writeln!(s, "written by:  beadchain {}", h.crate_version);
+    let _ = writeln!(s, "command:     {}", h.created_by);
+    let _ = writeln!(s, "scene:       {} — {}", h.scene.name, h.scene.description);
+    let _ = writeln!(s, "beads:       {}", h.n_beads);
+    let _ = writeln!(
+        s,
+        "engine:      {}, method {}, rtol {:e}, atol {:e}, seed {}",
+        h.engine.name(),
+        h.method.name(),
+        h.rtol,
+        h.atol,
+        h.seed
+    );
+    let n = snap.frame_count();
+    let _ = writeln!(s, "frames:      {n}");
+    if n > 0 {
+        let times = snap.frame_times();
+        let _ = writeln!(s, "time span:   {} .. {}", Num(times[0]), Num(times[n - 1]));
+        let energy = |k: usize| -> Result<f64, String> {
+            let f = snap.frame(k).map_err(|e| e.to_string())?;
+            if f.u.len() != chain.len() {
+                return Err(format!(
+                    "frame has {} beads but the chain has {}",
+                    f.u.len(),
+                    chain.len()
+                ));
+            }
+            Ok(chain.energy(&f.u, &f.v))
+        };
+        match (energy(0), energy(n - 1)) {
+            (Ok(e0), Ok(e1)) => {
+                let _ = writeln!(
+                    s,
+                    "energy:      first frame {}, last frame {}",
+                    Num(e0),
+                    Num(e1)
+                );
+                let rel = if e0 != 0.0 {
+                    (e1 - e0) / e0.abs()
+                } else {
+                    e1 - e0
+                };
+                let _ = writeln!(s, "energy change (relative): {rel:.3e}");
+            }
+            (a, b) => {
+                for (which, r) in [("first", a), ("last", b)] {
+                    if let Err(e) = r {
+                        let _ = writeln!(s, "energy:      {which} frame unreadable: {e}");
+                    }
+                }
+            }
+        }
+    }
+    let _ = writeln!(s, "events:      {}", snap.events().len());
+    match snap.summary() {
+        Some(r) => {
+            let st = &r.stats;
+            let _ = writeln!(
+                s,
+                "run:         t_end {}, wall {:.3} s, energy {} -> {}, momentum {} -> {}",
+                Num(r.t_end),
+                r.wall_seconds,
+                Num(r.energy_initial),
+                Num(r.energy_final),
+                Num(r.momentum_initial),
+                Num(r.momentum_final)
+            );
+            let _ = writeln!(
+                s,
+                "steps:       {} accepted, {} rejected, {} rhs, {} jac, {} lu, {} newton ({} failed), {} bead-steps",
+                st.steps,
+                st.rejected,
+                st.rhs_evals,
+                st.jac_evals,
+                st.factorizations,
+                st.newton_iters,
+                st.newton_failures,
+                st.bead_steps
+            );
+            if !r.events_by_kind.is_empty() {
+                let kinds: Vec<String> = r
+                    .events_by_kind
+                    .iter()
+                    .map(|(k, c)| format!("{k} {c}"))
+                    .collect();
+                let _ = writeln!(s, "events by kind: {}", kinds.join(", "));
+            }
+            let _ = writeln!(s, "largest cluster: {}", r.largest_cluster);
+            for note in &r.notes {
+                let _ = writeln!(s, "note:        {note}");
+            }
+        }
+        None => {
+            let _ = writeln!(s, "run:         no statistics (run did not finish)");
+        }
+    }
+    for w in snap.warnings() {
+        let _ = writeln!(s, "warning:     {w}");
+    }
+    s
+}
+
+/// Writes `path` atomically: `f` writes into a buffered temporary sibling, which is flushed,
+/// fsynced and renamed onto `path` only if `f` succeeds; otherwise it is removed. Output
+/// errors ([`SnapshotError::Output`]) are reported as I/O errors naming `path`.
+pub fn write_atomically(
+    path: &Path,
+    f: impl FnOnce(&mut dyn Write) -> Result<(), SnapshotError>,
+) -> Result<(), SnapshotError> {
+    let tmp = temp_sibling(path)?;
+    let named = |action: &str, e: io::Error| SnapshotError::Io {
+        path: path.to_path_buf(),
+        action: action.to_string(),
+        source: e,
+    };
+    let file = OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&tmp)
+        .map_err(|e| named(&format!("creating temporary file {}", tmp.display()), e))?;
+    let result = (|| {
+        let mut w = BufWriter::with_capacity(1 << 16, file);
+        f(&mut w).map_err(|e| match e {
+            SnapshotError::Output(io) => named("writing", io),
+            other => other,
+        })?;
+        let file = w
+            .into_inner()
+            .map_err(|e| named("flushing", e.into_error()))?;
+        file.sync_all().map_err(|e| named("syncing to disk", e))?;
+        drop(file);
+        std::fs::rename(&tmp, path)
+            .map_err(|e| named(&format!("renaming {} onto it", tmp.display()), e))
+    })();
+    match result {
+        Ok(()) => {
+            sync_parent_dir(path);
+            Ok(())
+        }
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(e)
+        }
+    }
+}

@@ -1,0 +1,682 @@
+//! Snapshot reader: opens a file from its INDEX (or by scanning when the file is unfinished or
+//! damaged) and reads single frames by seeking. Rules in the [parent module](super).
+
+use super::{
+    decode_exact, frame_payload_len, section_hasher, section_name, EventRecord, Frame, Header,
+    RunSummary, SnapshotError, END_SECTION_LEN, FORMAT_VERSION, MAGIC, PREAMBLE_LEN,
+    SECTION_HEADER_LEN, TAG_END, TAG_EVENTS, TAG_FRAME, TAG_HEADER, TAG_INDEX, TAG_STATS,
+};
+use std::fs::File;
+use std::io::{Read, Seek, SeekFrom};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// Bytes read per chunk when streaming a frame payload.
+const CHUNK: usize = 1 << 16;
+
+/// Section lengths at or above this (256 TiB) are corruption, never a truncated file.
+const MAX_PLAUSIBLE_LEN: u64 = 1 << 48;
+
+/// The open file and the error constructors that name it.
+#[derive(Debug)]
+struct Raw {
+    path: PathBuf,
+    file: Mutex<File>,
+    len: u64,
+}
+
+/// An open snapshot file. Frames are read on demand; everything else is loaded at open.
+#[derive(Debug)]
+pub struct Snapshot {
+    raw: Raw,
+    header: Header,
+    frame_len: u64,
+    offsets: Vec<u64>,
+    times: Vec<f64>,
+    events: Vec<EventRecord>,
+    summary: Option<RunSummary>,
+    complete: bool,
+    warnings: Vec<String>,
+}
+
+/// A parsed section header.
+#[derive(Clone, Copy, Debug)]
+struct SectionHead {
+    offset: u64,
+    tag: u32,
+    len: u64,
+    crc: u32,
+}
+
+impl SectionHead {
+    fn payload_start(&self) -> u64 {
+        self.offset + SECTION_HEADER_LEN
+    }
+    /// End of the payload (saturating: a forged length must not overflow).
+    fn end(&self) -> u64 {
+        self.payload_start().saturating_add(self.len)
+    }
+}
+
+/// Frame offsets/times, event log and summary: what open loads besides the header.
+#[derive(Default)]
+struct Contents {
+    offsets: Vec<u64>,
+    times: Vec<f64>,
+    events: Vec<EventRecord>,
+    summary: Option<RunSummary>,
+}
+
+impl Snapshot {
+    /// Opens `path`: checks magic and version, reads the HEADER, then the INDEX, EVENTS and
+    /// STATS of a finished file, or scans the sections of an unfinished or damaged one (keeping
+    /// every whole frame and explaining in [`Self::warnings`] where it stopped). Frames
+    /// themselves are not loaded.
+    pub fn open(path: &Path) -> Result<Snapshot, SnapshotError> {
+        let io = |action: &str, e| SnapshotError::Io {
+            path: path.to_path_buf(),
+            action: action.to_string(),
+            source: e,
+        };
+        let mut file = File::open(path).map_err(|e| io("opening snapshot", e))?;
+        let len = file
+            .metadata()
+            .map_err(|e| io("reading file size", e))?
+            .len();
+        let mut pre = [0u8; PREAMBLE_LEN as usize];
+        let got = read_up_to(&mut file, &mut pre).map_err(|e| io("reading preamble", e))?;
+        if got < 8 || pre[..8] != MAGIC {
+            return Err(SnapshotError::NotSnapshot {
+                path: path.to_path_buf(),
+            });
+        }
+        if got < pre.len() {
+            return Err(SnapshotError::Truncated {
+                path: path.to_path_buf(),
+                detail: format!("file ends at byte {got} inside the format version"),
+            });
+        }
+        let version = u32::from_le_bytes([pre[8], pre[9], pre[10], pre[11]]);
+        if version == 0 || version > FORMAT_VERSION {
+            return Err(SnapshotError::UnsupportedVersion {
+                path: path.to_path_buf(),
+                found: version,
+            });
+        }
+        let raw = Raw {
+            path: path.to_path_buf(),
+            file: Mutex::new(file),
+            len,
+        };
+        let head = raw.read_head(PREAMBLE_LEN, "HEADER")?.ok_or_else(|| {
+            raw.truncated(format!(
+                "file ends at byte {len} inside the HEADER section header"
+            ))
+        })?;
+        if head.tag != TAG_HEADER {
+            return Err(raw.corrupt(
+                "HEADER",
+                head.offset,
+                format!(
+                    "first section has tag {:#010x} ({}), expected HEADER",
+                    head.tag,
+                    section_name(head.tag)
+                ),
+            ));
+        }
+        let payload = raw.read_payload(&head, "HEADER")?;
+        let header: Header =
+            decode_exact(&payload).map_err(|d| raw.corrupt("HEADER", head.offset, d))?;
+        let frame_len = frame_payload_len(header.n_beads)
+            .filter(|&l| l < MAX_PLAUSIBLE_LEN)
+            .ok_or_else(|| {
+                raw.corrupt(
+                    "HEADER",
+                    head.offset,
+                    format!("bead count {} is absurd", header.n_beads),
+                )
+            })?;
+        let first = head.end();
+        let mut warnings = Vec::new();
+        let (contents, complete) = match from_tail(&raw, first, frame_len) {
+            Ok(Ok(c)) => (c, true),
+            Ok(Err(why)) => {
+                warnings.push(format!(
+                    "{}: {why}; scanned the sections from the start",
+                    path.display()
+                ));
+                (scan(&raw, first, &header, frame_len, &mut warnings)?, false)
+            }
+            Err(fatal) => return Err(fatal),
+        };
+        Ok(Snapshot {
+            raw,
+            header,
+            frame_len,
+            offsets: contents.offsets,
+            times: contents.times,
+            events: contents.events,
+            summary: contents.summary,
+            complete,
+            warnings,
+        })
+    }
+
+    /// Path the snapshot was opened from.
+    pub fn path(&self) -> &Path {
+        &self.raw.path
+    }
+
+    /// The run header.
+    pub fn header(&self) -> &Header {
+        &self.header
+    }
+
+    /// Number of whole frames available.
+    pub fn frame_count(&self) -> usize {
+        self.offsets.len()
+    }
+
+    /// Time of frame `k` (from the INDEX, or from the verified frame during a scan), without
+    /// reading the frame.
+    pub fn frame_time(&self, k: usize) -> Result<f64, SnapshotError> {
+        self.times
+            .get(k)
+            .copied()
+            .ok_or_else(|| self.out_of_range(k))
+    }
+
+    /// All frame times, in file order.
+    pub fn frame_times(&self) -> &[f64] {
+        &self.times
+    }
+
+    /// The event log (empty when the file has none).
+    pub fn events(&self) -> &[EventRecord] {
+        &self.events
+    }
+
+    /// Run statistics, if the file has a (whole) STATS section.
+    pub fn summary(&self) -> Option<&RunSummary> {
+        self.summary.as_ref()
+    }
+
+    /// True when the file ends with valid INDEX and END sections (a cleanly finished run).
+    pub fn is_complete(&self) -> bool {
+        self.complete
+    }
+
+    /// Everything the reader noticed but could work around (missing END, where a truncated
+    /// file stops, damaged INDEX), one line each, naming the file.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// Reads frame `k` (seeks; verifies the section header, length, checksum and time).
+    pub fn frame(&self, k: usize) -> Result<Frame, SnapshotError> {
+        let mut f = Frame::default();
+        self.read_frame_into(k, &mut f)?;
+        Ok(f)
+    }
+
+    /// Reads frame `k` into `frame`, reusing its vectors (no allocation once they have grown).
+    pub fn read_frame_into(&self, k: usize, frame: &mut Frame) -> Result<(), SnapshotError> {
+        let offset = *self.offsets.get(k).ok_or_else(|| self.out_of_range(k))?;
+        let name = format!("FRAME #{k}");
+        read_frame_at(
+            &self.raw,
+            offset,
+            &name,
+            self.header.n_beads,
+            self.frame_len,
+            frame,
+        )?;
+        if frame.t.to_bits() != self.times[k].to_bits() {
+            return Err(self.raw.corrupt(
+                &name,
+                offset,
+                format!(
+                    "frame time {:e} differs from the INDEX time {:e}",
+                    frame.t, self.times[k]
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Reads every frame once and verifies every checksum (reads the whole file).
+    pub fn verify(&self) -> Result<(), SnapshotError> {
+        let mut f = Frame::default();
+        for k in 0..self.frame_count() {
+            self.read_frame_into(k, &mut f)?;
+        }
+        Ok(())
+    }
+
+    fn out_of_range(&self, k: usize) -> SnapshotError {
+        SnapshotError::FrameOutOfRange {
+            path: self.raw.path.clone(),
+            index: k,
+            count: self.offsets.len(),
+        }
+    }
+}
+
+/// Reads and verifies the FRAME section at `offset` into `frame` (t, u, v).
+fn read_frame_at(
+    raw: &Raw,
+    offset: u64,
+    name: &str,
+    n_beads: u64,
+    frame_len: u64,
+    frame: &mut Frame,
+) -> Result<(), SnapshotError> {
+    let head = raw
+        .read_head(offset, name)?
+        .ok_or_else(|| raw.truncated(format!("file ends inside {name} at byte {offset}")))?;
+    if head.tag != TAG_FRAME {
+        return Err(raw.corrupt(
+            name,
+            offset,
+            format!(
+                "tag {:#010x} ({}) where a frame should be",
+                head.tag,
+                section_name(head.tag)
+            ),
+        ));
+    }
+    if head.len != frame_len {
+        return Err(raw.absurd(
+            name,
+            offset,
+            format!(
+                "{} bytes, but a frame of {n_beads} beads has {frame_len}",
+                head.len
+            ),
+        ));
+    }
+    raw.check_fits(&head, name)?;
+    let n = n_beads as usize;
+    frame.u.resize(n, 0.0);
+    frame.v.resize(n, 0.0);
+    let mut t = 0.0;
+    let mut hasher = section_hasher(head.tag, head.len);
+    let mut buf = [0u8; CHUNK];
+    let mut file = raw.lock();
+    seek(&mut file, head.payload_start()).map_err(|e| raw.io(&format!("seeking to {name}"), e))?;
+    let mut j = 0usize; // index of the next value: 0 = t, 1..=n = u, then v
+    let mut left = head.len;
+    while left > 0 {
+        let take = left.min(CHUNK as u64) as usize;
+        let chunk = &mut buf[..take];
+        file.read_exact(chunk)
+            .map_err(|e| raw.io(&format!("reading {name}"), e))?;
+        hasher.update(chunk);
+        for b in chunk.chunks_exact(8) {
+            let x = f64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]);
+            if j == 0 {
+                t = x;
+            } else if j <= n {
+                frame.u[j - 1] = x;
+            } else {
+                frame.v[j - 1 - n] = x;
+            }
+            j += 1;
+        }
+        left -= take as u64;
+    }
+    drop(file);
+    if hasher.finalize() != head.crc {
+        return Err(raw.checksum(name, offset));
+    }
+    frame.t = t;
+    Ok(())
+}
+
+/// Fast path for a finished file: END → INDEX → EVENTS, STATS.
+///
+/// `Ok(Err(reason))`: END or INDEX missing or damaged, fall back to scanning. `Err`: a fatal
+/// problem in EVENTS or STATS (a scan could not do better).
+fn from_tail(
+    raw: &Raw,
+    first: u64,
+    frame_len: u64,
+) -> Result<Result<Contents, String>, SnapshotError> {
+    let no_end = || {
+        Ok(Err(
+            "file has no END section (unfinished or truncated run)".to_string()
+        ))
+    };
+    if raw.len < first + END_SECTION_LEN {
+        return no_end();
+    }
+    let end_at = raw.len - END_SECTION_LEN;
+    let Some(end) = raw.read_head(end_at, "END")? else {
+        return no_end();
+    };
+    if end.tag != TAG_END || end.len != 8 {
+        return no_end();
+    }
+    let Ok(ep) = raw.read_payload(&end, "END") else {
+        return Ok(Err("END section is damaged (checksum)".into()));
+    };
+    let index_at = le_u64(&ep, 0);
+    if index_at < first || index_at > end_at.saturating_sub(SECTION_HEADER_LEN) {
+        return Ok(Err(format!(
+            "END points to an INDEX at impossible byte {index_at}"
+        )));
+    }
+    let Some(ih) = raw.read_head(index_at, "INDEX")? else {
+        return Ok(Err("cannot read the INDEX section".into()));
+    };
+    if ih.tag != TAG_INDEX || ih.end() != end_at || ih.len < 24 || (ih.len - 24) % 16 != 0 {
+        return Ok(Err(format!(
+            "INDEX section at byte {index_at} is malformed"
+        )));
+    }
+    let Ok(ip) = raw.read_payload(&ih, "INDEX") else {
+        return Ok(Err("INDEX section is damaged (checksum)".into()));
+    };
+    let count = le_u64(&ip, 0);
+    if count != (ih.len - 24) / 16 {
+        return Ok(Err(format!(
+            "INDEX frame count {count} disagrees with its length"
+        )));
+    }
+    let count = count as usize;
+    let (events_at, stats_at) = (le_u64(&ip, 8), le_u64(&ip, 16));
+    let mut offsets = Vec::with_capacity(count);
+    let mut prev_end = first;
+    for i in 0..count {
+        let o = le_u64(&ip, 24 + 8 * i);
+        let end = o.checked_add(SECTION_HEADER_LEN + frame_len);
+        if o < prev_end || end.is_none_or(|e| e > index_at) {
+            return Ok(Err(format!(
+                "INDEX offset of frame {i} ({o}) is impossible"
+            )));
+        }
+        prev_end = o + SECTION_HEADER_LEN + frame_len;
+        offsets.push(o);
+    }
+    let times = (0..count)
+        .map(|i| f64::from_bits(le_u64(&ip, 24 + 8 * (count + i))))
+        .collect();
+    let events = match events_at {
+        0 => Vec::new(),
+        o => indexed_section(raw, o, TAG_EVENTS, "EVENTS", index_at)?,
+    };
+    let summary = match stats_at {
+        0 => None,
+        o => Some(indexed_section(raw, o, TAG_STATS, "STATS", index_at)?),
+    };
+    Ok(Ok(Contents {
+        offsets,
+        times,
+        events,
+        summary,
+    }))
+}
+
+/// Reads and decodes a bincode section the INDEX points to (must end before `limit`).
+fn indexed_section<T: serde::de::DeserializeOwned>(
+    raw: &Raw,
+    at: u64,
+    tag: u32,
+    name: &str,
+    limit: u64,
+) -> Result<T, SnapshotError> {
+    let h = raw
+        .read_head(at, name)?
+        .ok_or_else(|| raw.truncated(format!("file ends inside {name} at byte {at}")))?;
+    if h.tag != tag {
+        return Err(raw.corrupt(
+            name,
+            at,
+            format!(
+                "the INDEX points to a section tagged {:#010x} ({})",
+                h.tag,
+                section_name(h.tag)
+            ),
+        ));
+    }
+    if h.len > limit.saturating_sub(h.payload_start()) {
+        return Err(raw.absurd(
+            name,
+            at,
+            format!(
+                "{} bytes declared, the section must end before byte {limit}",
+                h.len
+            ),
+        ));
+    }
+    let p = raw.read_payload(&h, name)?;
+    decode_exact(&p).map_err(|d| raw.corrupt(name, at, d))
+}
+
+/// Sequential scan from the first section after the HEADER, verifying every checksum.
+fn scan(
+    raw: &Raw,
+    first: u64,
+    header: &Header,
+    frame_len: u64,
+    warnings: &mut Vec<String>,
+) -> Result<Contents, SnapshotError> {
+    let mut c = Contents::default();
+    let mut warn = |w: String| warnings.push(format!("{}: {w}", raw.path.display()));
+    let mut pos = first;
+    let mut frame = Frame::default();
+    loop {
+        let k = c.offsets.len();
+        if pos == raw.len {
+            warn(format!(
+                "file ends at byte {pos} without an END section; kept {k} whole frames"
+            ));
+            break;
+        }
+        let Some(h) = raw.read_head(pos, "section")? else {
+            warn(format!(
+                "truncated: file ends at byte {} inside a section header at byte {pos}; \
+                 kept {k} whole frames",
+                raw.len
+            ));
+            break;
+        };
+        let name = match h.tag {
+            TAG_FRAME => format!("FRAME #{k}"),
+            t => section_name(t).to_string(),
+        };
+        if h.tag == TAG_FRAME && h.len != frame_len {
+            return Err(raw.absurd(
+                &name,
+                pos,
+                format!(
+                    "{} bytes, but a frame of {} beads has {frame_len}",
+                    h.len, header.n_beads
+                ),
+            ));
+        }
+        let remain = raw.len - h.payload_start();
+        if h.len > remain {
+            if h.len >= MAX_PLAUSIBLE_LEN || h.tag == TAG_HEADER {
+                return Err(raw.absurd(
+                    &name,
+                    pos,
+                    format!("{} bytes declared but only {remain} remain", h.len),
+                ));
+            }
+            warn(format!(
+                "truncated: file ends at byte {} inside {name} (starts at byte {pos}, \
+                 needs {} payload bytes, {remain} remain); kept {k} whole frames",
+                raw.len, h.len
+            ));
+            break;
+        }
+        match h.tag {
+            TAG_FRAME => {
+                read_frame_at(raw, pos, &name, header.n_beads, frame_len, &mut frame)?;
+                c.offsets.push(pos);
+                c.times.push(frame.t);
+            }
+            TAG_EVENTS => {
+                let p = raw.read_payload(&h, "EVENTS")?;
+                c.events = decode_exact(&p).map_err(|d| raw.corrupt("EVENTS", pos, d))?;
+            }
+            TAG_STATS => {
+                let p = raw.read_payload(&h, "STATS")?;
+                c.summary = Some(decode_exact(&p).map_err(|d| raw.corrupt("STATS", pos, d))?);
+            }
+            TAG_HEADER => {
+                return Err(raw.corrupt("HEADER", pos, "a second HEADER section".into()));
+            }
+            tag => {
+                // INDEX, END or an unknown tag. Its checksum also covers the tag, so a frame
+                // whose tag was damaged fails here: stop rather than renumber later frames.
+                if raw.read_payload(&h, &name).is_err() {
+                    warn(format!(
+                        "damaged section (checksum) at byte {pos}; kept {k} whole frames, \
+                         ignored everything after it"
+                    ));
+                    break;
+                }
+                match tag {
+                    TAG_INDEX => {}
+                    TAG_END => {
+                        if h.end() != raw.len {
+                            warn(format!(
+                                "{} bytes after the END section ignored",
+                                raw.len - h.end()
+                            ));
+                        }
+                        break;
+                    }
+                    t => warn(format!(
+                        "skipped a section with unknown tag {t:#010x} at byte {pos}"
+                    )),
+                }
+            }
+        }
+        pos = h.end();
+    }
+    Ok(c)
+}
+
+impl Raw {
+    /// Reads the 16-byte section header at `at`; `Ok(None)` if the file ends inside it.
+    fn read_head(&self, at: u64, name: &str) -> Result<Option<SectionHead>, SnapshotError> {
+        if self.len.saturating_sub(at) < SECTION_HEADER_LEN {
+            return Ok(None);
+        }
+        let mut b = [0u8; SECTION_HEADER_LEN as usize];
+        let mut file = self.lock();
+        seek(&mut file, at).map_err(|e| self.io(&format!("seeking to {name}"), e))?;
+        file.read_exact(&mut b)
+            .map_err(|e| self.io(&format!("reading {name}"), e))?;
+        Ok(Some(SectionHead {
+            offset: at,
+            tag: u32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+            len: le_u64(&b, 4),
+            crc: u32::from_le_bytes([b[12], b[13], b[14], b[15]]),
+        }))
+    }
+
+    /// Errors unless the payload of `h` lies inside the file.
+    fn check_fits(&self, h: &SectionHead, name: &str) -> Result<(), SnapshotError> {
+        let remain = self.len.saturating_sub(h.payload_start());
+        if h.len > remain {
+            return Err(self.absurd(
+                name,
+                h.offset,
+                format!("{} bytes declared but only {remain} remain", h.len),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Reads a whole payload (after checking it fits in the file) and verifies its checksum.
+    fn read_payload(&self, h: &SectionHead, name: &str) -> Result<Vec<u8>, SnapshotError> {
+        self.check_fits(h, name)?;
+        let mut p = vec![0u8; h.len as usize];
+        let mut file = self.lock();
+        seek(&mut file, h.payload_start())
+            .map_err(|e| self.io(&format!("seeking to {name}"), e))?;
+        file.read_exact(&mut p)
+            .map_err(|e| self.io(&format!("reading {name}"), e))?;
+        drop(file);
+        let mut hasher = section_hasher(h.tag, h.len);
+        hasher.update(&p);
+        if hasher.finalize() != h.crc {
+            return Err(self.checksum(name, h.offset));
+        }
+        Ok(p)
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, File> {
+        self.file.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    fn io(&self, action: &str, e: std::io::Error) -> SnapshotError {
+        SnapshotError::Io {
+            path: self.path.clone(),
+            action: action.to_string(),
+            source: e,
+        }
+    }
+
+    fn truncated(&self, detail: String) -> SnapshotError {
+        SnapshotError::Truncated {
+            path: self.path.clone(),
+            detail,
+        }
+    }
+
+    fn corrupt(&self, section: &str, offset: u64, detail: String) -> SnapshotError {
+        SnapshotError::Corrupt {
+            path: self.path.clone(),
+            section: section.to_string(),
+            offset,
+            detail,
+        }
+    }
+
+    fn absurd(&self, section: &str, offset: u64, detail: String) -> SnapshotError {
+        SnapshotError::AbsurdLength {
+            path: self.path.clone(),
+            section: section.to_string(),
+            offset,
+            detail,
+        }
+    }
+
+    fn checksum(&self, section: &str, offset: u64) -> SnapshotError {
+        SnapshotError::ChecksumMismatch {
+            path: self.path.clone(),
+            section: section.to_string(),
+            offset,
+        }
+    }
+}
+
+/// Little-endian u64 at `at` (caller guarantees the bounds).
+fn le_u64(b: &[u8], at: usize) -> u64 {
+    let mut w = [0u8; 8];
+    w.copy_from_slice(&b[at..at + 8]);
+    u64::from_le_bytes(w)
+}
+
+fn seek(f: &mut File, at: u64) -> std::io::Result<()> {
+    f.seek(SeekFrom::Start(at)).map(|_| ())
+}
+
+/// Reads until `buf` is full or EOF; returns the bytes read.
+fn read_up_to(f: &mut File, buf: &mut [u8]) -> std::io::Result<usize> {
+    let mut got = 0;
+    while got < buf.len() {
+        match f.read(&mut buf[got..]) {
+            Ok(0) => break,
+            Ok(n) => got += n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(got)
+}

@@ -1,0 +1,264 @@
+//! Streaming snapshot writer (layout in the [parent module](super)).
+//!
+//! Frames go straight to a buffered temporary file; only each frame's byte offset and time (16
+//! bytes per frame) stay in memory for the INDEX section. Writing a frame allocates nothing: the
+//! values are converted to little-endian bytes through a fixed scratch buffer, once to compute
+//! the CRC and once to write, so the section header can precede the payload without seeking.
+
+use super::{
+    encode, frame_payload_len, section_hasher, sync_parent_dir, temp_sibling, EventRecord, Header,
+    RunSummary, SnapshotError, FORMAT_VERSION, MAGIC, TAG_END, TAG_EVENTS, TAG_FRAME, TAG_HEADER,
+    TAG_INDEX, TAG_STATS,
+};
+use std::fs::{File, OpenOptions};
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// Floats converted per scratch chunk (8 KiB of f64 → 64 KiB of bytes).
+const CHUNK_VALUES: usize = 8192;
+
+/// Writes a snapshot file frame by frame; see [`SnapshotWriter::create`].
+///
+/// The file appears under its final name only when [`SnapshotWriter::finish`] succeeds.
+/// Dropping an unfinished writer (an error, a panic unwinding, an early return) deletes the
+/// temporary file.
+pub struct SnapshotWriter {
+    path: PathBuf,
+    tmp: PathBuf,
+    out: Option<BufWriter<File>>,
+    pos: u64,
+    n_beads: u64,
+    frame_len: u64,
+    offsets: Vec<u64>,
+    times: Vec<f64>,
+    scratch: Box<[u8]>,
+}
+
+impl SnapshotWriter {
+    /// Starts a snapshot for `path`: creates the temporary sibling `.<name>.tmp-<pid>-<k>` and
+    /// writes the preamble and the HEADER section (with `format_version` set to
+    /// [`FORMAT_VERSION`]).
+    pub fn create(path: &Path, header: &Header) -> Result<Self, SnapshotError> {
+        let tmp = temp_sibling(path)?;
+        let file = OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+            .map_err(|e| SnapshotError::Io {
+                path: path.to_path_buf(),
+                action: format!("creating temporary file {}", tmp.display()),
+                source: e,
+            })?;
+        let frame_len = frame_payload_len(header.n_beads).ok_or_else(|| SnapshotError::Encode {
+            path: path.to_path_buf(),
+            section: "HEADER",
+            detail: format!("bead count {} is too large", header.n_beads),
+        })?;
+        let mut w = SnapshotWriter {
+            path: path.to_path_buf(),
+            tmp,
+            out: Some(BufWriter::with_capacity(1 << 16, file)),
+            pos: 0,
+            n_beads: header.n_beads,
+            frame_len,
+            offsets: Vec::new(),
+            times: Vec::new(),
+            scratch: vec![0u8; CHUNK_VALUES * 8].into_boxed_slice(),
+        };
+        let mut h = header.clone();
+        h.format_version = FORMAT_VERSION;
+        let payload = encode(&h).map_err(|e| w.encode_err("HEADER", e))?;
+        let mut pre = [0u8; 12];
+        pre[..8].copy_from_slice(&MAGIC);
+        pre[8..].copy_from_slice(&FORMAT_VERSION.to_le_bytes());
+        w.write_raw(&pre)?;
+        w.write_section(TAG_HEADER, &payload)?;
+        Ok(w)
+    }
+
+    /// Final path of the snapshot.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Temporary file being written (renamed onto [`Self::path`] by `finish`).
+    pub fn temp_path(&self) -> &Path {
+        &self.tmp
+    }
+
+    /// Frames written so far.
+    pub fn frames_written(&self) -> u64 {
+        self.offsets.len() as u64
+    }
+
+    /// Appends one frame (time `t`, displacements `u`, velocities `v`, each `n_beads` long).
+    pub fn write_frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), SnapshotError> {
+        let n = self.n_beads;
+        if u.len() as u64 != n || v.len() as u64 != n {
+            return Err(SnapshotError::FrameShape {
+                path: self.path.clone(),
+                frame: self.offsets.len() as u64,
+                expected: n,
+                u_len: u.len(),
+                v_len: v.len(),
+            });
+        }
+        let mut h = section_hasher(TAG_FRAME, self.frame_len);
+        for_each_chunk(t, u, v, &mut self.scratch, |b| {
+            h.update(b);
+            Ok(())
+        })
+        .map_err(|e| self.io_err(e))?;
+        let offset = self.pos;
+        let head = section_header(TAG_FRAME, self.frame_len, h.finalize());
+        self.write_raw(&head)?;
+        let out = self.out.as_mut().ok_or_else(finished_err)?;
+        for_each_chunk(t, u, v, &mut self.scratch, |b| out.write_all(b)).map_err(|e| {
+            SnapshotError::Io {
+                path: self.path.clone(),
+                action: format!("writing frame {}", self.offsets.len()),
+                source: e,
+            }
+        })?;
+        self.pos += self.frame_len;
+        self.offsets.push(offset);
+        self.times.push(t);
+        Ok(())
+    }
+
+    /// Writes EVENTS, STATS, INDEX and END, flushes, fsyncs and renames the temporary file
+    /// onto the final path (then syncs the directory, best effort).
+    pub fn finish(
+        mut self,
+        events: &[EventRecord],
+        summary: &RunSummary,
+    ) -> Result<(), SnapshotError> {
+        let ev = encode(&events).map_err(|e| self.encode_err("EVENTS", e))?;
+        let st = encode(summary).map_err(|e| self.encode_err("STATS", e))?;
+        let events_offset = self.pos;
+        self.write_section(TAG_EVENTS, &ev)?;
+        let stats_offset = self.pos;
+        self.write_section(TAG_STATS, &st)?;
+
+        let count = self.offsets.len();
+        let mut index = Vec::with_capacity(24 + 16 * count);
+        index.extend_from_slice(&(count as u64).to_le_bytes());
+        index.extend_from_slice(&events_offset.to_le_bytes());
+        index.extend_from_slice(&stats_offset.to_le_bytes());
+        for o in &self.offsets {
+            index.extend_from_slice(&o.to_le_bytes());
+        }
+        for t in &self.times {
+            index.extend_from_slice(&t.to_le_bytes());
+        }
+        let index_offset = self.pos;
+        self.write_section(TAG_INDEX, &index)?;
+        self.write_section(TAG_END, &index_offset.to_le_bytes())?;
+
+        let out = self.out.take().ok_or_else(finished_err)?;
+        let file = out.into_inner().map_err(|e| SnapshotError::Io {
+            path: self.path.clone(),
+            action: "flushing snapshot".into(),
+            source: e.into_error(),
+        })?;
+        file.sync_all().map_err(|e| SnapshotError::Io {
+            path: self.path.clone(),
+            action: "syncing snapshot to disk".into(),
+            source: e,
+        })?;
+        drop(file);
+        std::fs::rename(&self.tmp, &self.path).map_err(|e| SnapshotError::Io {
+            path: self.path.clone(),
+            action: format!("renaming {} onto it", self.tmp.display()),
+            source: e,
+        })?;
+        // Renamed: nothing left for Drop to clean up.
+        self.tmp = PathBuf::new();
+        sync_parent_dir(&self.path);
+        Ok(())
+    }
+
+    fn write_raw(&mut self, b: &[u8]) -> Result<(), SnapshotError> {
+        let out = self.out.as_mut().ok_or_else(finished_err)?;
+        if let Err(e) = out.write_all(b) {
+            return Err(self.io_err(e));
+        }
+        self.pos += b.len() as u64;
+        Ok(())
+    }
+
+    fn write_section(&mut self, tag: u32, payload: &[u8]) -> Result<(), SnapshotError> {
+        let len = payload.len() as u64;
+        let mut h = section_hasher(tag, len);
+        h.update(payload);
+        self.write_raw(&section_header(tag, len, h.finalize()))?;
+        self.write_raw(payload)
+    }
+
+    fn io_err(&self, e: std::io::Error) -> SnapshotError {
+        SnapshotError::Io {
+            path: self.path.clone(),
+            action: format!("writing snapshot (temporary file {})", self.tmp.display()),
+            source: e,
+        }
+    }
+
+    fn encode_err(&self, section: &'static str, e: bincode::error::EncodeError) -> SnapshotError {
+        SnapshotError::Encode {
+            path: self.path.clone(),
+            section,
+            detail: e.to_string(),
+        }
+    }
+}
+
+impl Drop for SnapshotWriter {
+    fn drop(&mut self) {
+        if !self.tmp.as_os_str().is_empty() {
+            // Close the handle first (required on Windows), then remove the partial file.
+            drop(self.out.take());
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+fn finished_err() -> SnapshotError {
+    SnapshotError::Output(std::io::Error::other("snapshot writer already finished"))
+}
+
+/// The 16-byte section header.
+pub(crate) fn section_header(tag: u32, len: u64, crc: u32) -> [u8; 16] {
+    let mut b = [0u8; 16];
+    b[..4].copy_from_slice(&tag.to_le_bytes());
+    b[4..12].copy_from_slice(&len.to_le_bytes());
+    b[12..].copy_from_slice(&crc.to_le_bytes());
+    b
+}
+
+/// Feeds the little-endian bytes of `t, u.., v..` to `f` in chunks of at most `scratch.len()`
+/// bytes (a multiple of 8).
+fn for_each_chunk(
+    t: f64,
+    u: &[f64],
+    v: &[f64],
+    scratch: &mut [u8],
+    mut f: impl FnMut(&[u8]) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    let cap = scratch.len() / 8;
+    let mut fill = 0;
+    for x in std::iter::once(t)
+        .chain(u.iter().copied())
+        .chain(v.iter().copied())
+    {
+        scratch[8 * fill..8 * fill + 8].copy_from_slice(&x.to_le_bytes());
+        fill += 1;
+        if fill == cap {
+            f(&scratch[..8 * fill])?;
+            fill = 0;
+        }
+    }
+    if fill > 0 {
+        f(&scratch[..8 * fill])?;
+    }
+    Ok(())
+}
