@@ -68,6 +68,7 @@ pub fn run(
         momentum_final: chain.momentum(&v),
         events_by_kind: Vec::new(),
         largest_cluster: n as u64,
+        events: Vec::new(),
         u,
         v,
     })

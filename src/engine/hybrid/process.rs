@@ -1,0 +1,245 @@
+//! Event processing of the hybrid engine: merging on gap closing, splitting on gap opening, and
+//! the free-flight predictions that follow.
+
+use super::cluster::Cluster;
+use super::free::{first_upward_crossing, Free};
+use super::{prio, Hybrid, Key, FREE};
+use crate::engine::dense::make_integrator;
+use crate::integrate::ChainRange;
+use crate::snapshot::EventKind;
+
+impl Hybrid<'_> {
+    /// Creates a cluster of beads `lo..hi` at time `t` from global states `u`, `v`.
+    pub(super) fn make_cluster(&mut self, lo: usize, hi: usize, t: f64, u: &[f64], v: &[f64]) {
+        let m = hi - lo;
+        let chain = self.chain;
+        let absolute =
+            (lo == 0 && chain.left_wall.is_some()) || (hi == self.n && chain.right_wall.is_some());
+        let (fu, fv) = if absolute {
+            (0.0, 0.0)
+        } else {
+            let mass = &chain.mass[lo..hi];
+            let p: f64 = mass.iter().zip(v).map(|(m, x)| m * x).sum();
+            let mt: f64 = mass.iter().sum();
+            (u[0], p / mt)
+        };
+        for i in 0..m {
+            self.bu[i] = u[i] - fu;
+            self.bv[i] = v[i] - fv;
+        }
+        let mut integ = make_integrator(self.cfg, m, self.tol);
+        let sys = ChainRange { chain, lo, m };
+        integ.reset(&sys, t, &self.bu[..m], &self.bv[..m]);
+        let cl = Cluster {
+            lo,
+            hi,
+            frame_u: fu,
+            frame_v: fv,
+            frame_t: t,
+            integ,
+            t_now: t,
+            pending: None,
+        };
+        let slot = match self.spare_slots.pop() {
+            Some(s) => {
+                self.clusters[s as usize] = Some(cl);
+                s
+            }
+            None => {
+                self.clusters.push(Some(cl));
+                (self.clusters.len() - 1) as u32
+            }
+        };
+        for i in lo..hi {
+            self.owner[i] = slot;
+            self.version[i] += 1;
+        }
+        self.largest = self.largest.max(m);
+        self.queue
+            .push(Key::Cluster(slot), prio(t, 2, lo, Key::Cluster(slot)));
+    }
+
+    /// Removes a cluster (its counters go to the run totals).
+    fn remove_cluster(&mut self, slot: u32) -> Cluster {
+        let cl = self.clusters[slot as usize].take().expect("live cluster");
+        self.queue.remove(&Key::Cluster(slot));
+        self.stats.add(cl.integ.stats());
+        self.spare_slots.push(slot);
+        cl
+    }
+
+    /// Makes bead `i` free with state (u, v) at `t`.
+    fn set_free(&mut self, i: usize, t: f64, u: f64, v: f64) {
+        self.owner[i] = FREE;
+        self.version[i] += 1;
+        self.free[i] = Free {
+            t0: t,
+            u0: u,
+            v0: v,
+            g: self.g[i],
+        };
+    }
+
+    /// (Re)computes the predicted closing of contact `c` if both its beads are free.
+    pub(super) fn schedule_free_pair(&mut self, c: usize) {
+        let key = Key::FreeFree(c as u32);
+        if self.owner[c] != FREE || self.owner[c + 1] != FREE {
+            self.queue.remove(&key);
+            return;
+        }
+        let (fa, fb) = (self.free[c], self.free[c + 1]);
+        let tr = fa.t0.max(fb.t0);
+        let (ua, va) = fa.at(tr);
+        let (ub, vb) = fb.at(tr);
+        let a = self.pre(c) + ua - ub - self.theta;
+        match first_upward_crossing(a, va - vb, fa.g - fb.g) {
+            Some(s) if tr + s <= self.cfg.until => {
+                self.queue.push(key, prio(tr + s, 1, c, key));
+            }
+            _ => {
+                self.queue.remove(&key);
+            }
+        }
+    }
+
+    /// (Re)computes the predicted closing of a free end bead onto the wall at `side`.
+    pub(super) fn schedule_wall(&mut self, side: u8) {
+        let key = Key::Wall(side);
+        let i = if side == 0 { 0 } else { self.n - 1 };
+        if self.owner[i] != FREE {
+            self.queue.remove(&key);
+            return;
+        }
+        let f = self.free[i];
+        let Some((d, dd, ddd)) = self.wall_state(side, f.u0, f.v0, i) else {
+            return;
+        };
+        match first_upward_crossing(d - self.theta, dd, ddd) {
+            Some(s) if f.t0 + s <= self.cfg.until => {
+                self.queue.push(key, prio(f.t0 + s, 1, i, key));
+            }
+            _ => {
+                self.queue.remove(&key);
+            }
+        }
+    }
+
+    /// Removes the free-flight predictions that involve beads `lo..hi`.
+    fn drop_predictions(&mut self, lo: usize, hi: usize) {
+        for c in lo.saturating_sub(1)..hi.min(self.n - 1) {
+            self.queue.remove(&Key::FreeFree(c as u32));
+        }
+        if lo == 0 {
+            self.queue.remove(&Key::Wall(0));
+        }
+        if hi == self.n {
+            self.queue.remove(&Key::Wall(1));
+        }
+    }
+
+    /// Merges everything on both sides of contact `c` into one cluster at `t`.
+    fn merge_at(&mut self, c: usize, t: f64) {
+        let lo = match self.owner[c] {
+            FREE => c,
+            s => self.clusters[s as usize].as_ref().expect("live").lo,
+        };
+        let hi = match self.owner[c + 1] {
+            FREE => c + 2,
+            s => self.clusters[s as usize].as_ref().expect("live").hi,
+        };
+        let mut u = vec![0.0; hi - lo];
+        let mut v = vec![0.0; hi - lo];
+        for i in lo..hi {
+            let (a, b) = self.pos(i, t);
+            u[i - lo] = a;
+            v[i - lo] = b;
+        }
+        for side in [self.owner[c], self.owner[c + 1]] {
+            if side != FREE && self.clusters[side as usize].is_some() {
+                self.remove_cluster(side);
+            }
+        }
+        self.drop_predictions(lo, hi);
+        let rel = v[c - lo] - v[c + 1 - lo];
+        self.peak[c] = 0.0;
+        self.log(t, c, EventKind::Close, rel, 0.0);
+        self.make_cluster(lo, hi, t, &u, &v);
+    }
+
+    /// A cluster reached the closing it found at `t` with the bead across contact `c`.
+    pub(super) fn process_close(&mut self, slot: u32, c: usize, t: f64, ver: (u64, u64)) {
+        if self.version[c] == ver.0 && self.version[c + 1] == ver.1 {
+            self.merge_at(c, t);
+            return;
+        }
+        // Stale (the neighbour changed since): restart the cluster at t from its output.
+        let cl = self.remove_cluster(slot);
+        let (lo, hi) = (cl.lo, cl.hi);
+        let u: Vec<f64> = (lo..hi).map(|i| cl.u_at(t, i)).collect();
+        let v: Vec<f64> = (lo..hi).map(|i| cl.v_at(t, i)).collect();
+        self.make_cluster(lo, hi, t, &u, &v);
+    }
+
+    /// Two free beads close contact `c` at `t`.
+    pub(super) fn process_free_close(&mut self, c: usize, t: f64) {
+        self.merge_at(c, t);
+    }
+
+    /// A free end bead closes onto the wall at `side` at `t`.
+    pub(super) fn process_wall_close(&mut self, side: u8, t: f64) {
+        let i = if side == 0 { 0 } else { self.n - 1 };
+        let (u, v) = self.pos(i, t);
+        self.drop_predictions(i, i + 1);
+        self.log(t, i, EventKind::WallClose, v, 0.0);
+        self.make_cluster(i, i + 1, t, &[u], &[v]);
+    }
+
+    /// Splits a cluster at every contact that opened (and frees a lone bead leaving a wall).
+    pub(super) fn process_split(&mut self, slot: u32) {
+        let (lo, hi, t) = {
+            let cl = self.clusters[slot as usize].as_ref().expect("live");
+            (cl.lo, cl.hi, cl.t_now)
+        };
+        let cl = self.remove_cluster(slot);
+        let m = hi - lo;
+        let z = cl.integ.state();
+        let fu = cl.frame_at(t);
+        let u: Vec<f64> = (0..m).map(|k| fu + z[k]).collect();
+        let v: Vec<f64> = (0..m).map(|k| cl.frame_v + z[m + k]).collect();
+        let mut start = lo;
+        for i in lo..hi {
+            let last = i + 1 == hi;
+            let opens = !last && {
+                let k = i - lo;
+                let d = self.pre(i) + z[k] - z[k + 1];
+                d < self.theta && z[m + k] - z[m + k + 1] < 0.0
+            };
+            if opens {
+                let k = i - lo;
+                self.log(t, i, EventKind::Open, z[m + k] - z[m + k + 1], self.peak[i]);
+                self.peak[i] = 0.0;
+            }
+            if opens || last {
+                let (a, b) = (start - lo, i + 1 - lo);
+                if i + 1 - start == 1 && !self.wall_holds(start, u[a], v[a]) {
+                    if m == 1 {
+                        self.log(t, start, EventKind::WallOpen, v[a], 0.0);
+                    }
+                    self.set_free(start, t, u[a], v[a]);
+                } else {
+                    self.make_cluster(start, i + 1, t, &u[a..b], &v[a..b]);
+                }
+                start = i + 1;
+            }
+        }
+        for c in lo.saturating_sub(1)..hi.min(self.n - 1) {
+            self.schedule_free_pair(c);
+        }
+        if lo == 0 {
+            self.schedule_wall(0);
+        }
+        if hi == self.n {
+            self.schedule_wall(1);
+        }
+    }
+}
