@@ -148,7 +148,10 @@ impl Chain {
         let n = &self.exponent[lo..lo + m - 1];
         let a = &self.prefactor[lo..lo + m - 1];
         let pre: &[f64] = if PRE {
-            &self.precompression.as_ref().expect("precompression declared")[lo..lo + m - 1]
+            &self
+                .precompression
+                .as_ref()
+                .expect("precompression declared")[lo..lo + m - 1]
         } else {
             &[]
         };
@@ -175,7 +178,8 @@ impl Chain {
         }
         if lo == 0 {
             if let Some(w) = &self.left_wall {
-                let (f, s) = contact_force_stiffness(w.exponent, w.prefactor, w.precompression - u[0]);
+                let (f, s) =
+                    contact_force_stiffness(w.exponent, w.prefactor, w.precompression - u[0]);
                 acc[0] += f;
                 if STIFF {
                     k[m - 1] = s;
@@ -284,7 +288,11 @@ impl Chain {
                         .fold(0.0_f64, |acc, (w, m)| acc.max((w / m).abs()))
                 })
                 .unwrap_or(0.0);
-            velocity = if g > 0.0 { (2.0 * g * length).sqrt() } else { 1.0 };
+            velocity = if g > 0.0 {
+                (2.0 * g * length).sqrt()
+            } else {
+                1.0
+            };
         }
         Scales { length, velocity }
     }
@@ -332,7 +340,12 @@ mod tests {
         let h = 1e-6;
         let f = |d: f64| contact_force(2.5, 0.4, d);
         let fd = (f(0.2 + h) - f(0.2 - h)) / (2.0 * h);
-        assert!((k[0] - fd).abs() <= 1e-7 * fd.abs() + 1e-12, "{} vs {}", k[0], fd);
+        assert!(
+            (k[0] - fd).abs() <= 1e-7 * fd.abs() + 1e-12,
+            "{} vs {}",
+            k[0],
+            fd
+        );
     }
 
     #[test]

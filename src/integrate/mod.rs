@@ -167,7 +167,9 @@ impl Stats {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum IntegrationError {
     /// The step size fell below what the floating-point time can resolve.
-    #[error("step size {h:e} too small at t = {t} (stiffness, a singularity, or tolerances too tight)")]
+    #[error(
+        "step size {h:e} too small at t = {t} (stiffness, a singularity, or tolerances too tight)"
+    )]
     StepTooSmall {
         /// Time reached.
         t: f64,

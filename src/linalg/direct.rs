@@ -98,8 +98,12 @@ mod tests {
         let d: Vec<Complex64> = (0..m)
             .map(|i| mu2 * (1.0 + (i % 3) as f64) + Complex64::new(2.0 + i as f64 * 0.01, 0.0))
             .collect();
-        let e: Vec<Complex64> = (0..m - 1).map(|i| Complex64::new(-1.0 - 0.02 * i as f64, 0.0)).collect();
-        let x: Vec<Complex64> = (0..m).map(|i| Complex64::new(i as f64, 1.0 - i as f64 * 0.5)).collect();
+        let e: Vec<Complex64> = (0..m - 1)
+            .map(|i| Complex64::new(-1.0 - 0.02 * i as f64, 0.0))
+            .collect();
+        let x: Vec<Complex64> = (0..m)
+            .map(|i| Complex64::new(i as f64, 1.0 - i as f64 * 0.5))
+            .collect();
         let mut b = matvec(&d, &e, &x);
         let mut s = DirectSweep::new();
         s.pattern(m);
@@ -107,7 +111,10 @@ mod tests {
         s.solve_in_place(&mut b);
         for (xi, bi) in x.iter().zip(&b) {
             // abs 1e-10, rel 1e-12 of |x|
-            assert!((xi - bi).norm() <= 1e-10 + 1e-12 * xi.norm(), "{xi} vs {bi}");
+            assert!(
+                (xi - bi).norm() <= 1e-10 + 1e-12 * xi.norm(),
+                "{xi} vs {bi}"
+            );
         }
     }
 
