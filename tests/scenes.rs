@@ -42,7 +42,11 @@ const RUN: &str = "[run]\nuntil = 10.0\n";
 
 #[test]
 fn every_preset_parses_validates_and_matches_its_table_entry() {
-    assert!(presets().len() >= 19, "expected the paper presets, got {}", presets().len());
+    assert!(
+        presets().len() >= 19,
+        "expected the paper presets, got {}",
+        presets().len()
+    );
     assert!(presets().iter().any(|p| p.name == "striker"));
     for p in presets() {
         let s = preset(p.name).unwrap_or_else(|e| panic!("preset {}: {e}", p.name));
@@ -52,8 +56,16 @@ fn every_preset_parses_validates_and_matches_its_table_entry() {
         assert!(s.description.starts_with(p.description), "{}", p.name);
         let t: toml::Table = toml::from_str(p.toml).expect("preset TOML");
         let st = t["scene"].as_table().expect("[scene]");
-        assert_eq!(st["name"].as_str(), Some(p.name), "file name vs [scene].name");
-        assert_eq!(st["description"].as_str(), Some(p.description), "table vs file description");
+        assert_eq!(
+            st["name"].as_str(),
+            Some(p.name),
+            "file name vs [scene].name"
+        );
+        assert_eq!(
+            st["description"].as_str(),
+            Some(p.description),
+            "table vs file description"
+        );
         assert!(s.run.until > 0.0 && s.run.every.is_some(), "{}", p.name);
         // load() falls back to presets when no such file exists.
         assert_eq!(load(p.name).expect("load preset"), s);
@@ -89,7 +101,11 @@ fn the_issue_minimum_scene_works_with_all_three_forms() {
     let dir = tempfile::tempdir().expect("tempdir");
     let v: Vec<String> = (0..5).map(|i| format!("{}", 0.5 * i as f64)).collect();
     std::fs::write(dir.path().join("velocity.csv"), v.join("\n") + "\n").expect("write");
-    std::fs::write(dir.path().join("mass.csv"), "# masses\n1.0\n2.0\n\n3.0\n4.0\n5.0\n").expect("write");
+    std::fs::write(
+        dir.path().join("mass.csv"),
+        "# masses\n1.0\n2.0\n\n3.0\n4.0\n5.0\n",
+    )
+    .expect("write");
     let text = r#"
 [chain]
 beads = 5
@@ -108,7 +124,10 @@ until = 150.0
     assert_eq!(s.chain.mass, vec![1.0, 2.0, 3.0, 4.0, 5.0]);
     assert_eq!(s.chain.exponent, vec![2.5, 3.0, 3.5, 4.0]);
     assert_eq!(s.chain.prefactor, vec![0.4; 4]);
-    assert_eq!(s.chain.precompression, None, "explicit all-zero precompression maps to None");
+    assert_eq!(
+        s.chain.precompression, None,
+        "explicit all-zero precompression maps to None"
+    );
     assert_eq!(s.v0, vec![0.0, 0.5, 1.0, 1.5, 2.0]);
     assert_eq!(s.u0, vec![0.0; 5]);
     assert_eq!(s.run.until, 150.0);
@@ -156,13 +175,18 @@ fn interface_segments_and_impurities_set_the_right_contacts() {
 
 #[test]
 fn alternation_is_periodic_from_start() {
-    let s = ok(&format!("[chain]\nbeads = 9\nexponent = {{ alternate = [2.5, 3.0] }}\n{RUN}"));
+    let s = ok(&format!(
+        "[chain]\nbeads = 9\nexponent = {{ alternate = [2.5, 3.0] }}\n{RUN}"
+    ));
     let want: Vec<f64> = (0..8).map(|k| if k % 2 == 0 { 2.5 } else { 3.0 }).collect();
     assert_eq!(s.chain.exponent, want);
     let s = ok(&format!(
         "[chain]\nbeads = 9\nexponent = {{ base = 2.0, alternate = [4.0, 5.0, 6.0], start = 3 }}\n{RUN}"
     ));
-    assert_eq!(s.chain.exponent, vec![2.0, 2.0, 2.0, 4.0, 5.0, 6.0, 4.0, 5.0]);
+    assert_eq!(
+        s.chain.exponent,
+        vec![2.0, 2.0, 2.0, 4.0, 5.0, 6.0, 4.0, 5.0]
+    );
 }
 
 fn disorder(seed: u64) -> Vec<f64> {
@@ -177,7 +201,10 @@ fn disorder(seed: u64) -> Vec<f64> {
 fn random_exponents_are_in_range_seeded_and_reproducible() {
     let a = disorder(1);
     assert_eq!(a.len(), 999);
-    assert!(a[..20].iter().all(|n| *n == 2.5), "contacts 0..19 monodisperse");
+    assert!(
+        a[..20].iter().all(|n| *n == 2.5),
+        "contacts 0..19 monodisperse"
+    );
     assert!(a[20..].iter().all(|n| (2.46..2.54).contains(n)), "n̄ ± ε");
     assert_eq!(a, disorder(1), "same seed, same chain");
     let b = disorder(2);
@@ -190,7 +217,10 @@ fn random_exponents_are_in_range_seeded_and_reproducible() {
     let hi = a[20..].iter().cloned().fold(f64::NEG_INFINITY, f64::max);
     assert!(lo < 2.462 && hi > 2.538, "range [{lo}, {hi}]");
     // The preset is this exact chain (seed 1), and other keys do not shift the stream.
-    assert_eq!(preset("disorder_2.5_0.04").expect("preset").chain.exponent, a);
+    assert_eq!(
+        preset("disorder_2.5_0.04").expect("preset").chain.exponent,
+        a
+    );
     let with_mass = ok(&format!(
         "[scene]\nseed = 1\n[chain]\nbeads = 1000\nmass = {{ random = {{ mean = 1.0, eps = 0.1 }} }}\nexponent = {{ random = {{ mean = 2.5, eps = 0.04 }}, start = 20 }}\n{RUN}"
     ));
@@ -215,16 +245,31 @@ fn gaussian_perturbation_respects_min_and_sigma() {
     assert!(near.iter().all(|n| *n > 2.0));
     assert!(near.iter().any(|n| *n > 2.1), "perturbation applied");
     // Perturbed interface preset: values differ from the clean interface but stay > 2.
-    let p = preset("interface_3.5_3.0_perturbed").expect("preset").chain.exponent;
+    let p = preset("interface_3.5_3.0_perturbed")
+        .expect("preset")
+        .chain
+        .exponent;
     assert!(p.iter().all(|n| *n > 2.0));
-    assert!(p[..50].iter().all(|n| (3.3..3.7).contains(n)), "8 sigma around 3.5");
-    assert!(p[50..].iter().all(|n| (2.8..3.2).contains(n)), "8 sigma around 3.0");
+    assert!(
+        p[..50].iter().all(|n| (3.3..3.7).contains(n)),
+        "8 sigma around 3.5"
+    );
+    assert!(
+        p[50..].iter().all(|n| (2.8..3.2).contains(n)),
+        "8 sigma around 3.0"
+    );
 }
 
 #[test]
 fn tapered_radii_drive_masses_and_prefactors() {
     let s = preset("tapered").expect("tapered");
-    let r = |i: usize| if i < 20 { 1.0 } else { 0.95f64.powi(i as i32 - 20) };
+    let r = |i: usize| {
+        if i < 20 {
+            1.0
+        } else {
+            0.95f64.powi(i as i32 - 20)
+        }
+    };
     for i in 0..60 {
         // abs 0, rel 1e-12: same formula, different evaluation order.
         assert!(close(s.chain.mass[i], r(i).powi(3), 0.0, 1e-12), "bead {i}");
@@ -233,7 +278,10 @@ fn tapered_radii_drive_masses_and_prefactors() {
         let want = (2.0 * r(k) * r(k + 1) / (r(k) + r(k + 1))).sqrt();
         assert!(close(s.chain.prefactor[k], want, 0.0, 1e-12), "contact {k}");
     }
-    assert_eq!(s.chain.prefactor[0], 1.0, "R = 1 reproduces the plain prefactor");
+    assert_eq!(
+        s.chain.prefactor[0], 1.0,
+        "R = 1 reproduces the plain prefactor"
+    );
 }
 
 #[test]
@@ -261,21 +309,38 @@ fn pulses_and_strikers_from_both_ends() {
 
 #[test]
 fn fields_precompression_and_walls_are_declared_effects() {
-    let s = ok(&format!("[chain]\nbeads = 3\nmass = [1, 2, 3]\n[field]\ngravity = 2.0\n{RUN}"));
+    let s = ok(&format!(
+        "[chain]\nbeads = 3\nmass = [1, 2, 3]\n[field]\ngravity = 2.0\n{RUN}"
+    ));
     assert_eq!(s.chain.field, Some(vec![-2.0, -4.0, -6.0]), "W = −m g");
-    let s = ok(&format!("[chain]\nbeads = 3\n[field]\nforce = [0.5, 0, 0]\ngravity = 1.0\n{RUN}"));
-    assert_eq!(s.chain.field, Some(vec![-0.5, -1.0, -1.0]), "force and gravity add");
+    let s = ok(&format!(
+        "[chain]\nbeads = 3\n[field]\nforce = [0.5, 0, 0]\ngravity = 1.0\n{RUN}"
+    ));
+    assert_eq!(
+        s.chain.field,
+        Some(vec![-0.5, -1.0, -1.0]),
+        "force and gravity add"
+    );
     let s = ok(&format!("[chain]\nbeads = 3\n[field]\nforce = 0.0\n{RUN}"));
     assert_eq!(s.chain.field, None, "all-zero field maps to None");
-    let s = ok(&format!("[chain]\nbeads = 3\nprecompression = [0.0, 0.01]\n{RUN}"));
+    let s = ok(&format!(
+        "[chain]\nbeads = 3\nprecompression = [0.0, 0.01]\n{RUN}"
+    ));
     assert_eq!(s.chain.precompression, Some(vec![0.0, 0.01]));
     let s = ok(&format!(
         "[chain]\nbeads = 3\nexponent = [2.5, 3.0]\nprefactor = [1.0, 2.0]\n[walls]\nright = {{}}\nleft = {{ exponent = 4.0, precompression = -0.1 }}\n{RUN}"
     ));
     let l = s.chain.left_wall.expect("left");
     let r = s.chain.right_wall.expect("right");
-    assert_eq!((l.exponent, l.prefactor, l.precompression), (4.0, 1.0, -0.1));
-    assert_eq!((r.exponent, r.prefactor, r.precompression), (3.0, 2.0, 0.0), "end-contact defaults");
+    assert_eq!(
+        (l.exponent, l.prefactor, l.precompression),
+        (4.0, 1.0, -0.1)
+    );
+    assert_eq!(
+        (r.exponent, r.prefactor, r.precompression),
+        (3.0, 2.0, 0.0),
+        "end-contact defaults"
+    );
     let g = preset("gravity_on_wall").expect("gravity");
     // Static equilibrium: each contact's force carries the weight above it (rel 1e-12).
     let c = &g.chain;
@@ -291,7 +356,10 @@ fn fields_precompression_and_walls_are_declared_effects() {
 #[test]
 fn run_settings_and_scene_table() {
     let s = ok("[scene]\nname = \"x\"\ndescription = \"d\"\nseed = 42\n[chain]\nbeads = 2\n[run]\nuntil = 5\nevery = 0.5\nrtol = 1e-6\natol = 1e-9\nmethod = \"dop853\"\nengine = \"hybrid\"\n");
-    assert_eq!((s.name.as_str(), s.description.as_str(), s.seed), ("x", "d", 42));
+    assert_eq!(
+        (s.name.as_str(), s.description.as_str(), s.seed),
+        ("x", "d", 42)
+    );
     assert_eq!(s.run.until, 5.0);
     assert_eq!(s.run.every, Some(0.5));
     assert_eq!((s.run.rtol, s.run.atol), (Some(1e-6), Some(1e-9)));
@@ -312,12 +380,28 @@ fn physical_units_match_table_1_and_the_paper_scaling() {
     assert!(close(sc.time, 9.057222e-7, 0.0, 1e-6), "beta = {}", sc.time);
     // Computer units: mass 1, prefactor ã/n0 = 2.961766/2.5 (rel 1e-6).
     assert!(s.chain.mass.iter().all(|m| close(*m, 1.0, 0.0, 1e-12)));
-    assert!(s.chain.prefactor.iter().all(|a| close(*a, 1.1847065, 0.0, 1e-6)));
+    assert!(s
+        .chain
+        .prefactor
+        .iter()
+        .all(|a| close(*a, 1.1847065, 0.0, 1e-6)));
     // 0.11 m/s → 9.963e-8 computer units, i.e. the paper's "1e7" is 1e-7 (rel 1e-4).
-    assert!(close(s.v0[0], 9.962944e-8, 0.0, 1e-6), "striker {}", s.v0[0]);
+    assert!(
+        close(s.v0[0], 9.962944e-8, 0.0, 1e-6),
+        "striker {}",
+        s.v0[0]
+    );
     assert!(close(sc.velocity(0.1104091), 1e-7, 0.0, 1e-6));
-    assert!(close(s.run.until, 2.2e-3 / 9.057222e-7, 0.0, 1e-6), "until {}", s.run.until);
-    assert!(s.description.contains("time unit 9.057"), "{}", s.description);
+    assert!(
+        close(s.run.until, 2.2e-3 / 9.057222e-7, 0.0, 1e-6),
+        "until {}",
+        s.run.until
+    );
+    assert!(
+        s.description.contains("time unit 9.057"),
+        "{}",
+        s.description
+    );
     // SI time scale: masses in kg, prefactors in SI, velocities in m/s.
     let si = ok("[units]\nsystem = \"physical\"\ntime_scale = \"si\"\nradius = 4e-3\nyoung = 2.26e11\npoisson = 0.3\ndensity = 7650\n[chain]\nbeads = 3\n[initial]\nstriker_si = 0.11\n[walls]\nright = {}\n[run]\nuntil_si = 1e-3\n");
     assert!(close(si.chain.mass[0], m_si, 0.0, 1e-12));
@@ -334,13 +418,44 @@ fn physical_units_match_table_1_and_the_paper_scaling() {
     assert!(close(w[0], -9.81 * beta * beta, 0.0, 1e-9), "W {}", w[0]);
 }
 
+#[test]
+fn mixed_exponent_presets_use_the_paper_units() {
+    for name in [
+        "interface_3.0_3.5",
+        "interface_3.0_2.5",
+        "periodic_2.5_3.0",
+        "impurity_s1_3.0_2.5",
+        "disorder_2.5_0.04",
+    ] {
+        let s = preset(name).expect("preset");
+        // Prefactor held at the sphere value ã/n0 = 1.1847065 for every exponent (rel 1e-6).
+        assert!(
+            s.chain
+                .prefactor
+                .iter()
+                .all(|a| close(*a, 1.1847065, 0.0, 1e-6)),
+            "{name}"
+        );
+        assert!(s.chain.mass.iter().all(|m| *m == 1.0), "{name}");
+        // Striker 0.11 m/s = 9.963e-8 computer units (rel 1e-6).
+        assert!(
+            close(s.v0[0], 9.962944e-8, 0.0, 1e-6),
+            "{name}: {}",
+            s.v0[0]
+        );
+    }
+}
+
 // ---------------------------------------------------------------- bad input, one per class
 
 #[test]
 fn malformed_toml_names_file_line_and_column() {
     let m = err("[chain]\nbeads = 10\nmass = [1.0, 2.0\n[run]\nuntil = 1\n");
     assert_contains(&m, &["t.toml:", "malformed TOML"]);
-    assert!(m.starts_with("t.toml:3:") || m.starts_with("t.toml:4:"), "{m}");
+    assert!(
+        m.starts_with("t.toml:3:") || m.starts_with("t.toml:4:"),
+        "{m}"
+    );
     let m = err("[chain]\nbeads = = 3\n");
     assert_contains(&m, &["t.toml:2:", "malformed TOML"]);
 }
@@ -351,20 +466,37 @@ fn unknown_keys_and_tables_are_named() {
     assert_contains(&m, &["t.toml", "[chain].mas", "unknown key", "mass"]);
     let m = err(&format!("[chian]\nbeads = 10\n{RUN}"));
     assert_contains(&m, &["t.toml", "[chian]", "unknown"]);
-    let m = err(&format!("[chain]\nbeads = 10\nexponent = {{ base = 3.0, segmnts = [] }}\n{RUN}"));
+    let m = err(&format!(
+        "[chain]\nbeads = 10\nexponent = {{ base = 3.0, segmnts = [] }}\n{RUN}"
+    ));
     assert_contains(&m, &["[chain].exponent.segmnts", "unknown key"]);
-    let m = err(&format!("[chain]\nbeads = 10\n[walls]\nleft = {{ exponnent = 2 }}\n{RUN}"));
+    let m = err(&format!(
+        "[chain]\nbeads = 10\n[walls]\nleft = {{ exponnent = 2 }}\n{RUN}"
+    ));
     assert_contains(&m, &["[walls].left.exponnent"]);
-    let m = err(&format!("[chain]\nbeads = 10\n[initial]\nstriker_si = 1.0\n{RUN}"));
+    let m = err(&format!(
+        "[chain]\nbeads = 10\n[initial]\nstriker_si = 1.0\n{RUN}"
+    ));
     assert_contains(&m, &["[initial].striker_si", "physical"]);
 }
 
 #[test]
 fn wrong_array_length_names_key_and_counts() {
     let m = err(&format!("[chain]\nbeads = 4\nmass = [1, 1, 1]\n{RUN}"));
-    assert_contains(&m, &["t.toml: [chain].mass: expected 4 values (one per bead), got 3"]);
-    let m = err(&format!("[chain]\nbeads = 4\nexponent = [3, 3, 3, 3]\n{RUN}"));
-    assert_contains(&m, &["[chain].exponent", "expected 3 values (one per contact), got 4"]);
+    assert_contains(
+        &m,
+        &["t.toml: [chain].mass: expected 4 values (one per bead), got 3"],
+    );
+    let m = err(&format!(
+        "[chain]\nbeads = 4\nexponent = [3, 3, 3, 3]\n{RUN}"
+    ));
+    assert_contains(
+        &m,
+        &[
+            "[chain].exponent",
+            "expected 3 values (one per contact), got 4",
+        ],
+    );
     let m = err(&format!(
         "[chain]\nbeads = 4\nexponent = {{ base = 3.0, segments = [{{ from = 2, to = 5, value = 2.5 }}] }}\n{RUN}"
     ));
@@ -410,7 +542,9 @@ fn non_number_in_csv_names_its_line() {
 fn nan_and_inf_are_rejected_with_their_key() {
     let m = err(&format!("[chain]\nbeads = 3\nprefactor = nan\n{RUN}"));
     assert_contains(&m, &["t.toml: [chain].prefactor", "finite"]);
-    let m = err(&format!("[chain]\nbeads = 3\nmass = [1.0, inf, 1.0]\n{RUN}"));
+    let m = err(&format!(
+        "[chain]\nbeads = 3\nmass = [1.0, inf, 1.0]\n{RUN}"
+    ));
     assert_contains(&m, &["[chain].mass[1]", "finite"]);
     let m = err("[chain]\nbeads = 3\n[run]\nuntil = inf\n");
     assert_contains(&m, &["[run].until", "finite"]);
@@ -418,7 +552,10 @@ fn nan_and_inf_are_rejected_with_their_key() {
     let mut s = preset("striker").expect("striker");
     s.v0[7] = f64::NAN;
     let m = validate(&s).expect_err("nan").to_string();
-    assert_contains(&m, &["striker: [initial].velocity: bead 7: not a finite number"]);
+    assert_contains(
+        &m,
+        &["striker: [initial].velocity: bead 7: not a finite number"],
+    );
 }
 
 #[test]
@@ -426,9 +563,14 @@ fn exponent_at_most_one_names_the_contact() {
     let m = err(&format!(
         "[chain]\nbeads = 10\nexponent = {{ base = 2.5, impurity = {{ at = 4, value = 1.0 }} }}\n{RUN}"
     ));
-    assert_contains(&m, &["t.toml: [chain].exponent: contact 4: exponent must be > 1, got 1"]);
+    assert_contains(
+        &m,
+        &["t.toml: [chain].exponent: contact 4: exponent must be > 1, got 1"],
+    );
     // Below 2 (but > 1) is only a warning.
-    let s = ok(&format!("[chain]\nbeads = 4\nexponent = [2.5, 1.8, 2.5]\n[initial]\nstriker = 1.0\n{RUN}"));
+    let s = ok(&format!(
+        "[chain]\nbeads = 4\nexponent = [2.5, 1.8, 2.5]\n[initial]\nstriker = 1.0\n{RUN}"
+    ));
     let w = validate(&s).expect("valid");
     assert_eq!(w.len(), 1, "{w:?}");
     assert_contains(&w[0], &["contact 1", "C¹"]);
@@ -437,8 +579,13 @@ fn exponent_at_most_one_names_the_contact() {
 #[test]
 fn mass_at_most_zero_names_the_bead() {
     let m = err(&format!("[chain]\nbeads = 4\nmass = [1, 1, -2, 1]\n{RUN}"));
-    assert_contains(&m, &["t.toml: [chain].mass: bead 2: mass must be > 0, got -2"]);
-    let m = err(&format!("[chain]\nbeads = 4\nmass = {{ base = 1, segments = [{{ from = 3, value = 0 }}] }}\n{RUN}"));
+    assert_contains(
+        &m,
+        &["t.toml: [chain].mass: bead 2: mass must be > 0, got -2"],
+    );
+    let m = err(&format!(
+        "[chain]\nbeads = 4\nmass = {{ base = 1, segments = [{{ from = 3, value = 0 }}] }}\n{RUN}"
+    ));
     assert_contains(&m, &["[chain].mass: bead 3"]);
     let m = err(&format!("[chain]\nbeads = 3\nprefactor = [1, 0]\n{RUN}"));
     assert_contains(&m, &["[chain].prefactor: contact 1: prefactor must be > 0"]);
@@ -486,11 +633,21 @@ fn wrong_types_are_named() {
 fn load_names_both_file_and_preset_when_neither_exists() {
     let e = load("no_such_scene_xyz.toml").expect_err("missing");
     let m = e.to_string();
-    assert_contains(&m, &["no_such_scene_xyz.toml", "no such scene file", "preset", "striker"]);
+    assert_contains(
+        &m,
+        &[
+            "no_such_scene_xyz.toml",
+            "no such scene file",
+            "preset",
+            "striker",
+        ],
+    );
     let dir = tempfile::tempdir().expect("tempdir");
     let p = dir.path().join("bad.toml");
     std::fs::write(&p, "[chain]\nbeads = 1\n[run]\nuntil = 1\n").expect("write");
-    let m = load(p.to_str().expect("utf8")).expect_err("bad").to_string();
+    let m = load(p.to_str().expect("utf8"))
+        .expect_err("bad")
+        .to_string();
     assert_contains(&m, &["bad.toml: [chain].beads"]);
 }
 
@@ -499,8 +656,63 @@ fn validate_reports_wrong_lengths_of_resolved_scenes() {
     let mut s = preset("striker").expect("striker");
     s.chain.exponent.pop();
     let m = validate(&s).expect_err("length").to_string();
-    assert_contains(&m, &["striker: [chain].exponent: expected 99 values (one per contact), got 98"]);
+    assert_contains(
+        &m,
+        &["striker: [chain].exponent: expected 99 values (one per contact), got 98"],
+    );
     let mut s = preset("striker").expect("striker");
     s.run.until = f64::NAN;
-    assert_contains(&validate(&s).expect_err("nan").to_string(), &["[run].until"]);
+    assert_contains(
+        &validate(&s).expect_err("nan").to_string(),
+        &["[run].until"],
+    );
+}
+
+#[test]
+fn mutated_presets_never_panic() {
+    use rand::{Rng, SeedableRng};
+    // Seeded byte-level mutations of every preset: parsing must return Ok or a one-line Err.
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2024);
+    let alphabet = b"=[]{}\",.-+0123456789eEnaif \n#_xyz";
+    let mut errors = 0;
+    for p in presets() {
+        for _ in 0..60 {
+            let mut bytes = p.toml.as_bytes().to_vec();
+            for _ in 0..rng.random_range(1..4) {
+                let i = rng.random_range(0..bytes.len());
+                match rng.random_range(0..3) {
+                    0 => bytes[i] = alphabet[rng.random_range(0..alphabet.len())],
+                    1 => {
+                        bytes.remove(i);
+                    }
+                    _ => bytes.insert(i, alphabet[rng.random_range(0..alphabet.len())]),
+                }
+            }
+            let text = String::from_utf8_lossy(&bytes);
+            if let Err(e) = parse_str(&text, Path::new("."), "m.toml") {
+                errors += 1;
+                let m = e.to_string();
+                assert!(!m.contains('\n') && m.starts_with("m.toml"), "{m:?}");
+            }
+        }
+    }
+    assert!(
+        errors > 100,
+        "mutations should mostly break scenes, got {errors} errors"
+    );
+}
+
+#[test]
+fn print_sample_messages() {
+    // Not an assertion test of content (those are above): shows the messages with --nocapture.
+    for t in [
+        "[chain]\nbeads = 10\nmass = [1.0, 2.0\n",
+        "[chain]\nbeads = 100\nmass = [1.0]\n[run]\nuntil = 1\n",
+        "[chain]\nbeads = 3\nexponent = [2.5, 0.9]\n[run]\nuntil = 1\n",
+        "[chain]\nbeads = 3\nfoo = 1\n",
+    ] {
+        let e = parse(t).expect_err("bad");
+        println!("{e}");
+        assert!(!e.to_string().is_empty());
+    }
 }

@@ -1,9 +1,9 @@
 //! Scenes: a chain, its initial state and run settings, as read from a TOML file.
 //!
-//! Entry points: [`load`] (file path or preset name), [`parse_str`], [`validate`], [`presets`] /
+//! Entry points: [`load`] (file path or preset name), [`parse_str`], [`validate()`], [`presets()`] /
 //! [`preset`]. Value forms and builders live in [`values`], the physical-unit conversion (paper
-//! eqs. 3–4, 10–11) in [`units`], validation in [`validate()`]. The key reference below is also the
-//! README's "Scene files" section.
+//! eqs. 3–4, 10–11) in [`units`]. The key reference below is also the README's
+//! "Scene files" section.
 //!
 //!
 //! A scene is one TOML file (or a preset name: `beadchain scenes` lists them). Every key below is
@@ -112,9 +112,9 @@
 //! young = 2.26e11          # REQUIRED per bead, Pa
 //! poisson = 0.3            # REQUIRED per bead, in (-1, 0.5]
 //! density = 7650.0         # REQUIRED per bead, kg/m^3
-//! m0 = 2.05e-3             # typical mass (kg), default: mean bead mass
-//! n0 = 2.5                 # typical exponent, default: mean contact exponent
-//! mu = 1e9                 # order of magnitude of a, default: 10^floor(log10(mean a))
+//! m0 = 2.05e-3             # typical mass (kg), default: mass of bead 0
+//! n0 = 2.5                 # typical exponent, default 2.5 (one clock for all exponents)
+//! mu = 1e9                 # order of magnitude of a, default: 10^floor(log10 a) of contact 0
 //! wall_young = 2.26e11     # wall material for the default wall prefactor, default: the end bead's
 //! wall_poisson = 0.3
 //! ```
@@ -143,6 +143,17 @@
 //! therefore take SI velocities through `striker_si = 0.11` (preset `hertz_spheres_physical`); the
 //! solitary wave then crosses 100 beads (0.8 m) in about 1.75 ms (≈ 460 m/s).
 //!
+//! **Units matter for mixed exponents.** With one prefactor for every exponent, the force ratio of
+//! two contacts at the same overlap is `δ^(n1−n2)`, which depends on the length unit: the
+//! similarity law holds only for a uniform exponent. In the paper's units overlaps are ~10⁻⁶ m, in
+//! a dimensionless `v = a = 1` scene ~1. Measured (velocity Verlet, 120 beads, interface at bead
+//! 50): the energy fraction reflected at a 3.0 → 2.5 interface is 0.25 % dimensionless but 34 % in
+//! the paper's units (the paper reports strong reflection); 3.0 → 3.5 gives 0.15 % in both. So
+//! every preset with mixed exponents (interfaces, impurities, periodic, disorder, composite) is a
+//! physical scene of Table 1 steel beads with `striker_si = 0.11`; the uniform-exponent presets
+//! (`striker`, `tapered`, `rectangular_pulse`, `two_strikers`, `wall_reflection`,
+//! `gravity_on_wall`) stay dimensionless, which by the similarity law loses nothing.
+//!
 //! ### Effects are declared
 //!
 //! `precompression` and `[field]` map to `None` in the chain when absent **or when every entry is
@@ -150,7 +161,7 @@
 //!
 //! ### Validation
 //!
-//! Errors: N < 2 (or more than 10⁸ beads), mass ≤ 0, exponent ≤ 1, prefactor ≤ 0 (each naming the
+//! Errors: N < 2 (or more than 10⁷ beads), mass ≤ 0, exponent ≤ 1, prefactor ≤ 0 (each naming the
 //! bead/contact index), any non-finite number (TOML `nan`/`inf` included), wrong array lengths,
 //! `until`/`every` ≤ 0, `rtol`/`atol` outside (0, 1), physical radius/density/Young ≤ 0, Poisson
 //! outside (−1, 0.5], builder ranges outside the chain. Warnings: exponent < 2 at some contact
@@ -161,18 +172,18 @@
 //! | preset | experiment |
 //! |---|---|
 //! | `striker` | Uniform chain of 100 beads, n = 2.5, struck at bead 0 with v = 1 (paper eq. 8; the set-up of every figure) |
-//! | `interface_3.0_3.5` | Exponent interface n1 = 3.0 -> n2 = 3.5 at bead 50 (contacts 50.. use n2), 150 beads (paper Figs. 4-5, labels fig3 and fig4) |
-//! | `interface_3.0_2.5` | Exponent interface n1 = 3.0 -> n2 = 2.5 at bead 50, 150 beads: reflection and a multipulse train (paper Fig. 6, label fig:large_small) |
-//! | `interface_3.5_3.0_perturbed` | Interface n1 = 3.5 -> n2 = 3.0 at bead 50 with Gaussian exponent noise sigma/dn = 0.05, n > 2 enforced (paper eq. B.1, Fig. 28) |
-//! | `periodic_2.5_3.0` | Periodic exponents n_a = 2.5, n_b = 3.0 (contact 0 has n_a): pairwise collective motion (paper Fig. 10) |
-//! | `periodic_decay_2.5_2.555` | Periodic exponents n_a = 2.5, n_b = 2.555: exponential decay of the leading wave (paper Fig. 11) |
-//! | `periodic_breather_2.5_2.635` | Periodic exponents n_a = 2.5, n_b = 2.635 (first decay-rate minimum): confined wave with periodically changing shape (paper Fig. 13) |
-//! | `periodic_breather_4.0_5.0` | Periodic exponents n_a = 4.0, n_b = 5.0 (second decay-rate minimum): breathing confined wave (paper Fig. 14) |
-//! | `impurity_s1_3.0_3.5` | Impurity of s = 1 contact (contact 50, beads 50-51) with n_imp = 3.5 in a n = 3.0 chain (paper Fig. 16 top) |
-//! | `impurity_s1_3.0_2.5` | Impurity of s = 1 contact (contact 50) with n_imp = 2.5 in a n = 3.0 chain (paper Fig. 16 bottom) |
-//! | `impurity_s5_4.0_2.5` | Impurity of s = 5 contacts (contacts 50-54) with n_imp = 2.5 in a n = 4.0 chain: collective quasi-particle of 6 beads (paper Figs. 17-18) |
-//! | `disorder_2.5_0.04` | Disordered exponents n = 2.5 + 0.04 r, r uniform in [-1, 1) (eq. 19), contacts 0-19 monodisperse, N = 1000, seed 1 (paper Figs. 19-20) |
-//! | `composite_mass_exponent` | Composite interface at bead 50: n 3.0 -> 2.5 (contacts 50..) and mass 1 -> 0.5 (beads 51..), dn = -0.5, m2/m1 = 1/2 (paper Figs. 24-25) |
+//! | `interface_3.0_3.5` | Exponent interface n1 = 3.0 -> n2 = 3.5 at bead 50 (contacts 50.. use n2), 150 Table-1 steel beads, striker 0.11 m/s (paper Figs. 4-5, labels fig3 and fig4) |
+//! | `interface_3.0_2.5` | Exponent interface n1 = 3.0 -> n2 = 2.5 at bead 50, 150 Table-1 steel beads, striker 0.11 m/s: reflection and a multipulse train (paper Fig. 6, label fig:large_small) |
+//! | `interface_3.5_3.0_perturbed` | Interface n1 = 3.5 -> n2 = 3.0 at bead 50 with Gaussian exponent noise sigma/dn = 0.05, n > 2 enforced, Table-1 steel beads (paper eq. B.1, Fig. 28) |
+//! | `periodic_2.5_3.0` | Periodic exponents n_a = 2.5, n_b = 3.0 (contact 0 has n_a), Table-1 steel beads: pairwise collective motion (paper Fig. 10) |
+//! | `periodic_decay_2.5_2.555` | Periodic exponents n_a = 2.5, n_b = 2.555, Table-1 steel beads: exponential decay of the leading wave (paper Fig. 11) |
+//! | `periodic_breather_2.5_2.635` | Periodic exponents n_a = 2.5, n_b = 2.635 (first decay-rate minimum), Table-1 steel beads: confined wave with periodically changing shape (paper Fig. 13) |
+//! | `periodic_breather_4.0_5.0` | Periodic exponents n_a = 4.0, n_b = 5.0 (second decay-rate minimum), Table-1 steel beads: breathing confined wave (paper Fig. 14) |
+//! | `impurity_s1_3.0_3.5` | Impurity of s = 1 contact (contact 50, beads 50-51) with n_imp = 3.5 in a n = 3.0 chain of Table-1 steel beads (paper Fig. 16 top) |
+//! | `impurity_s1_3.0_2.5` | Impurity of s = 1 contact (contact 50) with n_imp = 2.5 in a n = 3.0 chain of Table-1 steel beads (paper Fig. 16 bottom) |
+//! | `impurity_s5_4.0_2.5` | Impurity of s = 5 contacts (contacts 50-54) with n_imp = 2.5 in a n = 4.0 chain of Table-1 steel beads: collective quasi-particle of 6 beads (paper Figs. 17-18) |
+//! | `disorder_2.5_0.04` | Disordered exponents n = 2.5 + 0.04 r, r uniform in [-1, 1) (eq. 19), contacts 0-19 monodisperse, N = 1000 Table-1 steel beads, seed 1 (paper Figs. 19-20) |
+//! | `composite_mass_exponent` | Composite interface at bead 50: n 3.0 -> 2.5 (contacts 50..) and mass m2/m1 = 1/2 (beads 51.., half density, same prefactor), Table-1 steel (paper Figs. 24-25) |
 //! | `tapered` | Tapered chain: radii R_(i+1) = (1 - 0.05) R_i from bead 20 on, masses ~ R^3, Hertz prefactors ~ sqrt(2 R_i R_j / (R_i + R_j)) (paper Sec. 1) |
 //! | `rectangular_pulse` | Rectangular initial pulse: beads 0-4 move with v = 1 (l = 5), n = 2.5: splits into a train of l pulses (paper Sec. 3.2) |
 //! | `two_strikers` | Strikers from both ends (bead 0 at +1, bead 100 at -1), 101 beads, n = 2.5: head-on solitary-wave collision at bead 50 |

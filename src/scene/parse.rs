@@ -15,7 +15,7 @@ use std::path::Path;
 use toml::{Table, Value};
 
 /// Largest chain a scene may declare (guards against absurd allocations from typos).
-pub const MAX_BEADS: usize = 100_000_000;
+pub const MAX_BEADS: usize = 10_000_000;
 
 /// Default per-bead mass of dimensionless scenes.
 pub const DEFAULT_MASS: f64 = 1.0;
@@ -63,7 +63,11 @@ pub fn parse_str(text: &str, base_dir: &Path, origin: &str) -> Result<Scene, Sce
 fn syntax_error(file: &str, text: &str, e: &toml::de::Error) -> SceneError {
     let (line, column) = match e.span() {
         Some(span) => {
-            let upto = &text[..span.start.min(text.len())];
+            let mut end = span.start.min(text.len());
+            while !text.is_char_boundary(end) {
+                end -= 1;
+            }
+            let upto = &text[..end];
             let line = upto.matches('\n').count() + 1;
             let col = upto.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
             (line, col)
@@ -74,7 +78,7 @@ fn syntax_error(file: &str, text: &str, e: &toml::de::Error) -> SceneError {
         file: file.to_string(),
         line,
         column,
-        message: one_line(e.message().trim()),
+        message: one_line(&e.message().trim().replace('\n', "; ")),
     }
 }
 
@@ -348,7 +352,6 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
             .collect();
         let sc = match opt_str(ctx, units_t, "units", "time_scale")? {
             None | Some("paper") => {
-                let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
                 let pos = |k: &str, x: Option<f64>| -> Result<Option<f64>, SceneError> {
                     match x {
                         Some(x) if x <= 0.0 => {
@@ -357,12 +360,11 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
                         _ => Ok(x),
                     }
                 };
-                let m0 = pos("m0", opt_num(ctx, units_t, "units", "m0")?)?
-                    .unwrap_or_else(|| mean(&mass_si));
-                let n0 = pos("n0", opt_num(ctx, units_t, "units", "n0")?)?
-                    .unwrap_or_else(|| mean(&exponent));
+                let m0 = pos("m0", opt_num(ctx, units_t, "units", "m0")?)?.unwrap_or(mass_si[0]);
+                let n0 =
+                    pos("n0", opt_num(ctx, units_t, "units", "n0")?)?.unwrap_or(units::DEFAULT_N0);
                 let mu = pos("mu", opt_num(ctx, units_t, "units", "mu")?)?
-                    .unwrap_or_else(|| UnitScales::order_of_magnitude(mean(&pref_si)));
+                    .unwrap_or_else(|| UnitScales::order_of_magnitude(pref_si[0]));
                 if n0 <= 0.0 || n0.is_nan() {
                     return Err(ctx.err(
                         "[units].n0",

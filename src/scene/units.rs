@@ -25,8 +25,10 @@
 //! | time | `t / β` |
 //! | energy | `E β² / m0` |
 //!
-//! Defaults: `m0` = mean bead mass, `n0` = mean contact exponent, `μ` = order of magnitude of the
-//! mean prefactor; each can be set in `[units]`. `time_scale = "si"` skips the rescaling
+//! Defaults: `m0` = mass of bead 0 (the striker), `n0` = 2.5 (the Hertz exponent the prefactor
+//! is computed for; a fixed `n0` keeps one clock for scenes with different exponents), `μ` =
+//! order of magnitude of contact 0's prefactor; each can be set in `[units]`. The choice only
+//! changes the time unit, never the physics in SI. `time_scale = "si"` skips the rescaling
 //! (mass in kg, time in s, prefactor in SI).
 //!
 //! ## Checking the paper's striker value
@@ -41,6 +43,9 @@
 //! `v⁽⁰⁾ = 1·10⁻⁷` computer units = 0.110 m/s with `n0 = 2.5` (with `n0 = 3.0` the same 0.11 m/s
 //! would be `9.09·10⁻⁸`). Physical scenes therefore take velocities in SI through the `*_si`
 //! keys (`striker_si = 0.11`), converted with `β`; plain keys stay in computer units.
+
+/// Default typical exponent `n0` of the paper's time scale (Hertz spheres).
+pub const DEFAULT_N0: f64 = 2.5;
 
 /// Density × volume of a sphere: `ρ · 4/3 · π R³` (kg).
 pub fn sphere_mass(radius: f64, density: f64) -> f64 {
