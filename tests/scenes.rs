@@ -701,18 +701,3 @@ fn mutated_presets_never_panic() {
         "mutations should mostly break scenes, got {errors} errors"
     );
 }
-
-#[test]
-fn print_sample_messages() {
-    // Not an assertion test of content (those are above): shows the messages with --nocapture.
-    for t in [
-        "[chain]\nbeads = 10\nmass = [1.0, 2.0\n",
-        "[chain]\nbeads = 100\nmass = [1.0]\n[run]\nuntil = 1\n",
-        "[chain]\nbeads = 3\nexponent = [2.5, 0.9]\n[run]\nuntil = 1\n",
-        "[chain]\nbeads = 3\nfoo = 1\n",
-    ] {
-        let e = parse(t).expect_err("bad");
-        println!("{e}");
-        assert!(!e.to_string().is_empty());
-    }
-}
