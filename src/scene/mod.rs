@@ -15,7 +15,7 @@
 //! [scene]
 //! name = "my_chain"        # default: file stem (preset name for presets)
 //! description = "..."      # default: ""
-//! seed = 0                 # u64 seed of every random builder (default 0); stored in snapshots
+//! seed = 0                 # seed of every random builder, 0..=2^63-1 (TOML integer), default 0
 //!
 //! [chain]
 //! beads = 100              # N >= 2; default: length of the first explicit array/CSV
