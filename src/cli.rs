@@ -1,0 +1,394 @@
+//! Argument parsing (clap derive) and the subcommands.
+
+use anyhow::{bail, Context, Result};
+use beadchain::engine::{self, EngineError, Observer, Recorder, RunConfig, RunOutcome};
+use beadchain::export::{self, FrameSel};
+use beadchain::integrate::Method;
+use beadchain::linalg::SolverKind;
+use beadchain::scene::{self, Engine, Scene};
+use beadchain::snapshot::{Header, RunSummary, Snapshot, SnapshotWriter};
+use clap::{Parser, Subcommand, ValueEnum};
+use std::io::Write;
+use std::path::PathBuf;
+
+/// Simulator for one-dimensional granular chains with Hertz-like contacts.
+#[derive(Parser, Debug)]
+#[command(name = "beadchain", version, about)]
+pub struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand, Debug)]
+enum Cmd {
+    /// Run a scene (a TOML file or a preset name) and write a binary snapshot.
+    Run(RunArgs),
+    /// Run the hybrid and the dense engine on a scene and compare them.
+    Check(CheckArgs),
+    /// Export frames (or the event log) of a snapshot as CSV or NPY.
+    Export(ExportArgs),
+    /// Print a snapshot's header, frame count, time span and energies.
+    Inspect {
+        /// Snapshot file.
+        file: PathBuf,
+    },
+    /// List the built-in preset scenes.
+    Scenes,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+enum EngineArg {
+    Dense,
+    Hybrid,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+enum MethodArg {
+    Radau5,
+    Dop853,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+enum SolverArg {
+    Auto,
+    Direct,
+    Faer,
+}
+
+#[derive(clap::Args, Debug)]
+struct Common {
+    /// Scene file (TOML) or preset name (see `beadchain scenes`).
+    scene: String,
+    /// Integration method [default: the scene's, else radau5].
+    #[arg(long, value_enum)]
+    method: Option<MethodArg>,
+    /// Relative tolerance [default: the scene's, else 1e-8].
+    #[arg(long)]
+    rtol: Option<f64>,
+    /// Absolute tolerance, relative to the run's characteristic length/velocity
+    /// [default: the scene's, else 1e-10].
+    #[arg(long)]
+    atol: Option<f64>,
+    /// End time [default: the scene's `[run] until`].
+    #[arg(long)]
+    until: Option<f64>,
+    /// Linear solver of the implicit method.
+    #[arg(long, value_enum, default_value = "auto")]
+    solver: SolverArg,
+    /// Abort after this many integrator steps.
+    #[arg(long)]
+    max_steps: Option<u64>,
+}
+
+#[derive(clap::Args, Debug)]
+struct RunArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Engine [default: the scene's, else hybrid].
+    #[arg(long, value_enum)]
+    engine: Option<EngineArg>,
+    /// Output interval [default: the scene's `[run] every`, else first and last frame].
+    #[arg(long)]
+    every: Option<f64>,
+    /// Output snapshot [default: `<scene name>.snap` in the current directory].
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+#[derive(clap::Args, Debug)]
+struct CheckArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Allowed deviation, relative to the largest |v| (for u: to the largest |u| change)
+    /// [default: 1000·rtol].
+    #[arg(long)]
+    tol: Option<f64>,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+enum Format {
+    Csv,
+    Npy,
+}
+
+#[derive(clap::Args, Debug)]
+struct ExportArgs {
+    /// Snapshot file.
+    file: PathBuf,
+    /// Output format.
+    #[arg(long, value_enum, default_value = "csv")]
+    format: Format,
+    /// Frames: first, last, all, or an index K.
+    #[arg(long, default_value = "all")]
+    frame: String,
+    /// Export the event log (CSV) instead of frames.
+    #[arg(long)]
+    events: bool,
+    /// Output path [default: standard output for CSV; required for NPY].
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+/// Runs the parsed command; returns the exit code.
+pub fn dispatch(cli: Cli) -> Result<i32> {
+    match cli.cmd {
+        Cmd::Run(a) => cmd_run(a),
+        Cmd::Check(a) => cmd_check(a),
+        Cmd::Export(a) => cmd_export(a),
+        Cmd::Inspect { file } => {
+            let snap = Snapshot::open(&file)?;
+            let chain = snap.header().scene.chain.clone();
+            print!("{}", export::inspect(&snap, &chain));
+            Ok(0)
+        }
+        Cmd::Scenes => {
+            for p in scene::presets() {
+                println!("{:<32} {}", p.name, p.description);
+            }
+            Ok(0)
+        }
+    }
+}
+
+fn load_scene(spec: &str) -> Result<Scene> {
+    let scene = scene::load(spec)?;
+    for w in scene::validate(&scene)? {
+        eprintln!("beadchain: warning: {}: {w}", scene.name);
+    }
+    Ok(scene)
+}
+
+fn config(scene: &Scene, c: &Common) -> RunConfig {
+    let mut cfg = RunConfig::from_scene(scene);
+    if scene.run.engine.is_none() {
+        cfg.engine = Engine::Hybrid;
+    }
+    if let Some(m) = c.method {
+        cfg.method = match m {
+            MethodArg::Radau5 => Method::Radau5,
+            MethodArg::Dop853 => Method::Dop853,
+        };
+    }
+    if let Some(r) = c.rtol {
+        cfg.rtol = r;
+    }
+    if let Some(a) = c.atol {
+        cfg.atol = a;
+    }
+    if let Some(t) = c.until {
+        cfg.until = t;
+    }
+    cfg.solver = match c.solver {
+        SolverArg::Auto => SolverKind::Auto,
+        SolverArg::Direct => SolverKind::Direct,
+        SolverArg::Faer => SolverKind::Faer,
+    };
+    cfg.max_steps = c.max_steps;
+    cfg
+}
+
+/// Streams frames into a snapshot writer.
+struct SnapshotSink(SnapshotWriter);
+
+impl Observer for SnapshotSink {
+    fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
+        self.0
+            .write_frame(t, u, v)
+            .map_err(|e| EngineError::Observer(e.to_string()))
+    }
+}
+
+fn summary(out: &RunOutcome) -> RunSummary {
+    RunSummary {
+        stats: out.stats.clone(),
+        wall_seconds: out.wall_seconds,
+        t_end: out.t_end,
+        energy_initial: out.energy_initial,
+        energy_final: out.energy_final,
+        momentum_initial: out.momentum_initial,
+        momentum_final: out.momentum_final,
+        events_by_kind: out.events_by_kind.clone(),
+        largest_cluster: out.largest_cluster,
+        notes: Vec::new(),
+    }
+}
+
+fn cmd_run(a: RunArgs) -> Result<i32> {
+    let mut scene = load_scene(&a.common.scene)?;
+    let mut cfg = config(&scene, &a.common);
+    if let Some(e) = a.engine {
+        cfg.engine = match e {
+            EngineArg::Dense => Engine::Dense,
+            EngineArg::Hybrid => Engine::Hybrid,
+        };
+    }
+    if a.every.is_some() {
+        cfg.every = a.every;
+    }
+    scene.run.until = cfg.until;
+    scene.run.every = cfg.every;
+    let out_path = a
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("{}.snap", scene.name)));
+    let created_by = std::env::args().collect::<Vec<_>>().join(" ");
+    let header = Header::new(
+        scene.clone(),
+        cfg.engine,
+        cfg.method,
+        cfg.rtol,
+        cfg.atol,
+        created_by,
+    );
+    let writer = SnapshotWriter::create(&out_path, &header)?;
+    let mut sink = SnapshotSink(writer);
+    let out = engine::run(&scene, &cfg, &mut sink)
+        .with_context(|| format!("scene {}: run failed (no output written)", scene.name))?;
+    let frames = sink.0.frames_written();
+    sink.0.finish(&out.events, &summary(&out))?;
+    print_outcome(&scene, &cfg, &out);
+    println!("wrote {} ({frames} frames)", out_path.display());
+    Ok(0)
+}
+
+fn print_outcome(scene: &Scene, cfg: &RunConfig, out: &RunOutcome) {
+    let s = &out.stats;
+    println!(
+        "{}: {} beads, engine {}, method {}, rtol {:e}, atol {:e}",
+        scene.name,
+        scene.chain.len(),
+        cfg.engine.name(),
+        cfg.method.name(),
+        cfg.rtol,
+        cfg.atol
+    );
+    println!(
+        "t = {} in {:.3} s: {} steps ({} rejected), {} active bead-steps, {} RHS evaluations, {} factorizations, {} Newton iterations ({} failures), largest cluster {}",
+        out.t_end,
+        out.wall_seconds,
+        s.steps,
+        s.rejected,
+        s.bead_steps,
+        s.rhs_evals,
+        s.factorizations,
+        s.newton_iters,
+        s.newton_failures,
+        out.largest_cluster
+    );
+    if !out.events_by_kind.is_empty() {
+        let ev: Vec<String> = out
+            .events_by_kind
+            .iter()
+            .filter(|(_, c)| *c > 0)
+            .map(|(k, c)| format!("{k} {c}"))
+            .collect();
+        println!("events: {}", if ev.is_empty() { "none".into() } else { ev.join(", ") });
+    }
+    println!(
+        "energy {:.12e} -> {:.12e} (relative change {:.3e}); momentum {:.12e} -> {:.12e}",
+        out.energy_initial,
+        out.energy_final,
+        out.relative_energy_error(),
+        out.momentum_initial,
+        out.momentum_final
+    );
+}
+
+fn cmd_check(a: CheckArgs) -> Result<i32> {
+    let scene = load_scene(&a.common.scene)?;
+    let base = config(&scene, &a.common);
+    let tol = a.tol.unwrap_or(1000.0 * base.rtol);
+    let mut dense_cfg = base.clone();
+    dense_cfg.engine = Engine::Dense;
+    dense_cfg.every = None;
+    let mut hyb_cfg = base;
+    hyb_cfg.engine = Engine::Hybrid;
+    hyb_cfg.every = None;
+    let mut rec = Recorder::default();
+    let h = engine::run(&scene, &hyb_cfg, &mut rec).context("hybrid run failed")?;
+    let mut rec = Recorder::default();
+    let d = engine::run(&scene, &dense_cfg, &mut rec).context("dense run failed")?;
+    let vmax = d.v.iter().chain(&scene.v0).fold(0.0_f64, |m, x| m.max(x.abs()));
+    let umax = d
+        .u
+        .iter()
+        .zip(&scene.u0)
+        .fold(0.0_f64, |m, (x, x0)| m.max((x - x0).abs()));
+    let dev = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .enumerate()
+            .map(|(i, (x, y))| ((x - y).abs(), i))
+            .fold((0.0, 0), |acc, x| if x.0 > acc.0 { x } else { acc })
+    };
+    let (du, iu) = dev(&h.u, &d.u);
+    let (dv, iv) = dev(&h.v, &d.v);
+    let rel_u = if umax > 0.0 { du / umax } else { du };
+    let rel_v = if vmax > 0.0 { dv / vmax } else { dv };
+    println!(
+        "{}: {} beads, t = {}, method {}, rtol {:e}, atol {:e}",
+        scene.name,
+        scene.chain.len(),
+        hyb_cfg.until,
+        hyb_cfg.method.name(),
+        hyb_cfg.rtol,
+        hyb_cfg.atol
+    );
+    println!("max |u_hybrid - u_dense| = {du:.3e} at bead {iu} ({rel_u:.3e} of the largest displacement {umax:.3e})");
+    println!("max |v_hybrid - v_dense| = {dv:.3e} at bead {iv} ({rel_v:.3e} of the largest velocity {vmax:.3e})");
+    println!(
+        "energy error: hybrid {:.3e}, dense {:.3e}",
+        h.relative_energy_error(),
+        d.relative_energy_error()
+    );
+    println!(
+        "wall time: hybrid {:.4} s ({} active bead-steps), dense {:.4} s ({} bead-steps); ratio {:.1}x",
+        h.wall_seconds,
+        h.stats.bead_steps,
+        d.wall_seconds,
+        d.stats.bead_steps,
+        d.wall_seconds / h.wall_seconds.max(1e-12)
+    );
+    if rel_u > tol || rel_v > tol {
+        println!("FAIL: deviation exceeds tolerance {tol:.3e}");
+        return Ok(1);
+    }
+    println!("OK: deviations within tolerance {tol:.3e}");
+    Ok(0)
+}
+
+fn cmd_export(a: ExportArgs) -> Result<i32> {
+    let snap = Snapshot::open(&a.file)?;
+    for w in snap.warnings() {
+        eprintln!("beadchain: warning: {w}");
+    }
+    let sel: FrameSel = a
+        .frame
+        .parse()
+        .map_err(|e| anyhow::anyhow!("--frame {}: {e}", a.frame))?;
+    let write = |out: &mut dyn Write| -> Result<(), beadchain::snapshot::SnapshotError> {
+        if a.events {
+            export::export_events_csv(&snap, out)
+        } else {
+            match a.format {
+                Format::Csv => export::export_csv(&snap, sel, out),
+                Format::Npy => export::export_npy(&snap, sel, out),
+            }
+        }
+    };
+    match &a.out {
+        Some(p) => export::write_atomically(p, write)?,
+        None => {
+            if matches!(a.format, Format::Npy) && !a.events {
+                bail!("--format npy needs --out PATH (binary output is not written to a terminal)");
+            }
+            // Validate the selection first so an error never leaves partial output.
+            sel.range(&snap)?;
+            let stdout = std::io::stdout();
+            let mut lock = std::io::BufWriter::new(stdout.lock());
+            write(&mut lock)?;
+            lock.flush().context("writing to standard output")?;
+        }
+    }
+    Ok(0)
+}

@@ -1,0 +1,143 @@
+//! Presets: one scene per paper experiment, embedded from `data/scenes/*.toml` with
+//! `include_str!` so they work from any directory. `beadchain scenes` lists them.
+
+use super::error::SceneError;
+use super::parse::parse_str;
+use super::Scene;
+use std::path::Path;
+
+/// One embedded preset scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PresetInfo {
+    /// Preset name (the file stem in `data/scenes/`, also `[scene].name`).
+    pub name: &'static str,
+    /// One-line description (the file's `[scene].description`), naming the paper figure.
+    pub description: &'static str,
+    /// The TOML text.
+    pub toml: &'static str,
+}
+
+static PRESETS: &[PresetInfo] = &[
+    PresetInfo {
+        name: "striker",
+        description: "Uniform chain of 100 beads, n = 2.5, struck at bead 0 with v = 1 (paper eq. 8; the set-up of every figure)",
+        toml: include_str!("../../data/scenes/striker.toml"),
+    },
+    PresetInfo {
+        name: "interface_3.0_3.5",
+        description: "Exponent interface n1 = 3.0 -> n2 = 3.5 at bead 50 (contacts 50.. use n2), 150 Table-1 steel beads, striker 0.11 m/s (paper Figs. 4-5, labels fig3 and fig4)",
+        toml: include_str!("../../data/scenes/interface_3.0_3.5.toml"),
+    },
+    PresetInfo {
+        name: "interface_3.0_2.5",
+        description: "Exponent interface n1 = 3.0 -> n2 = 2.5 at bead 50, 150 Table-1 steel beads, striker 0.11 m/s: reflection and a multipulse train (paper Fig. 6, label fig:large_small)",
+        toml: include_str!("../../data/scenes/interface_3.0_2.5.toml"),
+    },
+    PresetInfo {
+        name: "interface_3.5_3.0_perturbed",
+        description: "Interface n1 = 3.5 -> n2 = 3.0 at bead 50 with Gaussian exponent noise sigma/dn = 0.05, n > 2 enforced, Table-1 steel beads (paper eq. B.1, Fig. 28)",
+        toml: include_str!("../../data/scenes/interface_3.5_3.0_perturbed.toml"),
+    },
+    PresetInfo {
+        name: "periodic_2.5_3.0",
+        description: "Periodic exponents n_a = 2.5, n_b = 3.0 (contact 0 has n_a), Table-1 steel beads: pairwise collective motion (paper Fig. 10)",
+        toml: include_str!("../../data/scenes/periodic_2.5_3.0.toml"),
+    },
+    PresetInfo {
+        name: "periodic_decay_2.5_2.555",
+        description: "Periodic exponents n_a = 2.5, n_b = 2.555, Table-1 steel beads: exponential decay of the leading wave (paper Fig. 11)",
+        toml: include_str!("../../data/scenes/periodic_decay_2.5_2.555.toml"),
+    },
+    PresetInfo {
+        name: "periodic_breather_2.5_2.635",
+        description: "Periodic exponents n_a = 2.5, n_b = 2.635 (first decay-rate minimum), Table-1 steel beads: confined wave with periodically changing shape (paper Fig. 13)",
+        toml: include_str!("../../data/scenes/periodic_breather_2.5_2.635.toml"),
+    },
+    PresetInfo {
+        name: "periodic_breather_4.0_5.0",
+        description: "Periodic exponents n_a = 4.0, n_b = 5.0 (second decay-rate minimum), Table-1 steel beads: breathing confined wave (paper Fig. 14)",
+        toml: include_str!("../../data/scenes/periodic_breather_4.0_5.0.toml"),
+    },
+    PresetInfo {
+        name: "impurity_s1_3.0_3.5",
+        description: "Impurity of s = 1 contact (contact 50, beads 50-51) with n_imp = 3.5 in a n = 3.0 chain of Table-1 steel beads (paper Fig. 16 top)",
+        toml: include_str!("../../data/scenes/impurity_s1_3.0_3.5.toml"),
+    },
+    PresetInfo {
+        name: "impurity_s1_3.0_2.5",
+        description: "Impurity of s = 1 contact (contact 50) with n_imp = 2.5 in a n = 3.0 chain of Table-1 steel beads (paper Fig. 16 bottom)",
+        toml: include_str!("../../data/scenes/impurity_s1_3.0_2.5.toml"),
+    },
+    PresetInfo {
+        name: "impurity_s5_4.0_2.5",
+        description: "Impurity of s = 5 contacts (contacts 50-54) with n_imp = 2.5 in a n = 4.0 chain of Table-1 steel beads: collective quasi-particle of 6 beads (paper Figs. 17-18)",
+        toml: include_str!("../../data/scenes/impurity_s5_4.0_2.5.toml"),
+    },
+    PresetInfo {
+        name: "disorder_2.5_0.04",
+        description: "Disordered exponents n = 2.5 + 0.04 r, r uniform in [-1, 1) (eq. 19), contacts 0-19 monodisperse, N = 1000 Table-1 steel beads, seed 1 (paper Figs. 19-20)",
+        toml: include_str!("../../data/scenes/disorder_2.5_0.04.toml"),
+    },
+    PresetInfo {
+        name: "composite_mass_exponent",
+        description: "Composite interface at bead 50: n 3.0 -> 2.5 (contacts 50..) and mass m2/m1 = 1/2 (beads 51.., half density, same prefactor), Table-1 steel (paper Figs. 24-25)",
+        toml: include_str!("../../data/scenes/composite_mass_exponent.toml"),
+    },
+    PresetInfo {
+        name: "tapered",
+        description: "Tapered chain: radii R_(i+1) = (1 - 0.05) R_i from bead 20 on, masses ~ R^3, Hertz prefactors ~ sqrt(2 R_i R_j / (R_i + R_j)) (paper Sec. 1)",
+        toml: include_str!("../../data/scenes/tapered.toml"),
+    },
+    PresetInfo {
+        name: "rectangular_pulse",
+        description: "Rectangular initial pulse: beads 0-4 move with v = 1 (l = 5), n = 2.5: splits into a train of l pulses (paper Sec. 3.2)",
+        toml: include_str!("../../data/scenes/rectangular_pulse.toml"),
+    },
+    PresetInfo {
+        name: "two_strikers",
+        description: "Strikers from both ends (bead 0 at +1, bead 100 at -1), 101 beads, n = 2.5: head-on solitary-wave collision at bead 50",
+        toml: include_str!("../../data/scenes/two_strikers.toml"),
+    },
+    PresetInfo {
+        name: "hertz_spheres_physical",
+        description: "100 stainless-steel spheres of Table 1 (R = 4 mm, Y = 226 GPa, sigma = 0.3, rho = 7650 kg/m^3) in physical units, striker 0.11 m/s (paper Sec. 2)",
+        toml: include_str!("../../data/scenes/hertz_spheres_physical.toml"),
+    },
+    PresetInfo {
+        name: "wall_reflection",
+        description: "Solitary wave (n = 2.5, 60 beads) reflected by a rigid right wall with the chain's contact law",
+        toml: include_str!("../../data/scenes/wall_reflection.toml"),
+    },
+    PresetInfo {
+        name: "gravity_on_wall",
+        description: "Six beads resting on a left wall under gravity g = 1 (static overlaps), top bead pushed down with v = 0.5: persistent contacts",
+        toml: include_str!("../../data/scenes/gravity_on_wall.toml"),
+    },
+];
+
+/// Every preset, the default (`striker`) first.
+pub fn presets() -> &'static [PresetInfo] {
+    PRESETS
+}
+
+/// Name of the default preset.
+pub const DEFAULT_PRESET: &str = "striker";
+
+/// Load a preset by name. Presets contain no `{ file = ... }` references; messages name the
+/// preset as `preset:NAME`.
+pub fn preset(name: &str) -> Result<Scene, SceneError> {
+    match PRESETS.iter().find(|p| p.name == name) {
+        Some(p) => parse_str(p.toml, Path::new("."), &format!("preset:{}", p.name)).map(|mut s| {
+            s.name = p.name.to_string();
+            s
+        }),
+        None => Err(SceneError::NotFound {
+            spec: super::error::one_line(name),
+            presets: PRESETS
+                .iter()
+                .map(|p| p.name)
+                .collect::<Vec<_>>()
+                .join(", "),
+        }),
+    }
+}

@@ -1,0 +1,188 @@
+//! Validation of a resolved [`Scene`]: hard errors (the run could not be meaningful) and
+//! warnings (it can run, but the user should know). Implements the model constraints of the
+//! paper's eq. 1 and 7: `n > 1` (with a warning below 2, where the force `n a δ^{n−1}` is not C¹
+//! at contact), `a > 0`, `m > 0`, everything finite.
+
+use super::error::SceneError;
+use super::values::{Ctx, Per};
+use super::Scene;
+use std::path::Path;
+
+/// How many indices a warning lists before summarising.
+const LIST_MAX: usize = 5;
+
+/// Validate a resolved scene; on success returns the warnings. Messages name the scene (its
+/// `name`), the key path and the bead/contact index.
+pub fn validate(scene: &Scene) -> Result<Vec<String>, SceneError> {
+    validate_in(scene, &scene.name)
+}
+
+/// [`validate`] with messages naming `file`.
+pub(crate) fn validate_in(scene: &Scene, file: &str) -> Result<Vec<String>, SceneError> {
+    let ctx = Ctx {
+        file,
+        base_dir: Path::new("."),
+        seed: scene.seed,
+    };
+    let c = &scene.chain;
+    let n = c.mass.len();
+    if n < 2 {
+        return Err(ctx.err(
+            "[chain].beads",
+            format!("a chain needs at least 2 beads, got {n}"),
+        ));
+    }
+    let len = |key: &str, got: usize, want: usize, per: Per| {
+        if got == want {
+            Ok(())
+        } else {
+            Err(ctx.err(
+                key,
+                format!("expected {want} values (one per {}), got {got}", per.noun()),
+            ))
+        }
+    };
+    len("[chain].exponent", c.exponent.len(), n - 1, Per::Contact)?;
+    len("[chain].prefactor", c.prefactor.len(), n - 1, Per::Contact)?;
+    if let Some(p) = &c.precompression {
+        len("[chain].precompression", p.len(), n - 1, Per::Contact)?;
+    }
+    if let Some(w) = &c.field {
+        len("[field].force", w.len(), n, Per::Bead)?;
+    }
+    len("[initial].displacement", scene.u0.len(), n, Per::Bead)?;
+    len("[initial].velocity", scene.v0.len(), n, Per::Bead)?;
+
+    let check = |key: &str, per: Per, v: &[f64], ok: &dyn Fn(f64) -> bool, need: &str| match v
+        .iter()
+        .position(|x| !x.is_finite() || !ok(*x))
+    {
+        None => Ok(()),
+        Some(i) if !v[i].is_finite() => {
+            Err(ctx.index_err(key, per, i, format!("not a finite number ({})", v[i])))
+        }
+        Some(i) => Err(ctx.index_err(key, per, i, format!("{need}, got {}", v[i]))),
+    };
+    let any = |_: f64| true;
+    check(
+        "[chain].mass",
+        Per::Bead,
+        &c.mass,
+        &|m| m > 0.0,
+        "mass must be > 0",
+    )?;
+    check(
+        "[chain].exponent",
+        Per::Contact,
+        &c.exponent,
+        &|x| x > 1.0,
+        "exponent must be > 1",
+    )?;
+    check(
+        "[chain].prefactor",
+        Per::Contact,
+        &c.prefactor,
+        &|x| x > 0.0,
+        "prefactor must be > 0",
+    )?;
+    if let Some(p) = &c.precompression {
+        check("[chain].precompression", Per::Contact, p, &any, "")?;
+    }
+    if let Some(w) = &c.field {
+        check("[field].force", Per::Bead, w, &any, "")?;
+    }
+    check("[initial].displacement", Per::Bead, &scene.u0, &any, "")?;
+    check("[initial].velocity", Per::Bead, &scene.v0, &any, "")?;
+
+    let mut warnings = Vec::new();
+    for (side, wall) in [("left", &c.left_wall), ("right", &c.right_wall)] {
+        let Some(w) = wall else { continue };
+        let k = format!("[walls].{side}");
+        let finite = |name: &str, x: f64| {
+            if x.is_finite() {
+                Ok(())
+            } else {
+                Err(ctx.err(&format!("{k}.{name}"), format!("not a finite number ({x})")))
+            }
+        };
+        finite("exponent", w.exponent)?;
+        finite("prefactor", w.prefactor)?;
+        finite("precompression", w.precompression)?;
+        if w.exponent <= 1.0 {
+            return Err(ctx.err(
+                &format!("{k}.exponent"),
+                format!("exponent must be > 1, got {}", w.exponent),
+            ));
+        }
+        if w.prefactor <= 0.0 {
+            return Err(ctx.err(
+                &format!("{k}.prefactor"),
+                format!("prefactor must be > 0, got {}", w.prefactor),
+            ));
+        }
+        if w.exponent < 2.0 {
+            warnings.push(format!(
+                "{file}: {k}.exponent: {} < 2: wall force not C¹ at contact (steps shrink there)",
+                w.exponent
+            ));
+        }
+    }
+
+    let r = &scene.run;
+    let pos = |key: &str, x: f64| {
+        if x.is_finite() && x > 0.0 {
+            Ok(())
+        } else {
+            Err(ctx.err(key, format!("must be a finite number > 0, got {x}")))
+        }
+    };
+    pos("[run].until", r.until)?;
+    if let Some(e) = r.every {
+        pos("[run].every", e)?;
+    }
+    for (key, tol) in [("[run].rtol", r.rtol), ("[run].atol", r.atol)] {
+        if let Some(t) = tol {
+            if !(t > 0.0 && t < 1.0) {
+                return Err(ctx.err(key, format!("must be in (0, 1), got {t}")));
+            }
+        }
+    }
+
+    let soft: Vec<usize> = (0..n - 1).filter(|&k| c.exponent[k] < 2.0).collect();
+    if !soft.is_empty() {
+        let shown: Vec<String> = soft.iter().take(LIST_MAX).map(usize::to_string).collect();
+        let more = if soft.len() > LIST_MAX {
+            format!(" and {} more", soft.len() - LIST_MAX)
+        } else {
+            String::new()
+        };
+        warnings.push(format!(
+            "{file}: [chain].exponent: contact {}{more}: exponent < 2 (e.g. {}): force not C¹ at contact (steps shrink there)",
+            shown.join(", "),
+            c.exponent[soft[0]]
+        ));
+    }
+    let moving = scene.v0.iter().any(|v| *v != 0.0);
+    let pressed = c.field.is_some()
+        || (0..n - 1).any(|k| c.overlap(k, scene.u0[k], scene.u0[k + 1]) > 0.0)
+        || c.left_wall
+            .as_ref()
+            .is_some_and(|w| w.precompression - scene.u0[0] > 0.0)
+        || c.right_wall
+            .as_ref()
+            .is_some_and(|w| w.precompression + scene.u0[n - 1] > 0.0);
+    if !moving && !pressed {
+        warnings.push(format!(
+            "{file}: [initial]: every bead at rest with no force: nothing will move"
+        ));
+    }
+    if let Some(e) = r.every {
+        if e > r.until {
+            warnings.push(format!(
+                "{file}: [run].every: {e} > until {}: only the first and last frame",
+                r.until
+            ));
+        }
+    }
+    Ok(warnings)
+}
