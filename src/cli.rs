@@ -282,7 +282,14 @@ fn print_outcome(scene: &Scene, cfg: &RunConfig, out: &RunOutcome) {
             .filter(|(_, c)| *c > 0)
             .map(|(k, c)| format!("{k} {c}"))
             .collect();
-        println!("events: {}", if ev.is_empty() { "none".into() } else { ev.join(", ") });
+        println!(
+            "events: {}",
+            if ev.is_empty() {
+                "none".into()
+            } else {
+                ev.join(", ")
+            }
+        );
     }
     println!(
         "energy {:.12e} -> {:.12e} (relative change {:.3e}); momentum {:.12e} -> {:.12e}",
@@ -308,12 +315,14 @@ fn cmd_check(a: CheckArgs) -> Result<i32> {
     let h = engine::run(&scene, &hyb_cfg, &mut rec).context("hybrid run failed")?;
     let mut rec = Recorder::default();
     let d = engine::run(&scene, &dense_cfg, &mut rec).context("dense run failed")?;
-    let vmax = d.v.iter().chain(&scene.v0).fold(0.0_f64, |m, x| m.max(x.abs()));
-    let umax = d
-        .u
-        .iter()
-        .zip(&scene.u0)
-        .fold(0.0_f64, |m, (x, x0)| m.max((x - x0).abs()));
+    let vmax =
+        d.v.iter()
+            .chain(&scene.v0)
+            .fold(0.0_f64, |m, x| m.max(x.abs()));
+    let umax =
+        d.u.iter()
+            .zip(&scene.u0)
+            .fold(0.0_f64, |m, (x, x0)| m.max((x - x0).abs()));
     let dev = |a: &[f64], b: &[f64]| {
         a.iter()
             .zip(b)

@@ -436,6 +436,12 @@ impl Integrator for Radau5 {
         }
     }
 
+    fn set_step_size(&mut self, h: f64) {
+        self.h_abs = h;
+        self.h_abs_old = None;
+        self.err_old = None;
+    }
+
     fn step(&mut self, sys: &dyn System, t_bound: f64) -> Result<f64, IntegrationError> {
         let n = 2 * self.m;
         let m = self.m;

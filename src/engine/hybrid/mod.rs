@@ -102,6 +102,7 @@ pub struct Hybrid<'a> {
     next_frame: u64,
     bu: Vec<f64>,
     bv: Vec<f64>,
+    bz: Vec<f64>,
 }
 
 /// Runs a scene with the hybrid engine.
@@ -176,6 +177,7 @@ impl<'a> Hybrid<'a> {
             next_frame: 0,
             bu: vec![0.0; n],
             bv: vec![0.0; n],
+            bz: vec![0.0; 2 * n],
         }
     }
 
@@ -300,13 +302,13 @@ impl<'a> Hybrid<'a> {
                         .and_then(|c| c.pending.take());
                     match pending {
                         Some(cluster::Pending::Close { contact, t, ver }) => {
-                            self.process_close(slot, contact, t, ver)
+                            self.process_close(slot, contact, t, ver)?
                         }
                         Some(cluster::Pending::Split) => self.process_split(slot),
                         None => self.step_cluster(slot)?,
                     }
                 }
-                Key::FreeFree(c) => self.process_free_close(c as usize, t),
+                Key::FreeFree(c) => self.process_free_close(c as usize, t)?,
                 Key::Wall(side) => self.process_wall_close(side, t),
             }
         }

@@ -5,6 +5,7 @@ use super::cluster::Cluster;
 use super::free::{first_upward_crossing, Free};
 use super::{prio, Hybrid, Key, FREE};
 use crate::engine::dense::make_integrator;
+use crate::engine::EngineError;
 use crate::integrate::ChainRange;
 use crate::snapshot::EventKind;
 
@@ -137,8 +138,42 @@ impl Hybrid<'_> {
         }
     }
 
+    /// Brings a cluster's integrator exactly to `t ∈ [t_prev, t]` by redoing its last step to
+    /// land on `t`, so that the state at an event is a full-accuracy step result rather than
+    /// the (lower-order) continuous output.
+    fn settle_at(&mut self, slot: u32, t: f64) -> Result<(), EngineError> {
+        let chain = self.chain;
+        let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
+        cl.t_now = t;
+        if cl.integ.t() <= t {
+            return Ok(());
+        }
+        let m = cl.m();
+        let t0 = cl.integ.t_prev();
+        let z = &mut self.bz[..2 * m];
+        cl.integ.dense(t0, z);
+        let sys = ChainRange {
+            chain,
+            lo: cl.lo,
+            m,
+        };
+        cl.integ.reset(&sys, t0, &z[..m], &z[m..]);
+        if t > t0 {
+            cl.integ.set_step_size(t - t0);
+            while cl.integ.t() < t {
+                cl.integ.step(&sys, t)?;
+            }
+        }
+        Ok(())
+    }
+
     /// Merges everything on both sides of contact `c` into one cluster at `t`.
-    fn merge_at(&mut self, c: usize, t: f64) {
+    fn merge_at(&mut self, c: usize, t: f64) -> Result<(), EngineError> {
+        for side in [self.owner[c], self.owner[c + 1]] {
+            if side != FREE {
+                self.settle_at(side, t)?;
+            }
+        }
         let lo = match self.owner[c] {
             FREE => c,
             s => self.clusters[s as usize].as_ref().expect("live").lo,
@@ -164,25 +199,31 @@ impl Hybrid<'_> {
         self.peak[c] = 0.0;
         self.log(t, c, EventKind::Close, rel, 0.0);
         self.make_cluster(lo, hi, t, &u, &v);
+        Ok(())
     }
 
     /// A cluster reached the closing it found at `t` with the bead across contact `c`.
-    pub(super) fn process_close(&mut self, slot: u32, c: usize, t: f64, ver: (u64, u64)) {
+    pub(super) fn process_close(
+        &mut self,
+        slot: u32,
+        c: usize,
+        t: f64,
+        ver: (u64, u64),
+    ) -> Result<(), EngineError> {
         if self.version[c] == ver.0 && self.version[c + 1] == ver.1 {
-            self.merge_at(c, t);
-            return;
+            return self.merge_at(c, t);
         }
-        // Stale (the neighbour changed since): restart the cluster at t from its output.
-        let cl = self.remove_cluster(slot);
-        let (lo, hi) = (cl.lo, cl.hi);
-        let u: Vec<f64> = (lo..hi).map(|i| cl.u_at(t, i)).collect();
-        let v: Vec<f64> = (lo..hi).map(|i| cl.v_at(t, i)).collect();
-        self.make_cluster(lo, hi, t, &u, &v);
+        // Stale (the neighbour changed since): continue the cluster from t.
+        self.settle_at(slot, t)?;
+        let lo = self.clusters[slot as usize].as_ref().expect("live").lo;
+        self.queue
+            .push(Key::Cluster(slot), prio(t, 2, lo, Key::Cluster(slot)));
+        Ok(())
     }
 
     /// Two free beads close contact `c` at `t`.
-    pub(super) fn process_free_close(&mut self, c: usize, t: f64) {
-        self.merge_at(c, t);
+    pub(super) fn process_free_close(&mut self, c: usize, t: f64) -> Result<(), EngineError> {
+        self.merge_at(c, t)
     }
 
     /// A free end bead closes onto the wall at `side` at `t`.
