@@ -69,6 +69,7 @@ pub fn run(
         events_by_kind: Vec::new(),
         largest_cluster: n as u64,
         events: Vec::new(),
+        late_merges: 0,
         u,
         v,
     })

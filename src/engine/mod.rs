@@ -128,6 +128,9 @@ pub struct RunOutcome {
     pub events_by_kind: Vec<(String, u64)>,
     /// Largest number of beads integrated together.
     pub largest_cluster: u64,
+    /// Hybrid engine diagnostic: merges whose overlap at the merge was far above the contact
+    /// threshold (a closing detected late). Expected 0.
+    pub late_merges: u64,
     /// Gap events (hybrid engine), in processing order.
     pub events: Vec<crate::snapshot::EventRecord>,
     /// Final displacements.

@@ -99,6 +99,7 @@ pub struct Hybrid<'a> {
     counts: [u64; 5],
     largest: usize,
     steps_total: u64,
+    late_merges: u64,
     next_frame: u64,
     bu: Vec<f64>,
     bv: Vec<f64>,
@@ -135,6 +136,7 @@ pub fn run(
             .map(|(n, c)| (n.to_string(), c))
             .collect(),
         largest_cluster: h.largest as u64,
+        late_merges: h.late_merges,
         events: std::mem::take(&mut h.events),
         u,
         v,
@@ -174,6 +176,7 @@ impl<'a> Hybrid<'a> {
             counts: [0; 5],
             largest: 0,
             steps_total: 0,
+            late_merges: 0,
             next_frame: 0,
             bu: vec![0.0; n],
             bv: vec![0.0; n],
