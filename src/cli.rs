@@ -93,6 +93,10 @@ struct RunArgs {
     /// Output snapshot [default: `<scene name>.snap` in the current directory].
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Also store the wall-clock time in the snapshot (then two runs no longer give identical
+    /// bytes; by default it is only printed).
+    #[arg(long)]
+    timing: bool,
 }
 
 #[derive(clap::Args, Debug)]
@@ -245,7 +249,14 @@ fn cmd_run(a: RunArgs) -> Result<i32> {
     let out = engine::run(&scene, &cfg, &mut sink)
         .with_context(|| format!("scene {}: run failed (no output written)", scene.name))?;
     let frames = sink.0.frames_written();
-    sink.0.finish(&out.events, &summary(&out))?;
+    let mut sum = summary(&out);
+    if !a.timing {
+        sum.wall_seconds = 0.0;
+        sum.notes.push(
+            "wall time not recorded (identical inputs give identical bytes; see --timing)".into(),
+        );
+    }
+    sink.0.finish(&out.events, &sum)?;
     print_outcome(&scene, &cfg, &out);
     println!("wrote {} ({frames} frames)", out_path.display());
     Ok(0)
