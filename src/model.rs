@@ -29,6 +29,22 @@ pub struct Wall {
     pub prefactor: f64,
     /// Precompression `Δ` of the bead–wall contact (overlap at `u = 0`; negative = initial gap).
     pub precompression: f64,
+    /// `Some(e)`: a hard wall (instantaneous reflection with restitution `e`; `exponent` and
+    /// `prefactor` unused), only for the hybrid engine.
+    pub restitution: Option<f64>,
+}
+
+/// Hard contacts: the `n → ∞` limit of the power law, instantaneous collisions with a
+/// coefficient of restitution (hybrid engine only).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HardContacts {
+    /// Per contact (`N−1`): `Some(e)` for a hard contact with restitution `e ∈ [0, 1]`, `None`
+    /// for a soft (power-law) contact.
+    pub restitution: Vec<Option<f64>>,
+    /// Minimum-collision-interval model (Luding & McNamara's "TC model"): a collision of a
+    /// contact less than this time after its previous one is elastic, and the separating speed
+    /// after a collision is at least `|δ̈|·t_c`, so inelastic collapse cannot stall the run.
+    pub collapse_interval: f64,
 }
 
 /// Plain, serializable description of a chain (the resolved scene physics).
@@ -48,6 +64,28 @@ pub struct Chain {
     pub left_wall: Option<Wall>,
     /// Wall at the right end (acts on bead `N−1`).
     pub right_wall: Option<Wall>,
+    /// Hard contacts, if the scene declares any.
+    pub hard: Option<HardContacts>,
+}
+
+/// `δ^{n−2}` for `δ > 0`, with the common half-integer exponents (n = 2, 2.5, 3, 3.5, 4) done by
+/// `sqrt`/multiplications instead of `powf` (about 5× cheaper; the branch is well predicted).
+#[inline(always)]
+pub fn pow_nm2(delta: f64, n: f64) -> f64 {
+    let k = 2.0 * (n - 2.0);
+    if k == 1.0 {
+        delta.sqrt()
+    } else if k == 2.0 {
+        delta
+    } else if k == 3.0 {
+        delta * delta.sqrt()
+    } else if k == 4.0 {
+        delta * delta
+    } else if k == 0.0 {
+        1.0
+    } else {
+        delta.powf(n - 2.0)
+    }
 }
 
 /// Force and stiffness of one power-law contact at overlap `delta` (≤ 0 means open).
@@ -56,7 +94,7 @@ pub struct Chain {
 #[inline(always)]
 pub fn contact_force_stiffness(n: f64, a: f64, delta: f64) -> (f64, f64) {
     if delta > 0.0 {
-        let p = delta.powf(n - 2.0);
+        let p = pow_nm2(delta, n);
         let na = n * a;
         (na * p * delta, na * (n - 1.0) * p)
     } else {
@@ -68,7 +106,7 @@ pub fn contact_force_stiffness(n: f64, a: f64, delta: f64) -> (f64, f64) {
 #[inline(always)]
 pub fn contact_force(n: f64, a: f64, delta: f64) -> f64 {
     if delta > 0.0 {
-        n * a * delta.powf(n - 1.0)
+        n * a * pow_nm2(delta, n) * delta
     } else {
         0.0
     }
@@ -93,6 +131,25 @@ impl Chain {
     /// True when the chain has no beads (never true for a validated chain).
     pub fn is_empty(&self) -> bool {
         self.mass.is_empty()
+    }
+
+    /// Is contact `c` hard? (`Some(e)` with its restitution.)
+    #[inline]
+    pub fn hard_restitution(&self, c: usize) -> Option<f64> {
+        self.hard.as_ref().and_then(|h| h.restitution[c])
+    }
+
+    /// Does the chain have any hard contact or hard wall?
+    pub fn has_hard(&self) -> bool {
+        self.hard.is_some()
+            || self
+                .left_wall
+                .as_ref()
+                .is_some_and(|w| w.restitution.is_some())
+            || self
+                .right_wall
+                .as_ref()
+                .is_some_and(|w| w.restitution.is_some())
     }
 
     /// Overlap of contact `c` (between beads `c` and `c+1`) for displacements `ui`, `uj`.
@@ -187,7 +244,7 @@ impl Chain {
             }
         }
         if lo + m == self.len() {
-            if let Some(w) = &self.right_wall {
+            if let Some(w) = self.right_wall.as_ref().filter(|w| w.restitution.is_none()) {
                 let (f, s) =
                     contact_force_stiffness(w.exponent, w.prefactor, w.precompression + u[m - 1]);
                 acc[m - 1] -= f;
@@ -212,10 +269,10 @@ impl Chain {
                 self.overlap(c, u[c], u[c + 1]),
             );
         }
-        if let Some(w) = &self.left_wall {
+        if let Some(w) = self.left_wall.as_ref().filter(|w| w.restitution.is_none()) {
             e += contact_potential(w.exponent, w.prefactor, w.precompression - u[0]);
         }
-        if let Some(w) = &self.right_wall {
+        if let Some(w) = self.right_wall.as_ref().filter(|w| w.restitution.is_none()) {
             let last = self.len() - 1;
             e += contact_potential(w.exponent, w.prefactor, w.precompression + u[last]);
         }
@@ -327,6 +384,7 @@ mod tests {
             field: None,
             left_wall: None,
             right_wall: None,
+            hard: None,
         }
     }
 
@@ -346,6 +404,21 @@ mod tests {
             k[0],
             fd
         );
+    }
+
+    #[test]
+    fn fast_powers_match_powf() {
+        for &n in &[2.0, 2.5, 3.0, 3.5, 4.0, 2.7, 10.0] {
+            for &d in &[1e-12, 0.3, 1.0, 7.5] {
+                let a = pow_nm2(d, n);
+                let b = f64::powf(d, n - 2.0);
+                // rel 4 ulp
+                assert!(
+                    (a - b).abs() <= 4.0 * f64::EPSILON * b,
+                    "n={n} d={d}: {a} vs {b}"
+                );
+            }
+        }
     }
 
     #[test]

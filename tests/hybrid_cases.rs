@@ -148,6 +148,8 @@ fn two_strikers_meet_mirror_symmetric() {
     let h = hybrid(&s, 1e-10);
     stable(&h, 1e-7, 10_000);
     let vmax = h.v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let asym = (0..n).fold(0.0_f64, |m, i| m.max((h.v[i] + h.v[n - 1 - i]).abs()));
+    eprintln!("mirror asymmetry max |v_i + v_(N-1-i)| = {asym:e} (max |v| {vmax:e})");
     for i in 0..n {
         let j = n - 1 - i;
         // mirror: u_i = −u_j, v_i = −v_j to abs 1e-9·max|v| (rounding-level asymmetry only)
@@ -192,6 +194,7 @@ fn precompressed_chain_is_one_cluster() {
         exponent: 2.5,
         prefactor: 1.0,
         precompression: 0.05,
+        restitution: None,
     };
     s.chain.left_wall = Some(wall.clone());
     s.chain.right_wall = Some(wall);
@@ -220,6 +223,7 @@ fn gravity_presses_chain_onto_wall() {
         exponent: 2.5,
         prefactor: 1.0,
         precompression: 0.0,
+        restitution: None,
     });
     for i in 0..n {
         s.u0[i] = 0.1 * (i as f64 + 1.0); // gaps of 0.1 above the wall and between beads

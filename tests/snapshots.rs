@@ -29,6 +29,7 @@ fn scene(n: usize) -> Scene {
             field: None,
             left_wall: None,
             right_wall: None,
+            hard: None,
         },
         u0: vec![0.0; n],
         v0,

@@ -153,6 +153,12 @@ pub fn run(
     obs: &mut dyn Observer,
 ) -> Result<RunOutcome, EngineError> {
     check_config(cfg)?;
+    if cfg.engine == Engine::Dense && scene.chain.has_hard() {
+        return Err(EngineError::Config(
+            "the scene declares hard contacts or walls, which only the hybrid engine handles (use --engine hybrid)"
+                .into(),
+        ));
+    }
     match cfg.engine {
         Engine::Dense => dense::run(scene, cfg, obs),
         Engine::Hybrid => hybrid::run(scene, cfg, obs),

@@ -485,6 +485,7 @@ mod tests {
             field: None,
             left_wall: None,
             right_wall: None,
+            hard: None,
         }
     }
 

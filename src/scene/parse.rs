@@ -96,7 +96,7 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
         seed: 0,
     };
     const TABLES: &[&str] = &[
-        "scene", "chain", "initial", "run", "field", "walls", "units",
+        "scene", "chain", "initial", "run", "field", "walls", "units", "hard",
     ];
     for (k, _) in root.iter() {
         if !TABLES.contains(&k.as_str()) {
@@ -543,9 +543,22 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
             )
         })?;
         let allowed: &[&str] = if physical {
-            &["exponent", "prefactor", "prefactor_si", "precompression"]
+            &[
+                "exponent",
+                "prefactor",
+                "prefactor_si",
+                "precompression",
+                "hard",
+                "restitution",
+            ]
         } else {
-            &["exponent", "prefactor", "precompression"]
+            &[
+                "exponent",
+                "prefactor",
+                "precompression",
+                "hard",
+                "restitution",
+            ]
         };
         check_keys(ctx, &k, wt, allowed)?;
         let (bead, contact) = if *side == "left" {
@@ -578,10 +591,12 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
             _ => prefactor[contact],
         };
         let precompression_w = num("precompression")?.unwrap_or(0.0);
+        let restitution_w = super::hard::wall_restitution(ctx, &k, wt)?;
         *slot = Some(Wall {
             exponent: exponent_w,
             prefactor: prefactor_w,
             precompression: precompression_w,
+            restitution: restitution_w,
         });
     }
     let [left_wall, right_wall] = walls;
@@ -625,6 +640,7 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
             ))
         }
     };
+    let hard = super::hard::parse_hard(ctx, root, nc, until)?;
     let run = RunSettings {
         until,
         every,
@@ -662,6 +678,7 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
             field,
             left_wall,
             right_wall,
+            hard,
         },
         u0,
         v0,

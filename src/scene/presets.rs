@@ -113,6 +113,11 @@ static PRESETS: &[PresetInfo] = &[
         description: "Six beads resting on a left wall under gravity g = 1 (static overlaps), top bead pushed down with v = 0.5: persistent contacts",
         toml: include_str!("../../data/scenes/gravity_on_wall.toml"),
     },
+    PresetInfo {
+        name: "newtons_cradle_hard",
+        description: "Newton's cradle with hard elastic contacts: bead 0 hits five touching beads at rest; the last bead leaves with the striker's velocity (hybrid engine only)",
+        toml: include_str!("../../data/scenes/newtons_cradle_hard.toml"),
+    },
 ];
 
 /// Every preset, the default (`striker`) first.

@@ -7,7 +7,54 @@
 //! have travelled far (relative form). A cluster that holds a chain end with a wall uses the
 //! absolute frame (`U = V = 0`), because the wall force depends on the absolute position.
 
-use crate::integrate::Integrator;
+use crate::integrate::{Integrator, System};
+use crate::model::Chain;
+
+/// Mass factor of a bead pinned against a hard wall (effectively infinite: its acceleration is
+/// also set to zero, the factor keeps the Newton matrices consistent with that).
+pub const PIN_MASS_FACTOR: f64 = 1e100;
+
+/// The system a cluster integrates: its beads of the chain, with pinned end beads held fixed.
+pub struct ClusterSys<'a> {
+    /// The chain.
+    pub chain: &'a Chain,
+    /// First bead.
+    pub lo: usize,
+    /// Masses used by the integrator (pinned beads scaled by [`PIN_MASS_FACTOR`]).
+    pub mass: &'a [f64],
+    /// First / last bead pinned against its hard wall.
+    pub pinned: [bool; 2],
+}
+
+impl System for ClusterSys<'_> {
+    fn len(&self) -> usize {
+        self.mass.len()
+    }
+    fn mass(&self) -> &[f64] {
+        self.mass
+    }
+    fn accel(&self, u: &[f64], acc: &mut [f64]) {
+        self.chain.accel(self.lo, u, acc);
+        self.pin(acc);
+    }
+    fn accel_stiffness(&self, u: &[f64], acc: &mut [f64], k: &mut [f64]) {
+        self.chain.accel_stiffness(self.lo, u, acc, k);
+        self.pin(acc);
+    }
+}
+
+impl ClusterSys<'_> {
+    #[inline]
+    fn pin(&self, acc: &mut [f64]) {
+        if self.pinned[0] {
+            acc[0] = 0.0;
+        }
+        if self.pinned[1] {
+            let m = acc.len();
+            acc[m - 1] = 0.0;
+        }
+    }
+}
 
 /// Something a cluster found in its last step and must act on when the queue reaches it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,6 +71,13 @@ pub enum Pending {
     },
     /// Some contacts inside have opened (re-examined when processed).
     Split,
+    /// The end bead reaches a hard wall (`side` 0 left, 1 right) at `t`.
+    HardWall {
+        /// Which wall.
+        side: u8,
+        /// Time of the collision.
+        t: f64,
+    },
 }
 
 /// One cluster of beads `lo..hi` with its integrator.
@@ -44,6 +98,10 @@ pub struct Cluster {
     pub t_now: f64,
     /// What to do when the queue reaches the cluster.
     pub pending: Option<Pending>,
+    /// Integrator masses (pinned beads scaled).
+    pub mass: Vec<f64>,
+    /// First / last bead pinned against its hard wall.
+    pub pinned: [bool; 2],
 }
 
 impl Cluster {
@@ -74,6 +132,16 @@ impl Cluster {
     #[inline]
     pub fn v_at(&self, t: f64, i: usize) -> f64 {
         self.frame_v + self.integ.dense_at(t, self.m() + i - self.lo)
+    }
+
+    /// The system this cluster integrates.
+    pub fn sys<'a>(&'a self, chain: &'a Chain) -> ClusterSys<'a> {
+        ClusterSys {
+            chain,
+            lo: self.lo,
+            mass: &self.mass,
+            pinned: self.pinned,
+        }
     }
 
     /// Earliest time at which the continuous output is valid.

@@ -52,7 +52,8 @@ pub fn first_upward_crossing(a: f64, b: f64, c: f64) -> Option<f64> {
     let q = -0.5 * (b + b.signum() * sq);
     let mut best: Option<f64> = None;
     let mut consider = |s: f64| {
-        if s.is_finite() && s >= 0.0 && b + c * s >= 0.0 {
+        let slope = b + c * s;
+        if s.is_finite() && s >= 0.0 && (slope > 0.0 || (slope == 0.0 && c > 0.0)) {
             best = Some(best.map_or(s, |x: f64| x.min(s)));
         }
     };
@@ -87,6 +88,18 @@ mod tests {
         assert!((s - 0.5 * (1.0 + 5f64.sqrt())).abs() < 1e-14);
         // decelerating approach that turns before touching
         assert_eq!(first_upward_crossing(-1.0, 1.0, -2.0), None);
+    }
+
+    #[test]
+    fn touching_pairs() {
+        // touching, at rest, pulled apart or nothing: never
+        assert_eq!(first_upward_crossing(0.0, 0.0, -1.0), None);
+        assert_eq!(first_upward_crossing(0.0, 0.0, 0.0), None);
+        // touching, at rest, pushed together: now
+        assert_eq!(first_upward_crossing(0.0, 0.0, 1.0), Some(0.0));
+        // touching, separating, pushed back: at s = −2b/c = 2
+        let s = first_upward_crossing(0.0, -1.0, 1.0).expect("returns");
+        assert!((s - 2.0).abs() < 1e-15);
     }
 
     #[test]

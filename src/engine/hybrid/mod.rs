@@ -31,6 +31,7 @@
 pub mod cluster;
 pub mod detect;
 pub mod free;
+mod hard;
 mod process;
 
 use super::{EngineError, Observer, RunConfig, RunOutcome};
@@ -100,6 +101,8 @@ pub struct Hybrid<'a> {
     largest: usize,
     steps_total: u64,
     late_merges: u64,
+    last_hard: Vec<f64>,
+    pinned: [bool; 2],
     next_frame: u64,
     bu: Vec<f64>,
     bv: Vec<f64>,
@@ -177,6 +180,8 @@ impl<'a> Hybrid<'a> {
             largest: 0,
             steps_total: 0,
             late_merges: 0,
+            last_hard: vec![f64::NEG_INFINITY; n + 1],
+            pinned: [false; 2],
             next_frame: 0,
             bu: vec![0.0; n],
             bv: vec![0.0; n],
@@ -187,6 +192,42 @@ impl<'a> Hybrid<'a> {
     /// Contact threshold `θ`.
     pub fn theta(&self) -> f64 {
         self.theta
+    }
+
+    /// Closing threshold of contact `c`: `θ` for a soft contact, 0 for a hard one.
+    fn theta_c(&self, c: usize) -> f64 {
+        if self.chain.hard_restitution(c).is_some() {
+            0.0
+        } else {
+            self.theta
+        }
+    }
+
+    /// Threshold for detecting the closing of contact `c` from `t0` on. For a hard contact that
+    /// starts the window overlapping by rounding right after a collision (δ₀ > 0 while not
+    /// approaching), the threshold is δ₀: the next collision needs the overlap to grow again.
+    fn closing_offset(&self, c: usize, t0: f64) -> f64 {
+        if self.chain.hard_restitution(c).is_none() {
+            return self.theta;
+        }
+        let (ua, va) = self.pos(c, t0);
+        let (ub, vb) = self.pos(c + 1, t0);
+        let d0 = self.pre(c) + ua - ub;
+        if d0 > 0.0 && va - vb <= 0.0 {
+            d0
+        } else {
+            0.0
+        }
+    }
+
+    /// Restitution of the wall at `side` when it is hard.
+    fn hard_wall(&self, side: u8) -> Option<f64> {
+        let w = if side == 0 {
+            &self.chain.left_wall
+        } else {
+            &self.chain.right_wall
+        };
+        w.as_ref().and_then(|w| w.restitution)
     }
 
     fn pre(&self, c: usize) -> f64 {
@@ -223,6 +264,9 @@ impl<'a> Hybrid<'a> {
 
     /// Wall overlaps (δ, δ̇, δ̈) of the end bead at `side` (0 left, 1 right) for state (u, v).
     fn wall_state(&self, side: u8, u: f64, v: f64, i: usize) -> Option<(f64, f64, f64)> {
+        if self.hard_wall(side).is_some() {
+            return None;
+        }
         if side == 0 {
             let w = self.chain.left_wall.as_ref()?;
             Some((w.precompression - u, -v, -self.g[i]))
@@ -240,7 +284,9 @@ impl<'a> Hybrid<'a> {
             while hi < n {
                 let c = hi - 1;
                 let d = self.pre(c) + u0[c] - u0[c + 1];
-                if !self.closing(d, v0[c] - v0[c + 1], self.g[c] - self.g[c + 1]) {
+                if self.chain.hard_restitution(c).is_some()
+                    || !self.closing(d, v0[c] - v0[c + 1], self.g[c] - self.g[c + 1])
+                {
                     break;
                 }
                 hi += 1;
@@ -308,11 +354,20 @@ impl<'a> Hybrid<'a> {
                             self.process_close(slot, contact, t, ver)?
                         }
                         Some(cluster::Pending::Split) => self.process_split(slot),
+                        Some(cluster::Pending::HardWall { side, t }) => {
+                            self.process_hard_wall(side, t)?
+                        }
                         None => self.step_cluster(slot)?,
                     }
                 }
                 Key::FreeFree(c) => self.process_free_close(c as usize, t)?,
-                Key::Wall(side) => self.process_wall_close(side, t),
+                Key::Wall(side) => {
+                    if self.hard_wall(side).is_some() {
+                        self.process_hard_wall(side, t)?
+                    } else {
+                        self.process_wall_close(side, t)
+                    }
+                }
             }
         }
         Err(EngineError::Config(
@@ -326,10 +381,11 @@ impl<'a> Hybrid<'a> {
         let chain = self.chain;
         let (lo, hi, t0, t1) = {
             let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
-            let sys = crate::integrate::ChainRange {
+            let sys = cluster::ClusterSys {
                 chain,
                 lo: cl.lo,
-                m: cl.m(),
+                mass: &cl.mass,
+                pinned: cl.pinned,
             };
             let t0 = cl.t_now;
             let t1 = cl.integ.step(&sys, until)?;
@@ -337,6 +393,7 @@ impl<'a> Hybrid<'a> {
             (cl.lo, cl.hi, t0, t1)
         };
         self.steps_total += 1;
+
         if let Some(max) = self.cfg.max_steps {
             if self.steps_total >= max {
                 return Err(IntegrationError::Budget(max).into());
@@ -349,7 +406,7 @@ impl<'a> Hybrid<'a> {
             let c = lo - 1;
             let tb = t1.min(self.known_until(c));
             let pre = self.pre(c);
-            let theta = self.theta;
+            let theta = self.closing_offset(c, t0);
             let g = |t: f64| pre + self.pos(c, t).0 - cl.u_at(t, lo) - theta;
             if let Some(t) = detect::first_crossing(g, t0, tb) {
                 earliest = Some((t, c));
@@ -359,12 +416,59 @@ impl<'a> Hybrid<'a> {
             let c = hi - 1;
             let tb = t1.min(self.known_until(hi));
             let pre = self.pre(c);
-            let theta = self.theta;
+            let theta = self.closing_offset(c, t0);
             let g = |t: f64| pre + cl.u_at(t, c) - self.pos(hi, t).0 - theta;
             if let Some(t) = detect::first_crossing(g, t0, tb) {
                 if earliest.is_none_or(|(te, _)| t < te) {
                     earliest = Some((t, c));
                 }
+            }
+        }
+        // Hard walls: the cluster holding an end bead watches the wall gap itself.
+        let mut wall_hit: Option<(f64, u8)> = None;
+        if lo == 0 && self.hard_wall(0).is_some() && !self.pinned[0] {
+            let pre = self
+                .chain
+                .left_wall
+                .as_ref()
+                .map_or(0.0, |w| w.precompression);
+            let d0 = pre - cl.u_at(t0, 0);
+            let off = if d0 > 0.0 && cl.v_at(t0, 0) >= 0.0 {
+                d0
+            } else {
+                0.0
+            };
+            if let Some(t) = detect::first_crossing(|t| pre - cl.u_at(t, 0) - off, t0, t1) {
+                wall_hit = Some((t, 0));
+            }
+        }
+        if hi == self.n && self.hard_wall(1).is_some() && !self.pinned[1] {
+            let pre = self
+                .chain
+                .right_wall
+                .as_ref()
+                .map_or(0.0, |w| w.precompression);
+            let last = self.n - 1;
+            let d0 = pre + cl.u_at(t0, last);
+            let off = if d0 > 0.0 && cl.v_at(t0, last) <= 0.0 {
+                d0
+            } else {
+                0.0
+            };
+            if let Some(t) = detect::first_crossing(|t| pre + cl.u_at(t, last) - off, t0, t1) {
+                if wall_hit.is_none_or(|(te, _)| t < te) {
+                    wall_hit = Some((t, 1));
+                }
+            }
+        }
+        if let Some((tw, side)) = wall_hit {
+            if earliest.is_none_or(|(te, _)| tw < te) {
+                let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
+                cl.pending = Some(cluster::Pending::HardWall { side, t: tw });
+                cl.t_now = tw;
+                self.queue
+                    .push(Key::Cluster(slot), prio(tw, 1, lo, Key::Cluster(slot)));
+                return Ok(());
             }
         }
         let split = earliest.is_none() && self.needs_split(cl);
@@ -406,7 +510,26 @@ impl<'a> Hybrid<'a> {
             let (u, v) = (cl.frame_at(cl.t_now) + z[0], cl.frame_v + z[1]);
             return !self.wall_holds(cl.lo, u, v);
         }
-        false
+        self.release_pin(cl).is_some()
+    }
+
+    /// A pinned end bead whose net force (contacts + field, real mass) points away from its
+    /// wall is released: returns the side.
+    fn release_pin(&self, cl: &Cluster) -> Option<u8> {
+        if !cl.pinned[0] && !cl.pinned[1] {
+            return None;
+        }
+        let z = cl.integ.state();
+        let m = cl.m();
+        let mut acc = vec![0.0; m];
+        self.chain.accel(cl.lo, &z[..m], &mut acc);
+        if cl.pinned[0] && acc[0] > 0.0 {
+            return Some(0);
+        }
+        if cl.pinned[1] && acc[m - 1] < 0.0 {
+            return Some(1);
+        }
+        None
     }
 
     fn update_peaks(&mut self, slot: u32) {
@@ -430,6 +553,7 @@ impl<'a> Hybrid<'a> {
             EventKind::WallOpen => 4,
         };
         self.counts[k] += 1;
+
         self.events.push(EventRecord {
             t,
             contact: contact as u64,

@@ -1,12 +1,11 @@
 //! Event processing of the hybrid engine: merging on gap closing, splitting on gap opening, and
 //! the free-flight predictions that follow.
 
-use super::cluster::Cluster;
+use super::cluster::{Cluster, ClusterSys, PIN_MASS_FACTOR};
 use super::free::{first_upward_crossing, Free};
 use super::{prio, Hybrid, Key, FREE};
 use crate::engine::dense::make_integrator;
 use crate::engine::EngineError;
-use crate::integrate::ChainRange;
 use crate::snapshot::EventKind;
 
 impl Hybrid<'_> {
@@ -19,17 +18,35 @@ impl Hybrid<'_> {
         let (fu, fv) = if absolute {
             (0.0, 0.0)
         } else {
+            // centre of mass: a frame that does not depend on which end is "first", so mirror
+            // images of a cluster are integrated with mirror-image numbers
             let mass = &chain.mass[lo..hi];
             let p: f64 = mass.iter().zip(v).map(|(m, x)| m * x).sum();
+            let q: f64 = mass.iter().zip(u).map(|(m, x)| m * x).sum();
             let mt: f64 = mass.iter().sum();
-            (u[0], p / mt)
+            (q / mt, p / mt)
         };
         for i in 0..m {
             self.bu[i] = u[i] - fu;
             self.bv[i] = v[i] - fv;
         }
+        let mut mass = chain.mass[lo..hi].to_vec();
+        let pinned = [lo == 0 && self.pinned[0], hi == self.n && self.pinned[1]];
+        if pinned[0] {
+            mass[0] *= PIN_MASS_FACTOR;
+            self.bv[0] = 0.0;
+        }
+        if pinned[1] {
+            mass[m - 1] *= PIN_MASS_FACTOR;
+            self.bv[m - 1] = 0.0;
+        }
         let mut integ = make_integrator(self.cfg, m, self.tol);
-        let sys = ChainRange { chain, lo, m };
+        let sys = ClusterSys {
+            chain,
+            lo,
+            mass: &mass,
+            pinned,
+        };
         integ.reset(&sys, t, &self.bu[..m], &self.bv[..m]);
         let cl = Cluster {
             lo,
@@ -40,6 +57,8 @@ impl Hybrid<'_> {
             integ,
             t_now: t,
             pending: None,
+            mass,
+            pinned,
         };
         let slot = match self.spare_slots.pop() {
             Some(s) => {
@@ -61,7 +80,7 @@ impl Hybrid<'_> {
     }
 
     /// Removes a cluster (its counters go to the run totals).
-    fn remove_cluster(&mut self, slot: u32) -> Cluster {
+    pub(super) fn remove_cluster(&mut self, slot: u32) -> Cluster {
         let cl = self.clusters[slot as usize].take().expect("live cluster");
         self.queue.remove(&Key::Cluster(slot));
         self.stats.add(cl.integ.stats());
@@ -70,7 +89,7 @@ impl Hybrid<'_> {
     }
 
     /// Makes bead `i` free with state (u, v) at `t`.
-    fn set_free(&mut self, i: usize, t: f64, u: f64, v: f64) {
+    pub(super) fn set_free(&mut self, i: usize, t: f64, u: f64, v: f64) {
         self.owner[i] = FREE;
         self.version[i] += 1;
         self.free[i] = Free {
@@ -92,7 +111,12 @@ impl Hybrid<'_> {
         let tr = fa.t0.max(fb.t0);
         let (ua, va) = fa.at(tr);
         let (ub, vb) = fb.at(tr);
-        let a = self.pre(c) + ua - ub - self.theta;
+        let mut a = self.pre(c) + ua - ub - self.theta_c(c);
+        if self.chain.hard_restitution(c).is_some() && va - vb <= 0.0 {
+            // overlapping by rounding after a collision, not approaching: wait for the gap to
+            // close again from touching
+            a = a.min(0.0);
+        }
         match first_upward_crossing(a, va - vb, fa.g - fb.g) {
             Some(s) if tr + s <= self.cfg.until => {
                 self.queue.push(key, prio(tr + s, 1, c, key));
@@ -112,10 +136,27 @@ impl Hybrid<'_> {
             return;
         }
         let f = self.free[i];
-        let Some((d, dd, ddd)) = self.wall_state(side, f.u0, f.v0, i) else {
-            return;
+        let (d, dd, ddd, theta) = match (self.hard_wall(side), side) {
+            (Some(_), 0) => {
+                let w = self.chain.left_wall.as_ref().expect("wall");
+                (w.precompression - f.u0, -f.v0, -f.g, 0.0)
+            }
+            (Some(_), _) => {
+                let w = self.chain.right_wall.as_ref().expect("wall");
+                (w.precompression + f.u0, f.v0, f.g, 0.0)
+            }
+            (None, _) => {
+                let Some((d, dd, ddd)) = self.wall_state(side, f.u0, f.v0, i) else {
+                    return;
+                };
+                (d, dd, ddd, self.theta)
+            }
         };
-        match first_upward_crossing(d - self.theta, dd, ddd) {
+        let mut a = d - theta;
+        if theta == 0.0 && dd <= 0.0 {
+            a = a.min(0.0); // hard wall: rounding overlap after a bounce is not a new collision
+        }
+        match first_upward_crossing(a, dd, ddd) {
             Some(s) if f.t0 + s <= self.cfg.until => {
                 self.queue.push(key, prio(f.t0 + s, 1, i, key));
             }
@@ -129,10 +170,10 @@ impl Hybrid<'_> {
     /// that cluster will not re-examine the part of its last step after `t`, so the gap is
     /// checked here over `[t, t_now]` (the cluster's output covers it), and a closing found
     /// there parks the cluster at it.
-    fn check_new_free(&mut self, i: usize, t: f64) {
-        let theta = self.theta;
+    pub(super) fn check_new_free(&mut self, i: usize, t: f64) {
         let mut found: Option<(u32, usize, f64)> = None;
         if i > 0 && self.owner[i - 1] != FREE {
+            let theta = self.closing_offset(i - 1, t);
             let s = self.owner[i - 1];
             let a = self.clusters[s as usize].as_ref().expect("live");
             if a.t_now > t {
@@ -146,6 +187,7 @@ impl Hybrid<'_> {
             }
         }
         if i + 1 < self.n && self.owner[i + 1] != FREE {
+            let theta = self.closing_offset(i, t);
             let s = self.owner[i + 1];
             let a = self.clusters[s as usize].as_ref().expect("live");
             if a.t_now > t {
@@ -175,7 +217,7 @@ impl Hybrid<'_> {
     }
 
     /// Removes the free-flight predictions that involve beads `lo..hi`.
-    fn drop_predictions(&mut self, lo: usize, hi: usize) {
+    pub(super) fn drop_predictions(&mut self, lo: usize, hi: usize) {
         for c in lo.saturating_sub(1)..hi.min(self.n - 1) {
             self.queue.remove(&Key::FreeFree(c as u32));
         }
@@ -190,7 +232,7 @@ impl Hybrid<'_> {
     /// Brings a cluster's integrator exactly to `t ∈ [t_prev, t]` by redoing its last step to
     /// land on `t`, so that the state at an event is a full-accuracy step result rather than
     /// the (lower-order) continuous output.
-    fn settle_at(&mut self, slot: u32, t: f64) -> Result<(), EngineError> {
+    pub(super) fn settle_at(&mut self, slot: u32, t: f64) -> Result<(), EngineError> {
         let chain = self.chain;
         let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
         cl.t_now = t;
@@ -201,10 +243,11 @@ impl Hybrid<'_> {
         let t0 = cl.integ.t_prev();
         let z = &mut self.bz[..2 * m];
         cl.integ.dense(t0, z);
-        let sys = ChainRange {
+        let sys = ClusterSys {
             chain,
             lo: cl.lo,
-            m,
+            mass: &cl.mass,
+            pinned: cl.pinned,
         };
         cl.integ.reset(&sys, t0, &z[..m], &z[m..]);
         if t > t0 {
@@ -266,6 +309,9 @@ impl Hybrid<'_> {
         ver: (u64, u64),
     ) -> Result<(), EngineError> {
         if self.version[c] == ver.0 && self.version[c + 1] == ver.1 {
+            if self.chain.hard_restitution(c).is_some() {
+                return self.process_hard(c, t);
+            }
             return self.merge_at(c, t);
         }
         // Stale (the neighbour changed since): continue the cluster from t.
@@ -278,6 +324,9 @@ impl Hybrid<'_> {
 
     /// Two free beads close contact `c` at `t`.
     pub(super) fn process_free_close(&mut self, c: usize, t: f64) -> Result<(), EngineError> {
+        if self.chain.hard_restitution(c).is_some() {
+            return self.process_hard(c, t);
+        }
         self.merge_at(c, t)
     }
 
@@ -296,6 +345,19 @@ impl Hybrid<'_> {
             let cl = self.clusters[slot as usize].as_ref().expect("live");
             (cl.lo, cl.hi, cl.t_now)
         };
+        if let Some(side) = {
+            let cl = self.clusters[slot as usize].as_ref().expect("live");
+            self.release_pin(cl)
+        } {
+            self.pinned[side as usize] = false;
+            self.log(
+                t,
+                if side == 0 { 0 } else { self.n - 1 },
+                EventKind::WallOpen,
+                0.0,
+                0.0,
+            );
+        }
         let cl = self.remove_cluster(slot);
         let m = hi - lo;
         let z = cl.integ.state();

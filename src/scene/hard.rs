@@ -1,0 +1,180 @@
+//! `[hard]`: hard contacts (instantaneous collisions with restitution), and hard walls.
+//!
+//! ```toml
+//! [hard]
+//! contacts = "all"          # "all" | [k, ...] contact indices | { from = a, to = b } (inclusive)
+//! restitution = 1.0         # e in [0, 1]: a number, or one value per listed contact; default 1
+//! collapse_interval = 1e-9  # TC model interval t_c (computer time); default 1e-9 * [run].until
+//!
+//! [walls]
+//! left = { hard = true, restitution = 0.9 }   # a hard wall (no force law)
+//! ```
+
+use super::error::SceneError;
+use super::keys::{get, kp, opt_num, table};
+use super::values::{number, type_name, Ctx};
+use crate::model::HardContacts;
+use toml::{Table, Value};
+
+/// Parses `[hard]` for a chain of `nc` contacts; `until` sets the default collapse interval.
+pub(crate) fn parse_hard(
+    ctx: &Ctx,
+    root: &Table,
+    nc: usize,
+    until: f64,
+) -> Result<Option<HardContacts>, SceneError> {
+    let t = table(
+        ctx,
+        root,
+        "hard",
+        &["contacts", "restitution", "collapse_interval"],
+    )?;
+    let Some(t) = t else {
+        return Ok(None);
+    };
+    let key = kp("hard", "contacts");
+    let list: Vec<usize> = match t.get("contacts") {
+        None => {
+            return Err(ctx.err(
+                &key,
+                "missing (\"all\", a list of contact indices, or { from, to })",
+            ))
+        }
+        Some(Value::String(s)) if s == "all" => (0..nc).collect(),
+        Some(Value::Array(a)) => {
+            let mut out = Vec::with_capacity(a.len());
+            for (i, v) in a.iter().enumerate() {
+                out.push(index(ctx, &format!("{key}[{i}]"), v, nc)?);
+            }
+            out
+        }
+        Some(Value::Table(r)) => {
+            for k in r.keys() {
+                if k != "from" && k != "to" {
+                    return Err(ctx.err(&format!("{key}.{k}"), "unknown key (expected from, to)"));
+                }
+            }
+            let from = r
+                .get("from")
+                .map(|v| index(ctx, &format!("{key}.from"), v, nc))
+                .transpose()?
+                .unwrap_or(0);
+            let to = r
+                .get("to")
+                .map(|v| index(ctx, &format!("{key}.to"), v, nc))
+                .transpose()?
+                .unwrap_or(nc - 1);
+            if to < from {
+                return Err(ctx.err(&key, format!("empty range {from}..={to}")));
+            }
+            (from..=to).collect()
+        }
+        Some(v) => {
+            return Err(ctx.err(
+                &key,
+                format!(
+                    "expected \"all\", an array or {{ from, to }}, got {}",
+                    type_name(v)
+                ),
+            ))
+        }
+    };
+    let rkey = kp("hard", "restitution");
+    let values: Vec<f64> = match get(Some(t), "restitution") {
+        None => vec![1.0; list.len()],
+        Some(Value::Array(a)) => {
+            if a.len() != list.len() {
+                return Err(ctx.err(
+                    &rkey,
+                    format!(
+                        "expected {} values (one per hard contact), got {}",
+                        list.len(),
+                        a.len()
+                    ),
+                ));
+            }
+            a.iter()
+                .enumerate()
+                .map(|(i, v)| number(ctx, &format!("{rkey}[{i}]"), v))
+                .collect::<Result<_, _>>()?
+        }
+        Some(v) => vec![number(ctx, &rkey, v)?; list.len()],
+    };
+    for (i, e) in values.iter().enumerate() {
+        if !(0.0..=1.0).contains(e) {
+            return Err(ctx.err(
+                &rkey,
+                format!("restitution {e} of contact {} outside [0, 1]", list[i]),
+            ));
+        }
+    }
+    let mut restitution = vec![None; nc];
+    for (c, e) in list.iter().zip(values) {
+        restitution[*c] = Some(e);
+    }
+    let collapse_interval =
+        opt_num(ctx, Some(t), "hard", "collapse_interval")?.unwrap_or(1e-9 * until);
+    if !(collapse_interval > 0.0 && collapse_interval.is_finite()) {
+        return Err(ctx.err(
+            &kp("hard", "collapse_interval"),
+            format!("must be positive and finite, got {collapse_interval}"),
+        ));
+    }
+    Ok(Some(HardContacts {
+        restitution,
+        collapse_interval,
+    }))
+}
+
+/// A wall's `hard`/`restitution` keys: `Some(e)` for a hard wall.
+pub(crate) fn wall_restitution(
+    ctx: &Ctx,
+    key: &str,
+    wt: &Table,
+) -> Result<Option<f64>, SceneError> {
+    let hard = match wt.get("hard") {
+        None => false,
+        Some(Value::Boolean(b)) => *b,
+        Some(v) => {
+            return Err(ctx.err(
+                &format!("{key}.hard"),
+                format!("expected true or false, got {}", type_name(v)),
+            ))
+        }
+    };
+    let e = wt
+        .get("restitution")
+        .map(|v| number(ctx, &format!("{key}.restitution"), v))
+        .transpose()?;
+    match (hard, e) {
+        (false, Some(_)) => Err(ctx.err(
+            &format!("{key}.restitution"),
+            "only a hard wall has a restitution (add hard = true)",
+        )),
+        (false, None) => Ok(None),
+        (true, e) => {
+            let e = e.unwrap_or(1.0);
+            if !(0.0..=1.0).contains(&e) {
+                return Err(ctx.err(
+                    &format!("{key}.restitution"),
+                    format!("restitution {e} outside [0, 1]"),
+                ));
+            }
+            Ok(Some(e))
+        }
+    }
+}
+
+fn index(ctx: &Ctx, key: &str, v: &Value, nc: usize) -> Result<usize, SceneError> {
+    match v {
+        Value::Integer(i) if *i >= 0 && (*i as usize) < nc => Ok(*i as usize),
+        Value::Integer(i) => Err(ctx.err(
+            key,
+            format!("contact index {i} outside 0..{}", nc.saturating_sub(1)),
+        )),
+        other => Err(ctx.err(
+            key,
+            format!("expected a contact index, got {}", type_name(other)),
+        )),
+    }
+}
