@@ -373,8 +373,14 @@ impl Hybrid<'_> {
                 d < self.theta && z[m + k] - z[m + k + 1] < 0.0
             };
             if opens {
-                let k = i - lo;
-                self.log(t, i, EventKind::Open, z[m + k] - z[m + k + 1], self.peak[i]);
+                // The split happens at the step end (the dynamics inside the cluster were exact
+                // up to there); the logged time is the crossing located on the step's output.
+                let pre = self.pre(i);
+                let theta = self.theta;
+                let g = |x: f64| theta - (pre + cl.w_at(x, i) - cl.w_at(x, i + 1));
+                let t_open = super::detect::first_crossing(g, cl.integ.t_prev(), t).unwrap_or(t);
+                let rel = cl.v_at(t_open, i) - cl.v_at(t_open, i + 1);
+                self.log(t_open, i, EventKind::Open, rel, self.peak[i]);
                 self.peak[i] = 0.0;
             }
             if opens || last {
