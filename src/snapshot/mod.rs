@@ -71,6 +71,11 @@
 //!   damaged, and skipping it would renumber the frames after it); an unknown tag with a valid
 //!   checksum is skipped with a warning, so optional sections can be added later without a
 //!   version bump.
+//! - During a scan, frame times must increase strictly, and a whole INDEX met on the way must
+//!   list exactly the frames scanned before it (count and time bits); otherwise sections were
+//!   duplicated, removed or reordered and the file is an error ([`SnapshotError::Corrupt`]),
+//!   since numbering on would put numbers at the wrong frame index. (A frame section removed
+//!   whole from a file without INDEX remains undetectable: frames carry no index of their own.)
 //! - The guarantee, tested by flipping every byte of small files: the reader returns an error
 //!   or the original numbers at their original frame numbers, never a wrong number.
 //!

@@ -514,6 +514,22 @@ fn scan(
         match h.tag {
             TAG_FRAME => {
                 read_frame_at(raw, pos, &name, header.n_beads, frame_len, &mut frame)?;
+                // Frames are written in strictly increasing time: a repeated or earlier time
+                // means sections were duplicated or reordered, and numbering on would put
+                // frames at the wrong index.
+                if let Some(&prev) = c.times.last() {
+                    if frame.t.partial_cmp(&prev) != Some(std::cmp::Ordering::Greater) {
+                        return Err(raw.corrupt(
+                            &name,
+                            pos,
+                            format!(
+                                "frame time {:e} is not after the previous frame's {prev:e} \
+                                 (sections duplicated or out of order)",
+                                frame.t
+                            ),
+                        ));
+                    }
+                }
                 c.offsets.push(pos);
                 c.times.push(frame.t);
             }
@@ -531,15 +547,15 @@ fn scan(
             tag => {
                 // INDEX, END or an unknown tag. Its checksum also covers the tag, so a frame
                 // whose tag was damaged fails here: stop rather than renumber later frames.
-                if raw.read_payload(&h, &name).is_err() {
+                let Ok(p) = raw.read_payload(&h, &name) else {
                     warn(format!(
                         "damaged section (checksum) at byte {pos}; kept {k} whole frames, \
                          ignored everything after it"
                     ));
                     break;
-                }
+                };
                 match tag {
-                    TAG_INDEX => {}
+                    TAG_INDEX => check_scan_against_index(raw, pos, &p, &c.times)?,
                     TAG_END => {
                         if h.end() != raw.len {
                             warn(format!(
@@ -558,6 +574,35 @@ fn scan(
         pos = h.end();
     }
     Ok(c)
+}
+
+/// A whole INDEX met during a scan must list exactly the frames scanned before it (same count,
+/// same time bits); otherwise frame sections were removed, duplicated or reordered.
+fn check_scan_against_index(
+    raw: &Raw,
+    pos: u64,
+    payload: &[u8],
+    times: &[f64],
+) -> Result<(), SnapshotError> {
+    let len = payload.len() as u64;
+    let count = if len >= 24 { le_u64(payload, 0) } else { 0 };
+    if len < 24 || count.checked_mul(16).and_then(|x| x.checked_add(24)) != Some(len) {
+        return Err(raw.corrupt("INDEX", pos, "malformed INDEX payload".into()));
+    }
+    let count = count as usize;
+    let listed = (0..count).map(|i| le_u64(payload, 24 + 8 * (count + i)));
+    if count != times.len() || listed.zip(times).any(|(a, b)| a != b.to_bits()) {
+        return Err(raw.corrupt(
+            "INDEX",
+            pos,
+            format!(
+                "the INDEX lists {count} frames but the file holds {} frames before it, or at \
+                 other times (sections removed, duplicated or out of order)",
+                times.len()
+            ),
+        ));
+    }
+    Ok(())
 }
 
 impl Raw {
