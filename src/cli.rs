@@ -247,7 +247,7 @@ fn cmd_run(a: RunArgs) -> Result<i32> {
     let writer = SnapshotWriter::create(&out_path, &header)?;
     let mut sink = SnapshotSink(writer);
     let out = engine::run(&scene, &cfg, &mut sink)
-        .with_context(|| format!("scene {}: run failed (no output written)", scene.name))?;
+        .with_context(|| format!("{}: run failed (no output written)", a.common.scene))?;
     let frames = sink.0.frames_written();
     let mut sum = summary(&out);
     if !a.timing {

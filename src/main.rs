@@ -1,19 +1,51 @@
 //! `beadchain` command line: run scenes, compare engines, export and inspect snapshots.
 //!
 //! Exit codes: 0 success; 1 `check` found the engines disagreeing beyond tolerance; 2 bad input
-//! (scene, snapshot or arguments) or a failed run. No output file is left behind on failure.
+//! (scene, snapshot or arguments) or a failed run. Errors are one line on standard error. No
+//! output file is left behind on failure.
 
 mod cli;
 
 use clap::Parser;
 
 fn main() {
-    let args = cli::Cli::parse();
+    let args = match cli::Cli::try_parse() {
+        Ok(a) => a,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+                let _ = e.print();
+                std::process::exit(0);
+            }
+            // clap's message is several lines (usage, hint): keep the first, as one line.
+            let text = e.to_string();
+            let first = text.lines().next().unwrap_or("invalid arguments");
+            let first = first.trim_start_matches("error: ");
+            eprintln!("beadchain: error: {first} (see `beadchain --help`)");
+            std::process::exit(2);
+        }
+    };
     match cli::dispatch(args) {
         Ok(code) => std::process::exit(code),
         Err(e) => {
-            eprintln!("beadchain: error: {e:#}");
+            eprintln!("beadchain: error: {}", one_line(&e));
             std::process::exit(2);
         }
     }
+}
+
+/// The error and its causes on one line, skipping a cause whose text the message already holds.
+fn one_line(e: &anyhow::Error) -> String {
+    let mut out = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if out.contains(&text) {
+            continue;
+        }
+        if !out.is_empty() {
+            out.push_str(": ");
+        }
+        out.push_str(&text);
+    }
+    out.replace('\n', " ")
 }

@@ -72,7 +72,7 @@ fn expect_bad(class: &str, dir: &Path, args: &[&str], needles: &[&str]) -> Strin
 
 /// Argument errors found by clap (before `beadchain` code runs): exit 2, no panic, nothing
 /// written, the first line names the option. Clap adds a blank line and a "For more
-/// information, try '--help'." line, so these messages are NOT one line (reported).
+/// information, try '--help'." line; main.rs keeps its first line, so the message is one line.
 fn expect_clap_error(class: &str, dir: &Path, args: &[&str], option: &str) {
     let before = listing(dir);
     let o = beadchain(dir, args);
@@ -83,9 +83,13 @@ fn expect_clap_error(class: &str, dir: &Path, args: &[&str], option: &str) {
         Some(2),
         "{class}: exit code; stderr: {err}"
     );
-    let first = err.lines().next().unwrap_or_default();
+    assert_eq!(
+        err.trim_end().lines().count(),
+        1,
+        "{class}: not one line: {err}"
+    );
     assert!(
-        first.starts_with("error: ") && first.contains(option),
+        err.starts_with("beadchain: error: ") && err.contains(option),
         "{class}: {err}"
     );
     assert_eq!(listing(dir), before, "{class}: files left behind");
@@ -558,11 +562,10 @@ fn frames_header_and_events_are_deterministic() {
     }
 }
 
-/// Whole files byte-identical (issue 4, "Determinism"). Fails today: the STATS section stores
-/// `RunSummary::wall_seconds` (payload bytes 64..72, right after the 8 u64 counters of
-/// `Stats`), the run's wall-clock time. Un-ignore once the CLI stops storing it (or stores 0).
+/// Whole files byte-identical (issue 4, "Determinism"): the wall-clock time is only stored
+/// with `--timing`.
 #[test]
-#[ignore = "STATS stores wall-clock seconds (RunSummary::wall_seconds); see validation/bad-input.md"]
+
 fn same_scene_gives_identical_bytes() {
     for engine in ["hybrid", "dense"] {
         let (a, b) = twice(engine);
