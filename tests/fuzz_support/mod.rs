@@ -1,4 +1,4 @@
-//! Shared machinery of `tests/fuzz_inputs.rs`: the seeded, time-boxed proptest driver and an
+//! Shared machinery of `tests/fuzz_scenes.rs` and `tests/fuzz_snapshots.rs`: the seeded,
 //! allocation probe (a counting global allocator, per thread).
 //!
 //! Environment:
