@@ -1,4 +1,5 @@
 //! Shared machinery of `tests/fuzz_scenes.rs` and `tests/fuzz_snapshots.rs`: the seeded,
+//! time-boxed proptest driver and an
 //! allocation probe (a counting global allocator, per thread).
 //!
 //! Environment:
