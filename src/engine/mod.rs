@@ -7,8 +7,11 @@
 //!
 //! An engine owns the loop; an [`Observer`] watches it (frames at the requested output times).
 
+pub mod checkpoint;
 pub mod dense;
 pub mod hybrid;
+
+pub use checkpoint::{Control, EngineState};
 
 use crate::integrate::{IntegrationError, Method, Stats, DEFAULT_ATOL, DEFAULT_RTOL};
 use crate::linalg::SolverKind;
@@ -79,12 +82,39 @@ pub enum EngineError {
     /// The configuration is unusable.
     #[error("invalid run configuration: {0}")]
     Config(String),
+    /// The observer asked to stop (after a checkpoint was written) at time `t`.
+    #[error("interrupted at t = {0} (checkpoint written)")]
+    Interrupted(f64),
 }
 
 /// Watches a run.
 pub trait Observer {
     /// A frame at output time `t`.
     fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError>;
+    /// Asked between steps (engine clock `t`): continue, checkpoint, or checkpoint and stop.
+    fn control(&mut self, _t: f64) -> Control {
+        Control::Continue
+    }
+    /// A checkpoint of the engine state (after [`Control::Checkpoint`] or [`Control::Stop`]).
+    fn checkpoint(&mut self, _state: &EngineState) -> Result<(), EngineError> {
+        Ok(())
+    }
+}
+
+/// Asks the observer and acts: returns `Err(Interrupted)` after a stop.
+pub(crate) fn poll(
+    obs: &mut dyn Observer,
+    t: f64,
+    save: impl FnOnce() -> EngineState,
+) -> Result<(), EngineError> {
+    match obs.control(t) {
+        Control::Continue => Ok(()),
+        Control::Checkpoint => obs.checkpoint(&save()),
+        Control::Stop => {
+            obs.checkpoint(&save())?;
+            Err(EngineError::Interrupted(t))
+        }
+    }
 }
 
 /// Collects frames in memory (tests, small runs).
@@ -146,6 +176,30 @@ impl RunOutcome {
     }
 }
 
+/// Continues a run from a checkpointed state (same scene; `cfg.until` may be later).
+pub fn resume(
+    scene: &Scene,
+    cfg: &RunConfig,
+    state: &EngineState,
+    obs: &mut dyn Observer,
+) -> Result<RunOutcome, EngineError> {
+    check_config(cfg)?;
+    if state.time() > cfg.until {
+        return Err(EngineError::Config(format!(
+            "the checkpoint is at t = {}, after until = {}",
+            state.time(),
+            cfg.until
+        )));
+    }
+    match (cfg.engine, state) {
+        (Engine::Dense, EngineState::Dense(d)) => dense::run_from(scene, cfg, Some(d), obs),
+        (Engine::Hybrid, EngineState::Hybrid(h)) => hybrid::run_from(scene, cfg, Some(h), obs),
+        _ => Err(EngineError::Config(
+            "the checkpoint was written by the other engine".into(),
+        )),
+    }
+}
+
 /// Runs a scene with the given configuration.
 pub fn run(
     scene: &Scene,
@@ -160,8 +214,8 @@ pub fn run(
         ));
     }
     match cfg.engine {
-        Engine::Dense => dense::run(scene, cfg, obs),
-        Engine::Hybrid => hybrid::run(scene, cfg, obs),
+        Engine::Dense => dense::run_from(scene, cfg, None, obs),
+        Engine::Hybrid => hybrid::run_from(scene, cfg, None, obs),
     }
 }
 

@@ -31,7 +31,7 @@
 
 mod coefficients;
 
-use super::{IntegrationError, Integrator, Stats, System, Tolerances};
+use super::{IntegrationError, Integrator, IntegratorState, Stats, System, Tolerances};
 use coefficients::{A, D, E3, E5};
 
 /// Multiplier of the asymptotically optimal step.
@@ -463,6 +463,37 @@ impl Integrator for Dop853 {
 
     fn stats(&self) -> &Stats {
         &self.stats
+    }
+
+    fn save(&self) -> IntegratorState {
+        IntegratorState {
+            t: self.t,
+            t_prev: self.t_prev,
+            h: self.h,
+            h_old: None,
+            err_old: None,
+            have_sol: true,
+            vecs: vec![
+                self.z.clone(),
+                self.z_old.clone(),
+                self.k.clone(),
+                self.f.clone(),
+            ],
+            stats: self.stats.clone(),
+        }
+    }
+
+    fn load(&mut self, s: &IntegratorState) {
+        self.t = s.t;
+        self.t_prev = s.t_prev;
+        self.h = s.h;
+        for (d, v) in [&mut self.z, &mut self.z_old, &mut self.k, &mut self.f]
+            .into_iter()
+            .zip(&s.vecs)
+        {
+            d.copy_from_slice(v);
+        }
+        self.stats = s.stats.clone();
     }
 }
 

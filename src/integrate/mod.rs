@@ -187,6 +187,28 @@ pub enum IntegrationError {
     Budget(u64),
 }
 
+/// Everything an integrator needs to continue bit-identically (checkpoints). Scratch buffers
+/// that every step recomputes are not part of it.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct IntegratorState {
+    /// Current time.
+    pub t: f64,
+    /// Start of the last accepted step.
+    pub t_prev: f64,
+    /// Step-size proposal.
+    pub h: f64,
+    /// Previous accepted step size (step-size controller memory).
+    pub h_old: Option<f64>,
+    /// Previous error norm (step-size controller memory).
+    pub err_old: Option<f64>,
+    /// Whether the continuous output of the last step is valid.
+    pub have_sol: bool,
+    /// Method-specific arrays (state, previous state, derivatives, output coefficients).
+    pub vecs: Vec<Vec<f64>>,
+    /// Counters.
+    pub stats: Stats,
+}
+
 /// An adaptive one-step integrator with continuous output over the last accepted step.
 pub trait Integrator {
     /// Starts (or restarts) from state `(u, v)` at time `t`.
@@ -207,6 +229,10 @@ pub trait Integrator {
     fn dense_at(&self, t: f64, j: usize) -> f64;
     /// Counters so far.
     fn stats(&self) -> &Stats;
+    /// The state needed to continue exactly (see [`IntegratorState`]).
+    fn save(&self) -> IntegratorState;
+    /// Restores a state saved by the same method for the same number of beads.
+    fn load(&mut self, s: &IntegratorState);
 }
 
 /// The max-norm of `err` weighted componentwise (u-part then v-part of length `m` each).

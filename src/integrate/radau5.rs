@@ -14,7 +14,7 @@
 //! comes for free with the force evaluation at the start of every step (same `powf`), so it is
 //! always current and both systems are refactorised per step attempt, in `O(m)`.
 
-use super::{IntegrationError, Integrator, Stats, System, Tolerances};
+use super::{IntegrationError, Integrator, IntegratorState, Stats, System, Tolerances};
 use crate::linalg::{new_solver, SolverKind, TridiagSolver};
 use num_complex::Complex64;
 
@@ -605,6 +605,52 @@ impl Integrator for Radau5 {
 
     fn stats(&self) -> &Stats {
         &self.stats
+    }
+
+    fn save(&self) -> IntegratorState {
+        IntegratorState {
+            t: self.t,
+            t_prev: self.t_old,
+            h: self.h_abs,
+            h_old: self.h_abs_old,
+            err_old: self.err_old,
+            have_sol: self.have_sol,
+            vecs: vec![
+                self.z.clone(),
+                self.z_old.clone(),
+                self.f.clone(),
+                self.k.clone(),
+                self.q[0].clone(),
+                self.q[1].clone(),
+                self.q[2].clone(),
+            ],
+            stats: self.stats.clone(),
+        }
+    }
+
+    fn load(&mut self, s: &IntegratorState) {
+        self.t = s.t;
+        self.t_old = s.t_prev;
+        self.h_abs = s.h;
+        self.h_abs_old = s.h_old;
+        self.err_old = s.err_old;
+        self.have_sol = s.have_sol;
+        let dst: [&mut Vec<f64>; 7] = {
+            let [q0, q1, q2] = &mut self.q;
+            [
+                &mut self.z,
+                &mut self.z_old,
+                &mut self.f,
+                &mut self.k,
+                q0,
+                q1,
+                q2,
+            ]
+        };
+        for (d, v) in dst.into_iter().zip(&s.vecs) {
+            d.copy_from_slice(v);
+        }
+        self.stats = s.stats.clone();
     }
 }
 

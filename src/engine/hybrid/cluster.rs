@@ -57,7 +57,7 @@ impl ClusterSys<'_> {
 }
 
 /// Something a cluster found in its last step and must act on when the queue reaches it.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Pending {
     /// The gap of `contact` (to a bead outside the cluster) closes at `t`. `ver` are the
     /// versions of the two beads of the contact when it was found (stale if they changed).

@@ -7,7 +7,7 @@
 //! formula.
 
 /// Free-flight state of one bead, valid for `t ≥ t0`.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Free {
     /// Reference time.
     pub t0: f64,

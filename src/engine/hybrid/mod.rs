@@ -33,8 +33,10 @@ pub mod detect;
 pub mod free;
 mod hard;
 mod process;
+mod state;
 
 use super::{EngineError, Observer, RunConfig, RunOutcome};
+use crate::engine::checkpoint::HybridState;
 use crate::integrate::{IntegrationError, Stats, Tolerances};
 use crate::model::Chain;
 use crate::scene::Scene;
@@ -63,6 +65,17 @@ enum Key {
 }
 
 impl Key {
+    /// Unique number of the key.
+    fn id(self) -> u64 {
+        let index = match self {
+            Key::Frame => 0,
+            Key::Cluster(s) => s as u64,
+            Key::FreeFree(c) => c as u64,
+            Key::Wall(w) => w as u64,
+        };
+        index << 2 | self.tag()
+    }
+
     fn tag(self) -> u64 {
         match self {
             Key::Frame => 0,
@@ -74,10 +87,17 @@ impl Key {
 }
 
 /// Priority: earliest time first, then class (frames 0, events 1, steps 2), then bead index.
-type Prio = Reverse<(OrderedFloat<f64>, u8, u64)>;
+/// The last component (the key itself) makes every priority unique, so the pop order never
+/// depends on the heap's insertion history (needed for bit-identical resumes).
+type Prio = Reverse<(OrderedFloat<f64>, u8, u64, u64)>;
 
 fn prio(t: f64, class: u8, index: usize, key: Key) -> Prio {
-    Reverse((OrderedFloat(t), class, (index as u64) << 2 | key.tag()))
+    Reverse((
+        OrderedFloat(t),
+        class,
+        (index as u64) << 2 | key.tag(),
+        key.id(),
+    ))
 }
 
 /// The hybrid engine's state (plain data + scratch).
@@ -101,6 +121,7 @@ pub struct Hybrid<'a> {
     largest: usize,
     steps_total: u64,
     late_merges: u64,
+    clock: f64,
     last_hard: Vec<f64>,
     pinned: [bool; 2],
     next_frame: u64,
@@ -109,15 +130,19 @@ pub struct Hybrid<'a> {
     bz: Vec<f64>,
 }
 
-/// Runs a scene with the hybrid engine.
-pub fn run(
+/// Runs a scene with the hybrid engine, from the start or from a checkpointed state.
+pub fn run_from(
     scene: &Scene,
     cfg: &RunConfig,
+    from: Option<&HybridState>,
     obs: &mut dyn Observer,
 ) -> Result<RunOutcome, EngineError> {
     let start = Instant::now();
     let mut h = Hybrid::new(scene, cfg);
-    h.init(&scene.u0, &scene.v0);
+    match from {
+        None => h.init(&scene.u0, &scene.v0),
+        Some(s) => h.restore(s),
+    }
     let (u, v) = h.run_loop(obs)?;
     let chain = &scene.chain;
     let mut stats = h.stats.clone();
@@ -180,6 +205,7 @@ impl<'a> Hybrid<'a> {
             largest: 0,
             steps_total: 0,
             late_merges: 0,
+            clock: 0.0,
             last_hard: vec![f64::NEG_INFINITY; n + 1],
             pinned: [false; 2],
             next_frame: 0,
@@ -328,8 +354,15 @@ impl<'a> Hybrid<'a> {
     }
 
     fn run_loop(&mut self, obs: &mut dyn Observer) -> Result<(Vec<f64>, Vec<f64>), EngineError> {
-        while let Some((key, Reverse((t, _, _)))) = self.queue.pop() {
+        loop {
+            super::poll(obs, self.clock, || {
+                super::EngineState::Hybrid(Box::new(self.save()))
+            })?;
+            let Some((key, Reverse((t, _, _, _)))) = self.queue.pop() else {
+                break;
+            };
             let t = t.0;
+            self.clock = t;
             match key {
                 Key::Frame => {
                     for i in 0..self.n {

@@ -1,0 +1,127 @@
+//! Engine state for checkpoints: everything an engine needs to continue a run so that the
+//! resumed run produces bit-identical frames and final state to one never interrupted.
+//!
+//! Engines ask their [`super::Observer`] between steps whether to checkpoint ([`Control`]);
+//! saving is read-only, so a checkpoint never perturbs the run.
+
+use crate::engine::hybrid::cluster::Pending;
+use crate::engine::hybrid::free::Free;
+use crate::integrate::IntegratorState;
+use crate::snapshot::EventRecord;
+use serde::{Deserialize, Serialize};
+
+/// What the observer wants the engine to do after the current step/event.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Control {
+    /// Keep going.
+    Continue,
+    /// Save a checkpoint, then keep going.
+    Checkpoint,
+    /// Save a checkpoint, then stop with [`super::EngineError::Interrupted`].
+    Stop,
+}
+
+/// The state of either engine.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum EngineState {
+    /// Dense engine.
+    Dense(DenseState),
+    /// Hybrid engine.
+    Hybrid(Box<HybridState>),
+}
+
+impl EngineState {
+    /// Simulation time the state is at (the engine's clock).
+    pub fn time(&self) -> f64 {
+        match self {
+            EngineState::Dense(d) => d.integ.t,
+            EngineState::Hybrid(h) => h.t,
+        }
+    }
+}
+
+/// Dense engine state.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DenseState {
+    /// The whole-chain integrator.
+    pub integ: IntegratorState,
+    /// Index of the next output frame.
+    pub next_frame: u64,
+    /// Time of the last frame written.
+    pub last_frame_t: f64,
+}
+
+/// One cluster of the hybrid engine.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ClusterState {
+    /// First bead.
+    pub lo: u64,
+    /// One past the last bead.
+    pub hi: u64,
+    /// Frame displacement, velocity and reference time.
+    pub frame: (f64, f64, f64),
+    /// Current time.
+    pub t_now: f64,
+    /// Pending event.
+    pub pending: Option<Pending>,
+    /// Integrator masses.
+    pub mass: Vec<f64>,
+    /// Pinned ends.
+    pub pinned: [bool; 2],
+    /// Integrator.
+    pub integ: IntegratorState,
+}
+
+/// A queue entry: key (kind, index) and priority (time, class, tie-break).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct QueueEntry {
+    /// 0 frame, 1 cluster, 2 free pair, 3 wall.
+    pub kind: u8,
+    /// Slot / contact / side.
+    pub index: u64,
+    /// Time.
+    pub t: f64,
+    /// Class.
+    pub class: u8,
+    /// Tie-break.
+    pub tie: u64,
+}
+
+/// Hybrid engine state.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HybridState {
+    /// Engine clock (time of the last processed queue entry).
+    pub t: f64,
+    /// Owner slot per bead (`u32::MAX` = free).
+    pub owner: Vec<u32>,
+    /// Free-flight states.
+    pub free: Vec<Free>,
+    /// Bead versions.
+    pub version: Vec<u64>,
+    /// Cluster slots.
+    pub clusters: Vec<Option<ClusterState>>,
+    /// Unused slots.
+    pub spare_slots: Vec<u32>,
+    /// Queue contents (order irrelevant: priorities are unique).
+    pub queue: Vec<QueueEntry>,
+    /// Peak overlap per contact.
+    pub peak: Vec<f64>,
+    /// Counters of removed clusters.
+    pub stats: crate::integrate::Stats,
+    /// Event log so far.
+    pub events: Vec<EventRecord>,
+    /// Event counts by kind.
+    pub counts: [u64; 5],
+    /// Largest cluster so far.
+    pub largest: u64,
+    /// Steps so far.
+    pub steps_total: u64,
+    /// Late merges so far.
+    pub late_merges: u64,
+    /// Last hard collision per contact / wall.
+    pub last_hard: Vec<f64>,
+    /// Wall pins.
+    pub pinned: [bool; 2],
+    /// Next frame index.
+    pub next_frame: u64,
+}
