@@ -1,12 +1,13 @@
 //! Argument parsing (clap derive) and the subcommands.
 
+use crate::cli_ckpt;
 use anyhow::{bail, Context, Result};
-use beadchain::engine::{self, EngineError, Observer, Recorder, RunConfig, RunOutcome};
+use beadchain::engine::{self, Recorder, RunConfig, RunOutcome};
 use beadchain::export::{self, FrameSel};
 use beadchain::integrate::Method;
 use beadchain::linalg::SolverKind;
 use beadchain::scene::{self, Engine, Scene};
-use beadchain::snapshot::{Header, RunSummary, Snapshot, SnapshotWriter};
+use beadchain::snapshot::{Header, Snapshot, SnapshotWriter};
 use clap::{Parser, Subcommand, ValueEnum};
 use std::io::Write;
 use std::path::PathBuf;
@@ -34,6 +35,17 @@ enum Cmd {
     },
     /// List the built-in preset scenes.
     Scenes,
+    /// Continue an interrupted run from its checkpoint into the same output file.
+    Resume {
+        /// Checkpoint file (`OUTPUT.ckpt`).
+        file: PathBuf,
+        /// New end time (default: the original run's).
+        #[arg(long)]
+        until: Option<f64>,
+        /// Keep writing checkpoints every DT of simulated time.
+        #[arg(long)]
+        checkpoint_every: Option<f64>,
+    },
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -93,6 +105,10 @@ struct RunArgs {
     /// Output snapshot [default: `<scene name>.snap` in the current directory].
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Write a resumable checkpoint `FILE.ckpt` every DT of simulated time (a checkpoint is
+    /// also written on SIGINT/SIGTERM; `beadchain resume FILE.ckpt` continues the run).
+    #[arg(long)]
+    checkpoint_every: Option<f64>,
     /// Also store the wall-clock time in the snapshot (then two runs no longer give identical
     /// bytes; by default it is only printed).
     #[arg(long)]
@@ -145,6 +161,11 @@ pub fn dispatch(cli: Cli) -> Result<i32> {
             print!("{}", export::inspect(&snap, &chain));
             Ok(0)
         }
+        Cmd::Resume {
+            file,
+            until,
+            checkpoint_every,
+        } => cli_ckpt::cmd_resume(&file, until, checkpoint_every),
         Cmd::Scenes => {
             for p in scene::presets() {
                 println!("{:<32} {}", p.name, p.description);
@@ -191,32 +212,6 @@ fn config(scene: &Scene, c: &Common) -> RunConfig {
     cfg
 }
 
-/// Streams frames into a snapshot writer.
-struct SnapshotSink(SnapshotWriter);
-
-impl Observer for SnapshotSink {
-    fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
-        self.0
-            .write_frame(t, u, v)
-            .map_err(|e| EngineError::Observer(e.to_string()))
-    }
-}
-
-fn summary(out: &RunOutcome) -> RunSummary {
-    RunSummary {
-        stats: out.stats.clone(),
-        wall_seconds: out.wall_seconds,
-        t_end: out.t_end,
-        energy_initial: out.energy_initial,
-        energy_final: out.energy_final,
-        momentum_initial: out.momentum_initial,
-        momentum_final: out.momentum_final,
-        events_by_kind: out.events_by_kind.clone(),
-        largest_cluster: out.largest_cluster,
-        notes: Vec::new(),
-    }
-}
-
 fn cmd_run(a: RunArgs) -> Result<i32> {
     let mut scene = load_scene(&a.common.scene)?;
     let mut cfg = config(&scene, &a.common);
@@ -245,24 +240,20 @@ fn cmd_run(a: RunArgs) -> Result<i32> {
         created_by,
     );
     let writer = SnapshotWriter::create(&out_path, &header)?;
-    let mut sink = SnapshotSink(writer);
-    let out = engine::run(&scene, &cfg, &mut sink)
-        .with_context(|| format!("{}: run failed (no output written)", a.common.scene))?;
-    let frames = sink.0.frames_written();
-    let mut sum = summary(&out);
-    if !a.timing {
-        sum.wall_seconds = 0.0;
-        sum.notes.push(
-            "wall time not recorded (identical inputs give identical bytes; see --timing)".into(),
-        );
+    let ckpt = cli_ckpt::ckpt_path(&out_path);
+    let sink =
+        cli_ckpt::SnapshotSink::new(writer, ckpt, a.checkpoint_every, &scene, &cfg, a.timing)?;
+    match cli_ckpt::drive(sink, &a.common.scene, |s| engine::run(&scene, &cfg, s))? {
+        Ok(out) => {
+            print_outcome(&scene, &cfg, &out);
+            println!("wrote {}", out_path.display());
+            Ok(0)
+        }
+        Err(code) => Ok(code),
     }
-    sink.0.finish(&out.events, &sum)?;
-    print_outcome(&scene, &cfg, &out);
-    println!("wrote {} ({frames} frames)", out_path.display());
-    Ok(0)
 }
 
-fn print_outcome(scene: &Scene, cfg: &RunConfig, out: &RunOutcome) {
+pub fn print_outcome(scene: &Scene, cfg: &RunConfig, out: &RunOutcome) {
     let s = &out.stats;
     println!(
         "{}: {} beads, engine {}, method {}, rtol {:e}, atol {:e}",

@@ -85,11 +85,12 @@
 //! the target after `fsync`, so a failed or killed run never leaves a half-written file under the
 //! requested name; dropping an unfinished writer deletes the temporary file.
 
+pub mod ckpt;
 mod reader;
 mod writer;
 
 pub use reader::Snapshot;
-pub use writer::SnapshotWriter;
+pub use writer::{SnapshotWriter, WriterMark};
 
 use crate::integrate::{Method, Stats};
 use crate::scene::{Engine, Scene};

@@ -262,3 +262,107 @@ fn for_each_chunk(
     }
     Ok(())
 }
+
+/// Where an unfinished snapshot stands: enough to reopen its temporary file and continue
+/// writing frames after a crash (see [`SnapshotWriter::mark`], [`SnapshotWriter::reopen`]).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct WriterMark {
+    /// Final path.
+    pub path: PathBuf,
+    /// Temporary file holding the sections written so far.
+    pub temp: PathBuf,
+    /// Bytes of the temporary file that are part of the snapshot.
+    pub len: u64,
+    /// Beads per frame.
+    pub n_beads: u64,
+    /// Offsets of the frames written.
+    pub offsets: Vec<u64>,
+    /// Times of the frames written.
+    pub times: Vec<f64>,
+}
+
+impl SnapshotWriter {
+    /// Flushes and fsyncs everything written so far and returns the mark to continue from.
+    pub fn mark(&mut self) -> Result<WriterMark, SnapshotError> {
+        let out = self.out.as_mut().ok_or_else(finished_err)?;
+        out.flush().map_err(|e| SnapshotError::Io {
+            path: self.path.clone(),
+            action: "flushing snapshot".into(),
+            source: e,
+        })?;
+        out.get_ref().sync_data().map_err(|e| SnapshotError::Io {
+            path: self.path.clone(),
+            action: "syncing snapshot to disk".into(),
+            source: e,
+        })?;
+        Ok(WriterMark {
+            path: self.path.clone(),
+            temp: self.tmp.clone(),
+            len: self.pos,
+            n_beads: self.n_beads,
+            offsets: self.offsets.clone(),
+            times: self.times.clone(),
+        })
+    }
+
+    /// Reopens the temporary file of an interrupted run, cut back to `mark.len` (frames written
+    /// after the mark are dropped), to continue writing.
+    pub fn reopen(mark: &WriterMark) -> Result<Self, SnapshotError> {
+        let io = |action: &str, e: std::io::Error| SnapshotError::Io {
+            path: mark.path.clone(),
+            action: format!("{action} {}", mark.temp.display()),
+            source: e,
+        };
+        let file = OpenOptions::new()
+            .write(true)
+            .open(&mark.temp)
+            .map_err(|e| io("reopening the temporary file", e))?;
+        let on_disk = file
+            .metadata()
+            .map_err(|e| io("reading the size of", e))?
+            .len();
+        if on_disk < mark.len {
+            return Err(io(
+                "resuming:",
+                std::io::Error::other(format!(
+                    "the temporary file has {on_disk} bytes, the checkpoint expects {}",
+                    mark.len
+                )),
+            ));
+        }
+        file.set_len(mark.len).map_err(|e| io("cutting back", e))?;
+        let mut out = BufWriter::with_capacity(1 << 16, file);
+        use std::io::Seek;
+        out.seek(std::io::SeekFrom::Start(mark.len))
+            .map_err(|e| io("seeking in", e))?;
+        let frame_len = frame_payload_len(mark.n_beads).ok_or_else(|| SnapshotError::Encode {
+            path: mark.path.clone(),
+            section: "HEADER",
+            detail: format!("bead count {} is too large", mark.n_beads),
+        })?;
+        Ok(SnapshotWriter {
+            path: mark.path.clone(),
+            tmp: mark.temp.clone(),
+            out: Some(out),
+            pos: mark.len,
+            n_beads: mark.n_beads,
+            frame_len,
+            offsets: mark.offsets.clone(),
+            times: mark.times.clone(),
+            scratch: vec![0u8; CHUNK_VALUES * 8].into_boxed_slice(),
+        })
+    }
+
+    /// Closes the writer but keeps its temporary file (an interrupted run that will resume).
+    pub fn detach(mut self) -> Result<(), SnapshotError> {
+        if let Some(out) = self.out.take() {
+            out.into_inner().map_err(|e| SnapshotError::Io {
+                path: self.path.clone(),
+                action: "flushing snapshot".into(),
+                source: e.into_error(),
+            })?;
+        }
+        self.tmp = PathBuf::new();
+        Ok(())
+    }
+}

@@ -1,0 +1,96 @@
+//! Checkpoint files (`FILE.ckpt`): what `beadchain resume` needs to continue a run into the
+//! same output file with bit-identical results.
+//!
+//! Layout: magic `b"BEADCKPT"` (8 bytes), format version `u32` LE, payload length `u64` LE,
+//! CRC32 of the payload `u32` LE, payload = bincode (fixed-width little-endian integers) of
+//! [`CheckpointFile`]. Written atomically (temporary sibling, fsync, rename), so a kill at any
+//! moment leaves the previous checkpoint intact.
+
+use super::writer::WriterMark;
+use super::{decode_exact, encode, SnapshotError};
+use crate::engine::{EngineState, RunConfig};
+use crate::scene::Scene;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// Magic bytes of a checkpoint file.
+pub const CKPT_MAGIC: [u8; 8] = *b"BEADCKPT";
+/// Checkpoint format version.
+pub const CKPT_VERSION: u32 = 1;
+
+/// Everything a resumed run needs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CheckpointFile {
+    /// The resolved scene.
+    pub scene: Scene,
+    /// The run configuration.
+    pub config: RunConfig,
+    /// Whether wall-clock time goes into the snapshot (`--timing`).
+    pub timing: bool,
+    /// Output snapshot state.
+    pub writer: WriterMark,
+    /// Engine state.
+    pub engine: EngineState,
+}
+
+/// Writes a checkpoint atomically.
+pub fn write_checkpoint(path: &Path, ck: &CheckpointFile) -> Result<(), SnapshotError> {
+    let payload = encode(ck).map_err(|e| SnapshotError::Encode {
+        path: path.to_path_buf(),
+        section: "CHECKPOINT",
+        detail: e.to_string(),
+    })?;
+    let mut h = crc32fast::Hasher::new();
+    h.update(&payload);
+    let crc = h.finalize();
+    crate::export::write_atomically(path, |out| {
+        let io = |e: std::io::Error| SnapshotError::Output(e);
+        out.write_all(&CKPT_MAGIC).map_err(io)?;
+        out.write_all(&CKPT_VERSION.to_le_bytes()).map_err(io)?;
+        out.write_all(&(payload.len() as u64).to_le_bytes())
+            .map_err(io)?;
+        out.write_all(&crc.to_le_bytes()).map_err(io)?;
+        out.write_all(&payload).map_err(io)
+    })
+}
+
+/// Reads and checks a checkpoint.
+pub fn read_checkpoint(path: &Path) -> Result<CheckpointFile, SnapshotError> {
+    let bytes = std::fs::read(path).map_err(|e| SnapshotError::Io {
+        path: path.to_path_buf(),
+        action: "reading checkpoint".into(),
+        source: e,
+    })?;
+    let corrupt = |detail: String| SnapshotError::Corrupt {
+        path: path.to_path_buf(),
+        section: "CHECKPOINT".into(),
+        offset: 0,
+        detail,
+    };
+    if bytes.len() < 24 || bytes[..8] != CKPT_MAGIC {
+        return Err(corrupt(
+            "not a beadchain checkpoint (wrong magic bytes)".into(),
+        ));
+    }
+    let version = u32::from_le_bytes(bytes[8..12].try_into().expect("4 bytes"));
+    if version != CKPT_VERSION {
+        return Err(corrupt(format!(
+            "checkpoint format version {version}, this build reads {CKPT_VERSION}"
+        )));
+    }
+    let len = u64::from_le_bytes(bytes[12..20].try_into().expect("8 bytes"));
+    let crc = u32::from_le_bytes(bytes[20..24].try_into().expect("4 bytes"));
+    let payload = &bytes[24..];
+    if payload.len() as u64 != len {
+        return Err(corrupt(format!(
+            "truncated: {} payload bytes, header says {len}",
+            payload.len()
+        )));
+    }
+    let mut h = crc32fast::Hasher::new();
+    h.update(payload);
+    if h.finalize() != crc {
+        return Err(corrupt("checksum mismatch".into()));
+    }
+    decode_exact(payload).map_err(corrupt)
+}
