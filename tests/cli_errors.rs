@@ -411,7 +411,7 @@ fn truncated_snapshot_keeps_whole_frames() {
     let snap = std::fs::read(p.join("run.snap")).unwrap();
     // Header section: 12-byte preamble, 16-byte section header, payload.
     let head_len = u64::from_le_bytes(snap[16..24].try_into().unwrap()) as usize;
-    let frame = 16 + 8 + 16 * TINY_BEADS;
+    let frame = 16 + 16 + 16 * TINY_BEADS; // section header + frame number + t + u + v
     let cut = 12 + 16 + head_len + 2 * frame + 10; // two whole frames and a piece
     std::fs::write(p.join("cut.snap"), &snap[..cut]).unwrap();
     let o = beadchain(p, &["export", "cut.snap"]);

@@ -33,7 +33,7 @@
 //! | tag    | section | payload |
 //! |--------|---------|---------|
 //! | `HEAD` | HEADER  | bincode of [`Header`] (see *bincode* below). Exactly once, first. |
-//! | `FRAM` | FRAME   | `t` f64, then `u[0..N]` f64, then `v[0..N]` f64 (raw LE, no bincode); `L = 8 + 16 N` exactly, `N = Header::n_beads`. Zero or more, in time order. |
+//! | `FRAM` | FRAME   | frame number `k` u64 (0, 1, 2, … in file order), then `t` f64, then `u[0..N]` f64, then `v[0..N]` f64 (raw LE, no bincode); `L = 16 + 16 N` exactly, `N = Header::n_beads`. Zero or more, in time order. The number lets a reader reject frames that were moved, duplicated or dropped even where no INDEX survives. |
 //! | `EVNT` | EVENTS  | bincode of `Vec<`[`EventRecord`]`>` (possibly empty). |
 //! | `STAT` | STATS   | bincode of [`RunSummary`]. |
 //! | `INDX` | INDEX   | `count` u64, `events_offset` u64, `stats_offset` u64, then `count` × u64 byte offsets of the FRAME sections (offset of their tag), then `count` × f64 frame times. `L = 24 + 16 count`. An offset of 0 means "section absent". |
@@ -61,7 +61,7 @@
 //!   reader scans the sections from the start, verifying every checksum, keeps every whole frame
 //!   and records in [`Snapshot::warnings`] where and why it stopped.
 //! - Lengths are validated before anything is allocated: a section must fit in the rest of the
-//!   file, a FRAME must be exactly `8 + 16 N` bytes, an INDEX exactly `24 + 16 count`, and
+//!   file, a FRAME must be exactly `16 + 16 N` bytes, an INDEX exactly `24 + 16 count`, and
 //!   bincode decoding runs under a byte limit proportional to the payload size. A corrupted
 //!   length is an error ([`SnapshotError::AbsurdLength`]), never a huge allocation.
 //! - Checksum mismatches in HEADER, FRAME, EVENTS or STATS are errors naming the section
@@ -473,7 +473,7 @@ pub(crate) fn section_hasher(tag: u32, len: u64) -> crc32fast::Hasher {
 
 /// Payload length of a FRAME section for `n_beads` beads, `None` on overflow.
 pub(crate) fn frame_payload_len(n_beads: u64) -> Option<u64> {
-    n_beads.checked_mul(16)?.checked_add(8)
+    n_beads.checked_mul(16)?.checked_add(16)
 }
 
 /// A fresh temporary sibling path `.<name>.tmp-<pid>-<k>` for atomic writes to `path`.

@@ -227,6 +227,7 @@ impl Snapshot {
             &self.raw,
             offset,
             &name,
+            k as u64,
             self.header.n_beads,
             self.frame_len,
             frame,
@@ -267,6 +268,7 @@ fn read_frame_at(
     raw: &Raw,
     offset: u64,
     name: &str,
+    number: u64,
     n_beads: u64,
     frame_len: u64,
     frame: &mut Frame,
@@ -304,7 +306,8 @@ fn read_frame_at(
     let mut buf = [0u8; CHUNK];
     let mut file = raw.lock();
     seek(&mut file, head.payload_start()).map_err(|e| raw.io(&format!("seeking to {name}"), e))?;
-    let mut j = 0usize; // index of the next value: 0 = t, 1..=n = u, then v
+    let mut j = 0usize; // index of the next value: 0 = frame number, 1 = t, then u, then v
+    let mut stored = u64::MAX;
     let mut left = head.len;
     while left > 0 {
         let take = left.min(CHUNK as u64) as usize;
@@ -313,13 +316,16 @@ fn read_frame_at(
             .map_err(|e| raw.io(&format!("reading {name}"), e))?;
         hasher.update(chunk);
         for b in chunk.chunks_exact(8) {
-            let x = f64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]);
+            let bytes = [b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]];
+            let x = f64::from_le_bytes(bytes);
             if j == 0 {
+                stored = u64::from_le_bytes(bytes);
+            } else if j == 1 {
                 t = x;
-            } else if j <= n {
-                frame.u[j - 1] = x;
+            } else if j <= n + 1 {
+                frame.u[j - 2] = x;
             } else {
-                frame.v[j - 1 - n] = x;
+                frame.v[j - 2 - n] = x;
             }
             j += 1;
         }
@@ -328,6 +334,13 @@ fn read_frame_at(
     drop(file);
     if hasher.finalize() != head.crc {
         return Err(raw.checksum(name, offset));
+    }
+    if stored != number {
+        return Err(raw.corrupt(
+            name,
+            offset,
+            format!("holds frame number {stored}, expected {number} (frames moved, duplicated or dropped)"),
+        ));
     }
     frame.t = t;
     Ok(())
@@ -513,7 +526,16 @@ fn scan(
         }
         match h.tag {
             TAG_FRAME => {
-                read_frame_at(raw, pos, &name, header.n_beads, frame_len, &mut frame)?;
+                let number = c.offsets.len() as u64;
+                read_frame_at(
+                    raw,
+                    pos,
+                    &name,
+                    number,
+                    header.n_beads,
+                    frame_len,
+                    &mut frame,
+                )?;
                 // Frames are written in strictly increasing time: a repeated or earlier time
                 // means sections were duplicated or reordered, and numbering on would put
                 // frames at the wrong index.

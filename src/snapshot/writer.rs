@@ -103,7 +103,9 @@ impl SnapshotWriter {
                 v_len: v.len(),
             });
         }
+        let number = (self.offsets.len() as u64).to_le_bytes();
         let mut h = section_hasher(TAG_FRAME, self.frame_len);
+        h.update(&number);
         for_each_chunk(t, u, v, &mut self.scratch, |b| {
             h.update(b);
             Ok(())
@@ -112,6 +114,8 @@ impl SnapshotWriter {
         let offset = self.pos;
         let head = section_header(TAG_FRAME, self.frame_len, h.finalize());
         self.write_raw(&head)?;
+        self.write_raw(&number)?;
+        self.pos -= 8; // counted again below with the rest of the payload
         let out = self.out.as_mut().ok_or_else(finished_err)?;
         for_each_chunk(t, u, v, &mut self.scratch, |b| out.write_all(b)).map_err(|e| {
             SnapshotError::Io {
