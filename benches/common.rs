@@ -4,34 +4,14 @@
 use beadchain::engine::{self, EngineError, Observer, RunConfig, RunOutcome};
 use beadchain::integrate::Method;
 use beadchain::linalg::SolverKind;
-use beadchain::model::Chain;
-use beadchain::scene::{Engine, RunSettings, Scene};
+use beadchain::scene::{Engine, Scene};
+
+#[path = "../tests/common/mod.rs"]
+mod shared;
 
 /// Uniform striker chain: m = a = v0 = 1.
 pub fn striker(n: usize, exp: f64, until: f64) -> Scene {
-    let mut v = vec![0.0; n];
-    v[0] = 1.0;
-    Scene {
-        name: format!("striker{n}"),
-        description: String::new(),
-        chain: Chain {
-            mass: vec![1.0; n],
-            exponent: vec![exp; n - 1],
-            prefactor: vec![1.0; n - 1],
-            precompression: None,
-            field: None,
-            left_wall: None,
-            right_wall: None,
-            hard: None,
-        },
-        u0: vec![0.0; n],
-        v0: v,
-        run: RunSettings {
-            until,
-            ..Default::default()
-        },
-        seed: 0,
-    }
+    shared::striker(n, exp, 1.0, 1.0, until)
 }
 
 struct Null;

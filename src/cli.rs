@@ -317,25 +317,10 @@ fn cmd_check(a: CheckArgs) -> Result<i32> {
     let h = engine::run(&scene, &hyb_cfg, &mut rec).context("hybrid run failed")?;
     let mut rec = Recorder::default();
     let d = engine::run(&scene, &dense_cfg, &mut rec).context("dense run failed")?;
-    let vmax =
-        d.v.iter()
-            .chain(&scene.v0)
-            .fold(0.0_f64, |m, x| m.max(x.abs()));
-    let umax =
-        d.u.iter()
-            .zip(&scene.u0)
-            .fold(0.0_f64, |m, (x, x0)| m.max((x - x0).abs()));
-    let dev = |a: &[f64], b: &[f64]| {
-        a.iter()
-            .zip(b)
-            .enumerate()
-            .map(|(i, (x, y))| ((x - y).abs(), i))
-            .fold((0.0, 0), |acc, x| if x.0 > acc.0 { x } else { acc })
-    };
-    let (du, iu) = dev(&h.u, &d.u);
-    let (dv, iv) = dev(&h.v, &d.v);
-    let rel_u = if umax > 0.0 { du / umax } else { du };
-    let rel_v = if vmax > 0.0 { dv / vmax } else { dv };
+    let dev = engine::Deviation::between(&scene, &h, &d);
+    let ((du, iu), (dv, iv)) = (dev.du, dev.dv);
+    let (rel_u, rel_v) = (dev.rel_u, dev.rel_v);
+    let (umax, vmax) = dev.scale;
     println!(
         "{}: {} beads, t = {}, method {}, rtol {:e}, atol {:e}",
         scene.name,

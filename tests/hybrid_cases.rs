@@ -38,29 +38,10 @@ fn dense(scene: &Scene, rtol: f64) -> RunOutcome {
     .0
 }
 
-/// Largest |Δv| relative to the largest |v| and largest |Δu| relative to the largest
-/// displacement change.
+/// (max |Δu| / max |u − u0|, max |Δv| / max |v|) of `a` against the reference `b`.
 fn deviation(scene: &Scene, a: &RunOutcome, b: &RunOutcome) -> (f64, f64) {
-    let vmax =
-        b.v.iter()
-            .chain(&scene.v0)
-            .fold(0.0_f64, |m, x| m.max(x.abs()));
-    let umax =
-        b.u.iter()
-            .zip(&scene.u0)
-            .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
-    let du =
-        a.u.iter()
-            .zip(&b.u)
-            .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
-    let dv =
-        a.v.iter()
-            .zip(&b.v)
-            .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
-    (
-        du / umax.max(f64::MIN_POSITIVE),
-        dv / vmax.max(f64::MIN_POSITIVE),
-    )
+    let d = beadchain::engine::Deviation::between(scene, a, b);
+    (d.rel_u, d.rel_v)
 }
 
 fn stable(o: &RunOutcome, energy_bound: f64, max_events: u64) {

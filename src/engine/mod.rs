@@ -169,6 +169,51 @@ pub struct RunOutcome {
     pub v: Vec<f64>,
 }
 
+/// Largest difference between two runs' final states (e.g. hybrid vs dense).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Deviation {
+    /// Largest |Δu| and the bead where it occurs.
+    pub du: (f64, usize),
+    /// Largest |Δv| and the bead where it occurs.
+    pub dv: (f64, usize),
+    /// |Δu| relative to the largest displacement change of `b` (`max |u − u0|`).
+    pub rel_u: f64,
+    /// |Δv| relative to the largest |v| of `b` and of the initial state.
+    pub rel_v: f64,
+    /// The reference scales: largest displacement change and largest |v|.
+    pub scale: (f64, f64),
+}
+
+impl Deviation {
+    /// Compares the final states of `a` and `b` (reference) of runs of `scene`.
+    pub fn between(scene: &Scene, a: &RunOutcome, b: &RunOutcome) -> Self {
+        let vmax =
+            b.v.iter()
+                .chain(&scene.v0)
+                .fold(0.0_f64, |m, x| m.max(x.abs()));
+        let umax =
+            b.u.iter()
+                .zip(&scene.u0)
+                .fold(0.0_f64, |m, (x, x0)| m.max((x - x0).abs()));
+        let largest = |x: &[f64], y: &[f64]| {
+            x.iter()
+                .zip(y)
+                .enumerate()
+                .map(|(i, (p, q))| ((p - q).abs(), i))
+                .fold((0.0, 0), |acc, d| if d.0 > acc.0 { d } else { acc })
+        };
+        let du = largest(&a.u, &b.u);
+        let dv = largest(&a.v, &b.v);
+        Self {
+            du,
+            dv,
+            rel_u: if umax > 0.0 { du.0 / umax } else { du.0 },
+            rel_v: if vmax > 0.0 { dv.0 / vmax } else { dv.0 },
+            scale: (umax, vmax),
+        }
+    }
+}
+
 impl RunOutcome {
     /// Relative total-energy error `|E_end − E_0| / |E_0|`.
     pub fn relative_energy_error(&self) -> f64 {
