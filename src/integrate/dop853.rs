@@ -398,6 +398,10 @@ impl Integrator for Dop853 {
         }
     }
 
+    fn step_size(&self) -> f64 {
+        self.h
+    }
+
     fn set_step_size(&mut self, h: f64) {
         self.h = h;
     }

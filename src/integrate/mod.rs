@@ -215,6 +215,8 @@ pub trait Integrator {
     fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]);
     /// Overrides the next step-size proposal (e.g. to land on a known time in one step).
     fn set_step_size(&mut self, h: f64);
+    /// The next step-size proposal.
+    fn step_size(&self) -> f64;
     /// Advances one accepted step, never past `t_bound`. Returns the new time.
     fn step(&mut self, sys: &dyn System, t_bound: f64) -> Result<f64, IntegrationError>;
     /// Current time.

@@ -436,6 +436,10 @@ impl Integrator for Radau5 {
         }
     }
 
+    fn step_size(&self) -> f64 {
+        self.h_abs
+    }
+
     fn set_step_size(&mut self, h: f64) {
         self.h_abs = h;
         self.h_abs_old = None;
