@@ -227,7 +227,7 @@ fn layout_matches_documentation() {
     assert_eq!(tags, want);
     for (_, t, len) in &secs {
         if t == b"FRAM" {
-            assert_eq!(*len, 8 + 16 * 4);
+            assert_eq!(*len, 16 + 16 * 4); // frame number, t, u[4], v[4]
         }
     }
     let (end_at, _, _) = secs[secs.len() - 1];
