@@ -155,6 +155,17 @@ pub fn drive(
             );
             Ok(Err(EXIT_INTERRUPTED))
         }
+        Err(e @ EngineError::Observer(_)) if sink.wrote_checkpoint => {
+            // Writing failed (disk full, I/O error): keep the unfinished output and the last
+            // good checkpoint so the run can continue once the cause is fixed.
+            let ckpt = sink.ckpt_path.clone();
+            let _ = sink.writer.detach();
+            Err(anyhow::Error::new(e).context(format!(
+                "{what}: writing failed; the last checkpoint {} is intact: fix the cause (e.g. free disk space) and continue with `beadchain resume {}`",
+                ckpt.display(),
+                ckpt.display()
+            )))
+        }
         Err(e) => {
             let ckpt = sink.ckpt_path.clone();
             if sink.wrote_checkpoint {
