@@ -116,6 +116,7 @@ pub struct Radau5 {
     e_c: Vec<Complex64>,
     rhs_c: Vec<Complex64>,
     err: Vec<f64>,
+    inv_w: Vec<f64>,
     stats: Stats,
 }
 
@@ -154,6 +155,7 @@ impl Radau5 {
             e_c: vec![Complex64::new(0.0, 0.0); m.saturating_sub(1)],
             rhs_c: vec![Complex64::new(0.0, 0.0); m],
             err: v(),
+            inv_w: v(),
             stats: Stats::default(),
         }
     }
@@ -304,49 +306,55 @@ impl Radau5 {
                 self.w[i][j] = TI[i][0] * z0 + TI[i][1] * z1 + TI[i][2] * z2;
             }
         }
+        // Newton-increment weights are those of the step start: precompute their inverses.
+        for j in 0..m {
+            self.inv_w[j] = 1.0 / self.tol.weight_u(self.z[j], self.z[j]);
+        }
+        for j in m..n {
+            self.inv_w[j] = 1.0 / self.tol.weight_v(self.z[j], self.z[j]);
+        }
         let mut dw_norm_old: Option<f64> = None;
         let mut rate = f64::NAN;
         for it in 0..NEWTON_MAXITER {
             self.stats.newton_iters += 1;
             for i in 0..3 {
-                for j in 0..n {
-                    self.ytmp[j] = self.z[j] + self.zs[i][j];
+                for ((y, z), d) in self.ytmp.iter_mut().zip(&self.z).zip(&self.zs[i]) {
+                    *y = z + d;
                 }
                 Self::rhs(sys, m, &self.ytmp, &mut self.fs[i], &mut self.stats);
             }
-            if !self.fs.iter().all(|f| f.iter().all(|x| x.is_finite())) {
-                return (false, it + 1, rate);
-            }
             // right-hand sides of the transformed system
+            let [f0s, f1s, f2s] = &self.fs;
+            let [w0s, w1s, w2s] = &self.w;
+            let [d0s, d1s, d2s] = &mut self.dw;
+            let mut finite = true;
             for j in 0..n {
-                let (f0, f1, f2) = (self.fs[0][j], self.fs[1][j], self.fs[2][j]);
-                self.dw[0][j] = TI[0][0] * f0 + TI[0][1] * f1 + TI[0][2] * f2 - cr * self.w[0][j];
+                let (f0, f1, f2) = (f0s[j], f1s[j], f2s[j]);
+                finite &= f0.is_finite() && f1.is_finite() && f2.is_finite();
+                d0s[j] = TI[0][0] * f0 + TI[0][1] * f1 + TI[0][2] * f2 - cr * w0s[j];
                 let fr = TI[1][0] * f0 + TI[1][1] * f1 + TI[1][2] * f2;
                 let fi = TI[2][0] * f0 + TI[2][1] * f1 + TI[2][2] * f2;
                 // (fr + i fi) − cc (W1 + i W2)
-                let w = Complex64::new(self.w[1][j], self.w[2][j]);
+                let w = Complex64::new(w1s[j], w2s[j]);
                 let r = Complex64::new(fr, fi) - cc * w;
-                self.dw[1][j] = r.re;
-                self.dw[2][j] = r.im;
+                d1s[j] = r.re;
+                d2s[j] = r.im;
             }
-            Self::solve_real(&mut *self.real, mass, cr, &mut self.dw[0]);
-            let (d1, d2) = self.dw.split_at_mut(2);
-            Self::solve_complex(
-                &mut *self.cplx,
-                mass,
-                cc,
-                &mut d1[1],
-                &mut d2[0],
-                &mut self.rhs_c,
-            );
+            if !finite {
+                return (false, it + 1, rate);
+            }
+            Self::solve_real(&mut *self.real, mass, cr, d0s);
+            Self::solve_complex(&mut *self.cplx, mass, cc, d1s, d2s, &mut self.rhs_c);
             let mut dw_norm: f64 = 0.0;
-            for i in 0..3 {
-                dw_norm = dw_norm.max(super::weighted_max_norm(
-                    &self.dw[i],
-                    &self.z,
-                    &self.z,
-                    &self.tol,
-                ));
+            for d in [&*d0s, &*d1s, &*d2s] {
+                for (x, iw) in d.iter().zip(&self.inv_w) {
+                    let e = (x * iw).abs();
+                    dw_norm = if e.is_nan() {
+                        f64::INFINITY
+                    } else {
+                        dw_norm.max(e)
+                    };
+                }
             }
             if let Some(old) = dw_norm_old {
                 rate = dw_norm / old;
@@ -361,16 +369,18 @@ impl Radau5 {
             if !dw_norm.is_finite() {
                 return (false, it + 1, rate);
             }
-            for i in 0..3 {
-                for j in 0..n {
-                    self.w[i][j] += self.dw[i][j];
-                }
-            }
+            let [w0s, w1s, w2s] = &mut self.w;
+            let [z0s, z1s, z2s] = &mut self.zs;
             for j in 0..n {
-                let (w0, w1, w2) = (self.w[0][j], self.w[1][j], self.w[2][j]);
-                for i in 0..3 {
-                    self.zs[i][j] = T[i][0] * w0 + T[i][1] * w1 + T[i][2] * w2;
-                }
+                let w0 = w0s[j] + d0s[j];
+                let w1 = w1s[j] + d1s[j];
+                let w2 = w2s[j] + d2s[j];
+                w0s[j] = w0;
+                w1s[j] = w1;
+                w2s[j] = w2;
+                z0s[j] = T[0][0] * w0 + T[0][1] * w1 + T[0][2] * w2;
+                z1s[j] = T[1][0] * w0 + T[1][1] * w1 + T[1][2] * w2;
+                z2s[j] = T[2][0] * w0 + T[2][1] * w1 + T[2][2] * w2;
             }
             if dw_norm == 0.0
                 || (rate.is_finite() && rate / (1.0 - rate) * dw_norm < self.newton_tol)
