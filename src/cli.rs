@@ -35,6 +35,8 @@ enum Cmd {
     },
     /// List the built-in preset scenes.
     Scenes,
+    /// Analyse a snapshot: leading wave, energies, interface split, decay fit.
+    Analyze(crate::cli_analysis::AnalyzeArgs),
     /// Continue an interrupted run from its checkpoint into the same output file.
     Resume {
         /// Checkpoint file (`OUTPUT.ckpt`).
@@ -153,6 +155,7 @@ struct ExportArgs {
 pub fn dispatch(cli: Cli) -> Result<i32> {
     match cli.cmd {
         Cmd::Run(a) => cmd_run(a),
+        Cmd::Analyze(a) => crate::cli_analysis::cmd_analyze(a),
         Cmd::Check(a) => cmd_check(a),
         Cmd::Export(a) => cmd_export(a),
         Cmd::Inspect { file } => {
