@@ -309,10 +309,16 @@ fn disorder(beads: usize) {
     println!("|---|---|---|---|---|---|---|---|");
     let mut rows = Vec::new();
     let mut y = Vec::new();
-    for nbar in [2.5, 3.0] {
+    // N >= 1000: the larger grid of the report (paper: N = 1000)
+    let (nbars, epss, seeds): (&[f64], &[f64], u64) = if beads >= 1000 {
+        (&[2.4, 2.8, 3.2], &[0.014, 0.026, 0.04], 3)
+    } else {
+        (&[2.5, 3.0], &[0.02, 0.04], 2)
+    };
+    for &nbar in nbars {
         let tb = time_per_bead(nbar);
-        for eps in [0.02, 0.04] {
-            for seed in 1..=2u64 {
+        for &eps in epss {
+            for seed in 1..=seeds {
                 let ex = format!("{{ random = {{ mean = {nbar}, eps = {eps} }}, start = 20 }}");
                 let sc = make(beads, &ex, seed, tb * beads as f64 * 3.0, tb / 2.0);
                 let (w, secs) = run_watch(&sc, 5, beads - 10, 1e-8);
@@ -338,7 +344,7 @@ fn disorder(beads: usize) {
                             f.gamma_stderr,
                             x.last().copied().unwrap_or(0.0)
                         );
-                        if f.gamma > 0.0 {
+                        if f.gamma > 0.0 && f.gamma.ln() > -10.0 {
                             rows.push(vec![eps.ln(), nbar, 1.0]);
                             y.push(f.gamma.ln());
                         }
