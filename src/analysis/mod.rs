@@ -18,6 +18,7 @@
 
 pub mod fit;
 pub mod interface;
+pub mod paper;
 pub mod state;
 pub mod wave;
 
