@@ -37,6 +37,8 @@ enum Cmd {
     Scenes,
     /// Analyse a snapshot: leading wave, energies, interface split, decay fit.
     Analyze(crate::cli_analysis::AnalyzeArgs),
+    /// Reproduce the paper's key numbers (--quick: reduced checks, seconds).
+    Validate(crate::cli_analysis::ValidateArgs),
     /// Continue an interrupted run from its checkpoint into the same output file.
     Resume {
         /// Checkpoint file (`OUTPUT.ckpt`).
@@ -156,6 +158,7 @@ pub fn dispatch(cli: Cli) -> Result<i32> {
     match cli.cmd {
         Cmd::Run(a) => cmd_run(a),
         Cmd::Analyze(a) => crate::cli_analysis::cmd_analyze(a),
+        Cmd::Validate(a) => crate::cli_analysis::cmd_validate(a),
         Cmd::Check(a) => cmd_check(a),
         Cmd::Export(a) => cmd_export(a),
         Cmd::Inspect { file } => {

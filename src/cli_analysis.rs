@@ -231,3 +231,42 @@ pub fn cmd_analyze(args: AnalyzeArgs) -> Result<i32> {
     print!("{o}");
     Ok(0)
 }
+
+/// Arguments of `beadchain validate`.
+#[derive(clap::Args, Debug)]
+pub struct ValidateArgs {
+    /// Run the reduced checks (a few seconds); the full report is
+    /// `cargo run --release --example paper_validation` (validation/REPORT.md).
+    #[arg(long)]
+    pub quick: bool,
+    /// Directory for `quick.md` (the table; deterministic).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// Runs `beadchain validate --quick`; exit code 1 when a check is outside its range.
+pub fn cmd_validate(args: ValidateArgs) -> Result<i32> {
+    use beadchain::analysis::quick::{checks_markdown, quick_checks};
+    if !args.quick {
+        anyhow::bail!(
+            "only --quick is implemented here; the full report: cargo run --release --example paper_validation (see validation/REPORT.md)"
+        );
+    }
+    let t0 = std::time::Instant::now();
+    let checks = quick_checks(false)?;
+    let table = checks_markdown(&checks);
+    print!("{table}");
+    if let Some(dir) = &args.out {
+        std::fs::create_dir_all(dir).with_context(|| format!("{}", dir.display()))?;
+        let path = dir.join("quick.md");
+        std::fs::write(&path, &table).with_context(|| format!("{}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    let failed = checks.iter().filter(|c| !c.pass()).count();
+    println!(
+        "{} checks, {failed} outside their range, {:.1} s",
+        checks.len(),
+        t0.elapsed().as_secs_f64()
+    );
+    Ok(i32::from(failed > 0))
+}

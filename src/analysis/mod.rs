@@ -19,6 +19,7 @@
 pub mod fit;
 pub mod interface;
 pub mod paper;
+pub mod quick;
 pub mod state;
 pub mod wave;
 
