@@ -2,11 +2,12 @@
 //! hybrid engine on generated physical (Table 1 steel) scenes; the experiments live in
 //! `beadchain::analysis::paper`.
 //!
-//! `cargo run --release --example paper_validation -- [interface|grid|impurity|disorder [N]|all]`
+//! `cargo run --release --example paper_validation -- [interface|grid|impurity|periodic|disorder [N]|all]`
 
 use beadchain::analysis::least_squares;
 use beadchain::analysis::paper::{
-    collapse_point, disorder_gamma, impurity_ratio, interface_run, paper_gamma, PaperError, RunInfo,
+    collapse_point, disorder_gamma, impurity_ratio, interface_run, paper_gamma, periodic_gamma,
+    PaperError, RunInfo,
 };
 use std::time::Instant;
 
@@ -149,6 +150,43 @@ fn disorder(beads: usize) -> Result<(), PaperError> {
     Ok(())
 }
 
+fn periodic() -> Result<(), PaperError> {
+    let t0 = Instant::now();
+    println!("| n_a | dn | γ | ± se | points | wall (s) |");
+    println!("|---|---|---|---|---|---|");
+    let scans: [(f64, &[f64]); 2] = [
+        (
+            2.5,
+            &[
+                0.02, 0.04, 0.055, 0.08, 0.1, 0.12, 0.135, 0.15, 0.17, 0.2, 0.3, 0.5, 1.0,
+            ],
+        ),
+        (
+            4.0,
+            &[
+                0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.2, 1.5, 2.0,
+            ],
+        ),
+    ];
+    for (na, dns) in scans {
+        for &dn in dns {
+            match periodic_gamma(na, na + dn, 200) {
+                Ok((f, info)) => println!(
+                    "| {na} | {dn} | {:.4e} | {:.1e} | {} | {:.1} |{}",
+                    f.gamma,
+                    f.gamma_stderr,
+                    f.n,
+                    info.seconds,
+                    note(&info)
+                ),
+                Err(e) => println!("| {na} | {dn} | {e} | | | |"),
+            }
+        }
+    }
+    println!("periodic wall time {:.1} s", t0.elapsed().as_secs_f64());
+    Ok(())
+}
+
 fn main() -> Result<(), PaperError> {
     let what = std::env::args().nth(1).unwrap_or_else(|| "all".into());
     let beads: usize = std::env::args()
@@ -164,6 +202,9 @@ fn main() -> Result<(), PaperError> {
     }
     if all || what == "impurity" {
         impurity()?;
+    }
+    if all || what == "periodic" {
+        periodic()?;
     }
     if all || what == "disorder" {
         disorder(beads)?;

@@ -28,8 +28,8 @@ pub enum PaperError {
     /// Both engines failed.
     #[error("run failed: {0}")]
     Engine(#[from] EngineError),
-    /// The leading wave never reached the probe beads.
-    #[error("no travelling wave found for n = {0}")]
+    /// The leading wave never reached the probe beads (or too few points to fit its decay).
+    #[error("no travelling wave found ({0})")]
     NoWave(f64),
 }
 
@@ -250,8 +250,7 @@ pub fn impurity_ratio(n: f64, s: usize, dn: f64) -> Result<(f64, RunInfo), Paper
 }
 
 /// Decay fit of the leading-wave energy for `n = n̄ + ε r` from contact 20 on (eq. 19), `beads`
-/// beads: `E/E0` (E0 at bead 15) vs peak bead, from bead 25 to the first jump (> 30 % up:
-/// overtaken by fluctuations) or `beads − 10`.
+/// beads: see [`decay_gamma`].
 pub fn disorder_gamma(
     nbar: f64,
     eps: f64,
@@ -260,18 +259,45 @@ pub fn disorder_gamma(
 ) -> Result<(ExpFit, RunInfo), PaperError> {
     let tb = time_per_bead(nbar)?;
     let ex = format!("{{ random = {{ mean = {nbar}, eps = {eps} }}, start = 20 }}");
-    let sc = physical_scene(beads, &ex, seed, tb * beads as f64 * 3.0, tb / 2.0)?;
+    decay_gamma(&ex, tb, seed, beads, 1.3)
+}
+
+/// Periodic exponents `n_a, n_b, n_a, …` (contact 0 has `n_a`, Sec. 4): decay fit, see
+/// [`decay_gamma`].
+pub fn periodic_gamma(na: f64, nb: f64, beads: usize) -> Result<(ExpFit, RunInfo), PaperError> {
+    let tb = time_per_bead(na)?.max(time_per_bead(nb)?);
+    decay_gamma(
+        &format!("{{ alternate = [{na}, {nb}] }}"),
+        tb,
+        0,
+        beads,
+        3.0,
+    )
+}
+
+/// Leading-wave energy decay in a chain with the given exponent value (TOML) and time per bead
+/// `tb`: `E/E0` (E0 at bead 15) vs peak bead, log-linear fit from bead 25 to the first jump
+/// (energy up by more than the factor `jump` between frames: overtaken by fluctuations; 1.3 for
+/// disorder, larger for periodic chains whose confined waves breathe) or `beads − 10`.
+pub fn decay_gamma(
+    exponent: &str,
+    tb: f64,
+    seed: u64,
+    beads: usize,
+    jump: f64,
+) -> Result<(ExpFit, RunInfo), PaperError> {
+    let sc = physical_scene(beads, exponent, seed, tb * beads as f64 * 3.0, tb / 2.0)?;
     let (w, info) = run_watched(&sc, 5, beads.saturating_sub(10), 1e-8)?;
     let e0 = w.track.iter().find(|p| p.1 >= 15).map_or(1.0, |p| p.2);
     let (mut x, mut e) = (Vec::new(), Vec::<f64>::new());
     for p in w.track.iter().filter(|p| p.1 >= 25) {
-        if e.last().is_some_and(|&prev| p.2 / e0 > 1.3 * prev) {
+        if e.last().is_some_and(|&prev| p.2 / e0 > jump * prev) {
             break;
         }
         x.push(p.1 as f64);
         e.push(p.2 / e0);
     }
-    let fit = fit_exponential(&x, &e).map_err(|_| PaperError::NoWave(nbar))?;
+    let fit = fit_exponential(&x, &e).map_err(|_| PaperError::NoWave(tb))?;
     Ok((fit, info))
 }
 
