@@ -35,6 +35,10 @@ enum Cmd {
     },
     /// List the built-in preset scenes.
     Scenes,
+    /// Analyse a snapshot: leading wave, energies, interface split, decay fit.
+    Analyze(crate::cli_analysis::AnalyzeArgs),
+    /// Reproduce the paper's key numbers (--quick: reduced checks, seconds).
+    Validate(crate::cli_analysis::ValidateArgs),
     /// Continue an interrupted run from its checkpoint into the same output file.
     Resume {
         /// Checkpoint file (`OUTPUT.ckpt`).
@@ -153,6 +157,8 @@ struct ExportArgs {
 pub fn dispatch(cli: Cli) -> Result<i32> {
     match cli.cmd {
         Cmd::Run(a) => cmd_run(a),
+        Cmd::Analyze(a) => crate::cli_analysis::cmd_analyze(a),
+        Cmd::Validate(a) => crate::cli_analysis::cmd_validate(a),
         Cmd::Check(a) => cmd_check(a),
         Cmd::Export(a) => cmd_export(a),
         Cmd::Inspect { file } => {

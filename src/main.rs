@@ -5,6 +5,7 @@
 //! output file is left behind on failure.
 
 mod cli;
+mod cli_analysis;
 mod cli_ckpt;
 
 use clap::Parser;
