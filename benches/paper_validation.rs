@@ -2,7 +2,8 @@
 //! hybrid engine on generated physical (Table 1 steel) scenes; the experiments live in
 //! `beadchain::analysis::paper`.
 //!
-//! `cargo run --release --example paper_validation -- [interface|grid|impurity|periodic|disorder [N]|all]`
+//! `cargo bench --bench paper_validation -- [interface|grid|impurity|periodic|disorder [N]|all]`
+//! (a plain program kept under `benches/`: it is a long measurement, not a test).
 
 use beadchain::analysis::least_squares;
 use beadchain::analysis::paper::{
@@ -188,11 +189,17 @@ fn periodic() -> Result<(), PaperError> {
 }
 
 fn main() -> Result<(), PaperError> {
-    let what = std::env::args().nth(1).unwrap_or_else(|| "all".into());
-    let beads: usize = std::env::args()
-        .nth(2)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(300);
+    // cargo passes `--bench` (and `--list` when listing) before the user's arguments
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with("--"))
+        .collect();
+    if std::env::args().any(|a| a == "--list") {
+        println!("paper_validation: bench");
+        return Ok(());
+    }
+    let what = args.first().cloned().unwrap_or_else(|| "all".into());
+    let beads: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(300);
     let all = what == "all";
     if all || what == "interface" {
         interfaces()?;
