@@ -191,9 +191,6 @@ fn load_scene(spec: &str) -> Result<Scene> {
 
 fn config(scene: &Scene, c: &Common) -> RunConfig {
     let mut cfg = RunConfig::from_scene(scene);
-    if scene.run.engine.is_none() {
-        cfg.engine = Engine::Hybrid;
-    }
     if let Some(m) = c.method {
         cfg.method = match m {
             MethodArg::Radau5 => Method::Radau5,

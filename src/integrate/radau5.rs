@@ -78,6 +78,11 @@ const P: [[f64; 3]; 3] = [
     [1.0 / 3.0, -8.0 / 3.0, 10.0 / 3.0],
 ];
 const NEWTON_MAXITER: usize = 6;
+/// A Newton increment below this fraction of the Newton tolerance counts as converged.
+const NEGLIGIBLE_NEWTON: f64 = 1e-3;
+/// A step that would leave less than this fraction of itself before `t_bound` is stretched to
+/// land on it (no sliver steps of a few ulps, whose stage times would coincide).
+const STRETCH: f64 = 1e-3;
 const MIN_FACTOR: f64 = 0.2;
 const MAX_FACTOR: f64 = 10.0;
 
@@ -359,7 +364,13 @@ impl Radau5 {
             if let Some(old) = dw_norm_old {
                 rate = dw_norm / old;
             }
-            if rate.is_finite()
+            // An increment far below the Newton tolerance is converged whatever the ratio of
+            // two such increments says: near rounding level that ratio is noise (≈ 1) and would
+            // be read as divergence, cutting the step down to nothing (Hairer's RADAU5 avoids
+            // this with its carried-over FACCON; this is the stateless equivalent).
+            let negligible = dw_norm <= NEGLIGIBLE_NEWTON * self.newton_tol;
+            if !negligible
+                && rate.is_finite()
                 && (rate >= 1.0
                     || rate.powi((NEWTON_MAXITER - it) as i32) / (1.0 - rate) * dw_norm
                         > self.newton_tol)
@@ -382,7 +393,8 @@ impl Radau5 {
                 z1s[j] = T[1][0] * w0 + T[1][1] * w1 + T[1][2] * w2;
                 z2s[j] = T[2][0] * w0 + T[2][1] * w1 + T[2][2] * w2;
             }
-            if dw_norm == 0.0
+            if negligible
+                || dw_norm == 0.0
                 || (rate.is_finite() && rate / (1.0 - rate) * dw_norm < self.newton_tol)
             {
                 return (true, it + 1, rate);
@@ -390,6 +402,30 @@ impl Radau5 {
             dw_norm_old = Some(dw_norm);
         }
         (false, NEWTON_MAXITER, rate)
+    }
+
+    /// Advances to `t_bound` (a few ulps away) by one explicit Euler step; the continuous output
+    /// over it is the straight line.
+    fn micro_step(&mut self, sys: &dyn System, t_bound: f64) {
+        let m = self.m;
+        let dt = t_bound - self.t;
+        self.z_old.copy_from_slice(&self.z);
+        for j in 0..2 * m {
+            self.q[0][j] = dt * self.f[j];
+            self.q[1][j] = 0.0;
+            self.q[2][j] = 0.0;
+            self.z[j] += self.q[0][j];
+        }
+        self.t_old = self.t;
+        self.t = t_bound;
+        self.have_sol = true;
+        self.f[..m].copy_from_slice(&self.z[m..]);
+        sys.accel_stiffness(&self.z[..m], &mut self.acc, &mut self.k);
+        self.f[m..].copy_from_slice(&self.acc);
+        self.stats.rhs_evals += 1;
+        self.stats.jac_evals += 1;
+        self.stats.steps += 1;
+        self.stats.bead_steps += m as u64;
     }
 
     /// Initial guess of the stages from the previous step's collocation polynomial.
@@ -461,6 +497,12 @@ impl Integrator for Radau5 {
         let m = self.m;
         let t = self.t;
         let min_step = 10.0 * (next_up(t.abs()) - t.abs());
+        if t_bound > t && t_bound - t <= min_step {
+            // Only a few ulps to go: the Radau stages would coincide. Advance by an explicit
+            // Euler step (error O(Δt²), far below rounding of the state at this Δt).
+            self.micro_step(sys, t_bound);
+            return Ok(self.t);
+        }
         let mut h_abs = self.h_abs.max(min_step);
         let h_request = h_abs;
         let mut h_abs_old = self.h_abs_old;
@@ -471,7 +513,7 @@ impl Integrator for Radau5 {
                 return Err(IntegrationError::StepTooSmall { t, h: h_abs });
             }
             let mut t_new = t + h_abs;
-            if t_new >= t_bound {
+            if t_new >= t_bound || t_bound - t_new <= STRETCH * h_abs {
                 t_new = t_bound;
             }
             let h = t_new - t;

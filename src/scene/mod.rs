@@ -214,9 +214,9 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub enum Engine {
     /// Whole-chain integration, no events (the cross-check path).
-    #[default]
     Dense,
-    /// Event-driven: analytic free flight, implicit cluster integration.
+    /// Event-driven: analytic free flight, implicit cluster integration (the default).
+    #[default]
     Hybrid,
 }
 
