@@ -236,7 +236,7 @@ pub fn cmd_analyze(args: AnalyzeArgs) -> Result<i32> {
 #[derive(clap::Args, Debug)]
 pub struct ValidateArgs {
     /// Run the reduced checks (a few seconds); the full report is
-    /// `cargo run --release --example paper_validation` (validation/REPORT.md).
+    /// `cargo bench --bench paper_validation -- all` (validation/REPORT.md).
     #[arg(long)]
     pub quick: bool,
     /// Directory for `quick.md` (the table; deterministic).
@@ -249,7 +249,7 @@ pub fn cmd_validate(args: ValidateArgs) -> Result<i32> {
     use beadchain::analysis::quick::{checks_markdown, quick_checks};
     if !args.quick {
         anyhow::bail!(
-            "only --quick is implemented here; the full report: cargo run --release --example paper_validation (see validation/REPORT.md)"
+            "only --quick is implemented here; the full report: cargo bench --bench paper_validation -- all (see validation/REPORT.md)"
         );
     }
     let t0 = std::time::Instant::now();
