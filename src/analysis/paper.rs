@@ -1,4 +1,4 @@
-//! The paper's experiments as library functions (used by `examples/paper_validation.rs` and
+//! The paper's experiments as library functions (used by `benches/paper_validation.rs` and
 //! `beadchain validate`): generated scenes of Table 1 steel beads in the paper's units (eqs. 3–4,
 //! 10–11; striker 0.11 m/s, eq. 8), run with the hybrid engine and analysed on the fly.
 //!
