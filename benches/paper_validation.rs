@@ -8,7 +8,7 @@
 use beadchain::analysis::least_squares;
 use beadchain::analysis::paper::{
     collapse_point, disorder_gamma, impurity_ratio, interface_run, paper_gamma, periodic_gamma,
-    PaperError, RunInfo,
+    reflection_grid, PaperError, RunInfo,
 };
 use std::time::Instant;
 
@@ -54,24 +54,7 @@ fn interfaces() -> Result<(), PaperError> {
 fn grid() -> Result<(), PaperError> {
     let ns = [2.5, 2.75, 3.0, 3.25, 3.5, 3.75, 4.0];
     let t0 = Instant::now();
-    let mut raw = Vec::new();
-    for &n1 in &ns {
-        for &n2 in &ns {
-            let r = interface_run(n1, n2, 120, 50)?;
-            raw.push((n1, n2, r.left_fraction));
-        }
-    }
-    // E_refl = E_left − E_left of the uniform n1 chain (the striker's rebound fragment)
-    let pts: Vec<(f64, f64, f64)> = raw
-        .iter()
-        .map(|q| {
-            let base = raw
-                .iter()
-                .find(|b| b.0 == q.0 && b.1 == q.0)
-                .map_or(0.0, |b| b.2);
-            (q.0, q.1, q.2 - base)
-        })
-        .collect();
+    let (pts, _) = reflection_grid(&ns, 120, 50)?;
     println!("| n1 \\ n2 | {} |", ns.map(|x| format!("{x}")).join(" | "));
     println!("|---|---|---|---|---|---|---|---|");
     for &n1 in &ns {

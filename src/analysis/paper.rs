@@ -309,6 +309,42 @@ pub fn paper_gamma(eps: f64, nbar: f64) -> f64 {
 /// Best collapse point `p ∈ [0, 2.4]` (step 0.01) of `E_refl(n1, n2)` over the points with
 /// `n1 > n2`: least residual of `E = c0 + c1 L + c2 L² + c3 L³`, `L = ln ζ`. Returns
 /// `(p, residual s.d.)`, `None` with fewer than 5 such points.
+/// One grid point: `(n1, n2, E_refl/E_total)`.
+pub type GridPoint = (f64, f64, f64);
+
+/// Reflected energy fractions over an `(n1, n2)` grid of interface runs (`beads` beads,
+/// interface bead `k`): `E_refl = E_left − E_left` of the uniform `n1` chain (the striker's
+/// rebound fragment). Returns `(n1, n2, E_refl/E_total)` and how many runs needed the dense
+/// fallback.
+pub fn reflection_grid(
+    ns: &[f64],
+    beads: usize,
+    k: usize,
+) -> Result<(Vec<GridPoint>, usize), PaperError> {
+    let mut raw = Vec::new();
+    let mut fallbacks = 0;
+    for &n1 in ns {
+        for &n2 in ns {
+            let r = interface_run(n1, n2, beads, k)?;
+            fallbacks += usize::from(r.info.hybrid_failure.is_some());
+            raw.push((n1, n2, r.left_fraction));
+        }
+    }
+    let pts = raw
+        .iter()
+        .map(|q| {
+            let base = raw
+                .iter()
+                .find(|b| b.0 == q.0 && b.1 == q.0)
+                .map_or(0.0, |b| b.2);
+            (q.0, q.1, q.2 - base)
+        })
+        .collect();
+    Ok((pts, fallbacks))
+}
+
+/// Fits the collapse point of the reflected-energy contours (see the function body for the
+/// criterion).
 pub fn collapse_point(points: &[(f64, f64, f64)]) -> Option<(f64, f64)> {
     let neg: Vec<_> = points.iter().filter(|p| p.0 > p.1).collect();
     if neg.len() < 5 {

@@ -3,7 +3,8 @@
 //! numbers with the paper's statement and an acceptance range chosen from that statement.
 
 use super::paper::{
-    collapse_point, disorder_gamma, impurity_ratio, interface_run, paper_gamma, PaperError,
+    collapse_point, disorder_gamma, impurity_ratio, interface_run, paper_gamma, reflection_grid,
+    PaperError,
 };
 
 /// One reproduced quantity.
@@ -117,25 +118,7 @@ pub fn quick_checks(tiny: bool) -> Result<Vec<Check>, PaperError> {
     ));
     // Sec. 3.2: collapse point on a 4 x 4 grid (120 beads).
     let ns = [2.5, 3.0, 3.5, 4.0];
-    let mut raw = Vec::new();
-    let mut fbs = 0;
-    for &n1 in &ns {
-        for &n2 in &ns {
-            let r = interface_run(n1, n2, 120, 50)?;
-            fbs += fb(&r.info.hybrid_failure);
-            raw.push((n1, n2, r.left_fraction));
-        }
-    }
-    let pts: Vec<(f64, f64, f64)> = raw
-        .iter()
-        .map(|q| {
-            let base = raw
-                .iter()
-                .find(|b| b.0 == q.0 && b.1 == q.0)
-                .map_or(0.0, |b| b.2);
-            (q.0, q.1, q.2 - base)
-        })
-        .collect();
+    let (pts, fbs) = reflection_grid(&ns, 120, 50)?;
     out.push(check(
         "collapse point p of zeta = (n1-p)/(n2-p), 4x4 grid (Fig. 7)",
         collapse_point(&pts).map_or(f64::NAN, |c| c.0),
