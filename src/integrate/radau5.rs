@@ -582,9 +582,6 @@ impl Integrator for Radau5 {
             // accepted
             let factor = predict_factor(h_abs, h_abs_old, err_norm, err_old);
             let mut factor = MAX_FACTOR.min(safety * factor);
-            if (1.0..1.2).contains(&factor) {
-                factor = 1.0;
-            }
             if rejected {
                 factor = factor.min(1.0);
             }
