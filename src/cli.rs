@@ -62,6 +62,8 @@ enum EngineArg {
 enum MethodArg {
     Radau5,
     Dop853,
+    /// Fixed-step velocity Verlet; its step is rtol·L/V.
+    Verlet,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -195,6 +197,7 @@ fn config(scene: &Scene, c: &Common) -> RunConfig {
         cfg.method = match m {
             MethodArg::Radau5 => Method::Radau5,
             MethodArg::Dop853 => Method::Dop853,
+            MethodArg::Verlet => Method::Verlet,
         };
     }
     if let Some(r) = c.rtol {

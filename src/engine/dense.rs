@@ -6,6 +6,7 @@ use super::checkpoint::{DenseState, EngineState};
 use super::{EngineError, Observer, RunConfig, RunOutcome};
 use crate::integrate::dop853::Dop853;
 use crate::integrate::radau5::Radau5;
+use crate::integrate::verlet::Verlet;
 use crate::integrate::{ChainRange, Integrator, Method, System, Tolerances};
 use crate::scene::Scene;
 use std::time::Instant;
@@ -15,6 +16,8 @@ pub fn make_integrator(cfg: &RunConfig, m: usize, tol: Tolerances) -> Box<dyn In
     match cfg.method {
         Method::Radau5 => Box::new(Radau5::new(m, tol, cfg.solver)),
         Method::Dop853 => Box::new(Dop853::new(m, tol)),
+        // Fixed step `rtol · L/V` (see `integrate::verlet`).
+        Method::Verlet => Box::new(Verlet::new(m, tol)),
     }
 }
 

@@ -7,7 +7,10 @@
 //! - [`dop853`]: Dormand–Prince 8(5,3), explicit, with its 7th-order dense output (Hairer,
 //!   Nørsett & Wanner, *Solving ODEs I*, II.10), an independent check from another family.
 //!
-//! Both integrate any contiguous range of beads (a [`System`]), so the dense engine (whole chain)
+//! - [`verlet`]: fixed-step velocity Verlet, the symplectic second-order DEM baseline without
+//!   error control (its step is `rtol · L/V`).
+//!
+//! All integrate any contiguous range of beads (a [`System`]), so the dense engine (whole chain)
 //! and the hybrid engine (one contact cluster) share them. Both hold only scratch buffers sized
 //! at construction: a step allocates nothing.
 //!
@@ -20,6 +23,7 @@
 
 pub mod dop853;
 pub mod radau5;
+pub mod verlet;
 
 use crate::model::{Chain, Scales};
 use serde::{Deserialize, Serialize};
@@ -92,6 +96,9 @@ pub enum Method {
     Radau5,
     /// Dormand–Prince 8(5,3) (explicit).
     Dop853,
+    /// Fixed-step velocity Verlet (symplectic, order 2; the DEM baseline). Its step is
+    /// `rtol · L/V` (see [`verlet`]).
+    Verlet,
 }
 
 impl Method {
@@ -100,6 +107,7 @@ impl Method {
         match self {
             Method::Radau5 => "radau5",
             Method::Dop853 => "dop853",
+            Method::Verlet => "verlet",
         }
     }
 }

@@ -1,0 +1,260 @@
+//! Fixed-step velocity Verlet: the symplectic, second-order baseline that discrete-element (DEM)
+//! codes use, for the equation of motion `ü = f(u)` (paper eq. 7; first-order form appendix eqs.
+//! A.2–A.3 for the state `z = (u, v)` it exposes).
+//!
+//! One step of size `h` (kick–drift–kick, one force evaluation per step):
+//! `v½ = v + ½h·a(u)`, `u' = u + h·v½`, `v' = v½ + ½h·a(u')`.
+//!
+//! ## The accuracy knob: `rtol` is the step
+//! There is no error control. The step is `dt = rtol · L/V`, with `L/V` the characteristic
+//! time [`crate::model::Scales::time`] of the run (so it is unit-free like every tolerance of
+//! [`crate::integrate`]): `--method verlet --rtol 1e-2` integrates with `dt = 0.01·L/V`. `atol` is
+//! not used. The global error is `O(dt²)`; the energy error stays bounded (`O(dt²)`, no drift)
+//! because the method is symplectic.
+//!
+//! ## Steps and output
+//! Steps are `t_k = t_reset + k·dt` (computed as products, not sums); a step that would pass
+//! `t_bound` is shortened to land on it exactly (the grid then restarts from there).
+//! [`Integrator::set_step_size`] only lowers the *next* step (to land on a requested time, as the
+//! hybrid engine does at events); the fixed step resumes after it. The continuous output is the
+//! cubic Hermite interpolant on each step: for `u` from `(u, v)` at both ends, for `v` from
+//! `(v, a)` at both ends (third order, exact at the step ends).
+
+use super::{IntegrationError, Integrator, IntegratorState, Stats, System, Tolerances};
+
+/// Fixed-step velocity Verlet for an `m`-bead [`System`]; all scratch is allocated by
+/// [`Verlet::new`], a step allocates nothing.
+#[derive(Clone, Debug)]
+pub struct Verlet {
+    m: usize,
+    /// Fixed step `rtol · L/V`.
+    dt: f64,
+    /// One-shot upper bound on the next step (from [`Integrator::set_step_size`]).
+    h_once: Option<f64>,
+    t: f64,
+    t_prev: f64,
+    /// Start of the current grid `t_grid + k·dt`.
+    t_grid: f64,
+    /// Steps taken on the current grid.
+    k: u64,
+    /// Current state `(u, v)`, length `2m`.
+    z: Vec<f64>,
+    /// State at `t_prev`.
+    z_old: Vec<f64>,
+    /// Accelerations at `t` and at `t_prev`.
+    acc: Vec<f64>,
+    acc_old: Vec<f64>,
+    stats: Stats,
+}
+
+impl Verlet {
+    /// An integrator for `m` beads whose step is `tol.rtol · tol.scales.time()` (see module
+    /// docs). Call [`Integrator::reset`] before stepping.
+    pub fn new(m: usize, tol: Tolerances) -> Self {
+        Self {
+            m,
+            dt: tol.rtol * tol.scales.time(),
+            h_once: None,
+            t: 0.0,
+            t_prev: 0.0,
+            t_grid: 0.0,
+            k: 0,
+            z: vec![0.0; 2 * m],
+            z_old: vec![0.0; 2 * m],
+            acc: vec![0.0; m],
+            acc_old: vec![0.0; m],
+            stats: Stats::default(),
+        }
+    }
+
+    /// The fixed step `dt`.
+    /// Cubic Hermite interpolation of component `j` at `t ∈ [t_prev, t]`.
+    #[inline]
+    fn hermite(&self, t: f64, j: usize) -> f64 {
+        let m = self.m;
+        let h = self.t - self.t_prev;
+        if t == self.t || h <= 0.0 {
+            return self.z[j];
+        }
+        if t == self.t_prev {
+            return self.z_old[j];
+        }
+        let s = (t - self.t_prev) / h;
+        let (y0, y1, d0, d1) = if j < m {
+            (self.z_old[j], self.z[j], self.z_old[m + j], self.z[m + j])
+        } else {
+            let i = j - m;
+            (self.z_old[j], self.z[j], self.acc_old[i], self.acc[i])
+        };
+        let r = 1.0 - s;
+        let h00 = (1.0 + 2.0 * s) * r * r;
+        let h10 = s * r * r;
+        let h01 = s * s * (3.0 - 2.0 * s);
+        let h11 = -s * s * r;
+        h00 * y0 + h01 * y1 + h * (h10 * d0 + h11 * d1)
+    }
+}
+
+impl Integrator for Verlet {
+    fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]) {
+        let m = self.m;
+        assert_eq!(sys.len(), m, "system size differs from the integrator's");
+        assert_eq!(
+            u.len(),
+            m,
+            "displacement length differs from the integrator's"
+        );
+        assert_eq!(v.len(), m, "velocity length differs from the integrator's");
+        self.z[..m].copy_from_slice(u);
+        self.z[m..].copy_from_slice(v);
+        self.z_old.copy_from_slice(&self.z);
+        sys.accel(u, &mut self.acc);
+        self.stats.rhs_evals += 1;
+        self.acc_old.copy_from_slice(&self.acc);
+        self.t = t;
+        self.t_prev = t;
+        self.t_grid = t;
+        self.k = 0;
+        self.h_once = None;
+    }
+
+    /// Fixed-step method: `h` only bounds the next step (see module docs).
+    fn set_step_size(&mut self, h: f64) {
+        if h > 0.0 && h.is_finite() {
+            self.h_once = Some(h);
+        }
+    }
+
+    fn step(&mut self, sys: &dyn System, t_bound: f64) -> Result<f64, IntegrationError> {
+        debug_assert_eq!(sys.len(), self.m);
+        let t = self.t;
+        if !t.is_finite() || !self.z.iter().all(|x| x.is_finite()) {
+            return Err(IntegrationError::NonFinite { t });
+        }
+        if t_bound.is_nan() || t_bound <= t {
+            return Ok(t);
+        }
+        // Next grid point; a last step that would pass (or nearly reach) t_bound lands on it.
+        let mut t_new = self.t_grid + (self.k + 1) as f64 * self.dt;
+        let mut on_grid = true;
+        if let Some(h) = self.h_once.take() {
+            if t + h < t_new {
+                t_new = t + h;
+                on_grid = false;
+            }
+        }
+        if t_new >= t_bound - 1e-9 * self.dt {
+            t_new = t_bound;
+            on_grid = false;
+        }
+        let h = t_new - t;
+        if h.is_nan() || h <= 0.0 || self.dt.is_nan() || self.dt <= 0.0 {
+            return Err(IntegrationError::StepTooSmall { t, h });
+        }
+        let m = self.m;
+        self.z_old.copy_from_slice(&self.z);
+        std::mem::swap(&mut self.acc, &mut self.acc_old);
+        let (u, v) = self.z.split_at_mut(m);
+        for i in 0..m {
+            v[i] += 0.5 * h * self.acc_old[i];
+            u[i] += h * v[i];
+        }
+        sys.accel(u, &mut self.acc);
+        for i in 0..m {
+            v[i] += 0.5 * h * self.acc[i];
+        }
+        self.stats.rhs_evals += 1;
+        self.stats.steps += 1;
+        self.stats.bead_steps += m as u64;
+        self.t_prev = t;
+        self.t = t_new;
+        if on_grid {
+            self.k += 1;
+        } else {
+            self.t_grid = t_new;
+            self.k = 0;
+        }
+        if !self.z.iter().all(|x| x.is_finite()) {
+            return Err(IntegrationError::NonFinite { t: t_new });
+        }
+        Ok(t_new)
+    }
+
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+
+    fn state(&self) -> &[f64] {
+        &self.z
+    }
+
+    /// Cubic Hermite output of the last step (exact copies of the step's end states).
+    fn dense(&self, t: f64, z: &mut [f64]) {
+        debug_assert_eq!(z.len(), 2 * self.m);
+        for (j, zj) in z.iter_mut().enumerate() {
+            *zj = self.hermite(t, j);
+        }
+    }
+
+    fn dense_at(&self, t: f64, j: usize) -> f64 {
+        self.hermite(t, j)
+    }
+
+    fn stats(&self) -> &Stats {
+        &self.stats
+    }
+
+    fn step_size(&self) -> f64 {
+        self.dt
+    }
+
+    fn save(&self) -> IntegratorState {
+        IntegratorState {
+            t: self.t,
+            t_prev: self.t_prev,
+            h: self.dt,
+            h_old: self.h_once,
+            err_old: None,
+            have_sol: true,
+            vecs: vec![
+                self.z.clone(),
+                self.z_old.clone(),
+                self.acc.clone(),
+                self.acc_old.clone(),
+                vec![self.t_grid, self.k as f64],
+            ],
+            stats: self.stats.clone(),
+        }
+    }
+
+    fn load(&mut self, s: &IntegratorState) {
+        self.t = s.t;
+        self.t_prev = s.t_prev;
+        self.dt = s.h;
+        self.h_once = s.h_old;
+        for (d, v) in [
+            &mut self.z,
+            &mut self.z_old,
+            &mut self.acc,
+            &mut self.acc_old,
+        ]
+        .into_iter()
+        .zip(&s.vecs)
+        {
+            d.copy_from_slice(v);
+        }
+        if let Some(g) = s.vecs.get(4) {
+            self.t_grid = g[0];
+            self.k = g[1] as u64;
+        }
+        self.stats = s.stats.clone();
+    }
+}
+
+#[cfg(test)]
+#[path = "verlet_tests.rs"]
+mod tests;
