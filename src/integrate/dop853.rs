@@ -507,29 +507,9 @@ mod ode_tests;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::integrate::test_util::{striker, uniform_chain};
     use crate::integrate::{ChainRange, DEFAULT_ATOL};
     use crate::model::Chain;
-
-    /// `N` unit-mass beads, Hertz-like contacts `n = 2.5`, `a = 0.4`, no walls.
-    fn uniform_chain(beads: usize) -> Chain {
-        Chain {
-            mass: vec![1.0; beads],
-            exponent: vec![2.5; beads - 1],
-            prefactor: vec![0.4; beads - 1],
-            precompression: None,
-            field: None,
-            left_wall: None,
-            right_wall: None,
-            hard: None,
-        }
-    }
-
-    /// Striker initial condition (paper eq. 8): bead 0 moves at `v0`, all else at rest.
-    fn striker(beads: usize, v0: f64) -> (Vec<f64>, Vec<f64>) {
-        let mut v = vec![0.0; beads];
-        v[0] = v0;
-        (vec![0.0; beads], v)
-    }
 
     fn tolerances(chain: &Chain, u: &[f64], v: &[f64], rtol: f64, atol: f64) -> Tolerances {
         Tolerances {

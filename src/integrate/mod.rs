@@ -263,3 +263,30 @@ pub fn weighted_max_norm(err: &[f64], z_old: &[f64], z_new: &[f64], tol: &Tolera
         f64::INFINITY
     }
 }
+
+/// Shared helpers of the integrators' unit tests.
+#[cfg(test)]
+pub(crate) mod test_util {
+    use crate::model::Chain;
+
+    /// `N` unit-mass beads, Hertz-like contacts `n = 2.5`, `a = 0.4`, no walls.
+    pub fn uniform_chain(beads: usize) -> Chain {
+        Chain {
+            mass: vec![1.0; beads],
+            exponent: vec![2.5; beads - 1],
+            prefactor: vec![0.4; beads - 1],
+            precompression: None,
+            field: None,
+            left_wall: None,
+            right_wall: None,
+            hard: None,
+        }
+    }
+
+    /// Striker initial condition (paper eq. 8): bead 0 moves at `v0`, all else at rest.
+    pub fn striker(beads: usize, v0: f64) -> (Vec<f64>, Vec<f64>) {
+        let mut v = vec![0.0; beads];
+        v[0] = v0;
+        (vec![0.0; beads], v)
+    }
+}

@@ -3,29 +3,10 @@
 
 use super::*;
 use crate::integrate::radau5::Radau5;
+use crate::integrate::test_util::{striker, uniform_chain};
 use crate::integrate::{ChainRange, DEFAULT_ATOL};
 use crate::linalg::SolverKind;
 use crate::model::{Chain, Wall};
-
-/// `N` unit-mass beads, `n = 2.5`, `a = 0.4`, no walls.
-fn uniform_chain(beads: usize) -> Chain {
-    Chain {
-        mass: vec![1.0; beads],
-        exponent: vec![2.5; beads - 1],
-        prefactor: vec![0.4; beads - 1],
-        precompression: None,
-        field: None,
-        left_wall: None,
-        right_wall: None,
-        hard: None,
-    }
-}
-
-fn striker(beads: usize, v0: f64) -> (Vec<f64>, Vec<f64>) {
-    let mut v = vec![0.0; beads];
-    v[0] = v0;
-    (vec![0.0; beads], v)
-}
 
 fn tolerances(chain: &Chain, u: &[f64], v: &[f64], rtol: f64) -> Tolerances {
     Tolerances {
