@@ -35,6 +35,9 @@ enum Cmd {
     },
     /// List the built-in preset scenes.
     Scenes,
+    /// Work-precision study: every engine x method x tolerance against a tight reference;
+    /// writes DIR/accuracy.csv, DIR/accuracy.svg, DIR/accuracy.png and prints the table.
+    Accuracy(AccuracyArgs),
     /// Analyse a snapshot: leading wave, energies, interface split, decay fit.
     Analyze(crate::cli_analysis::AnalyzeArgs),
     /// Reproduce the paper's key numbers (--quick: reduced checks, seconds).
@@ -50,6 +53,49 @@ enum Cmd {
         #[arg(long)]
         checkpoint_every: Option<f64>,
     },
+}
+
+#[derive(clap::Args, Debug)]
+struct AccuracyArgs {
+    /// Scene file (TOML) or preset name.
+    scene: String,
+    /// Engines, comma-separated (hybrid, dense).
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "hybrid,dense"
+    )]
+    engines: Vec<EngineArg>,
+    /// Methods, comma-separated (radau5, dop853, verlet).
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "radau5,dop853,verlet"
+    )]
+    methods: Vec<MethodArg>,
+    /// Relative tolerances of the adaptive methods (atol = atol-ratio * rtol).
+    #[arg(long, value_delimiter = ',', default_value = "1e-4,1e-6,1e-8,1e-10")]
+    rtols: Vec<f64>,
+    /// Verlet steps in units of the characteristic time L/V (dt = s * L/V).
+    #[arg(long, value_delimiter = ',', default_value = "0.1,0.03,0.01,0.003")]
+    verlet_steps: Vec<f64>,
+    /// atol = atol-ratio * rtol.
+    #[arg(long, default_value_t = 0.01)]
+    atol_ratio: f64,
+    /// Tolerance of the dense radau5 reference [default: the smallest --rtols].
+    #[arg(long)]
+    reference_rtol: Option<f64>,
+    /// End time [default: the scene's `[run] until`].
+    #[arg(long)]
+    until: Option<f64>,
+    /// Timed repetitions per run (median wall time).
+    #[arg(long, default_value_t = 1)]
+    repeat: usize,
+    /// Output directory.
+    #[arg(long, default_value = "accuracy")]
+    out: PathBuf,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -174,6 +220,7 @@ pub fn dispatch(cli: Cli) -> Result<i32> {
             until,
             checkpoint_every,
         } => cli_ckpt::cmd_resume(&file, until, checkpoint_every),
+        Cmd::Accuracy(a) => cmd_accuracy(a),
         Cmd::Scenes => {
             for p in scene::presets() {
                 println!("{:<32} {}", p.name, p.description);
@@ -391,6 +438,44 @@ fn cmd_export(a: ExportArgs) -> Result<i32> {
             write(&mut lock)?;
             lock.flush().context("writing to standard output")?;
         }
+    }
+    Ok(0)
+}
+
+fn cmd_accuracy(a: AccuracyArgs) -> Result<i32> {
+    use beadchain::accuracy::{accuracy_study, format_table, AccuracyOptions};
+    let scene = load_scene(&a.scene)?;
+    let opts = AccuracyOptions {
+        engines: a
+            .engines
+            .iter()
+            .map(|e| match e {
+                EngineArg::Dense => Engine::Dense,
+                EngineArg::Hybrid => Engine::Hybrid,
+            })
+            .collect(),
+        methods: a
+            .methods
+            .iter()
+            .map(|m| match m {
+                MethodArg::Radau5 => Method::Radau5,
+                MethodArg::Dop853 => Method::Dop853,
+                MethodArg::Verlet => Method::Verlet,
+            })
+            .collect(),
+        rtols: a.rtols,
+        verlet_steps: a.verlet_steps,
+        atol_ratio: a.atol_ratio,
+        until: a.until,
+        repeat: a.repeat,
+        reference_rtol: a.reference_rtol,
+        out_dir: Some(a.out),
+        ..AccuracyOptions::default()
+    };
+    let report = accuracy_study(&scene, &opts)?;
+    print!("{}", format_table(&report));
+    for f in &report.files {
+        println!("wrote {}", f.display());
     }
     Ok(0)
 }

@@ -6,6 +6,7 @@
 // Numerical kernels index several arrays in lock-step; index loops read closer to the formulas.
 #![allow(clippy::needless_range_loop)]
 
+pub mod accuracy;
 pub mod analysis;
 pub mod engine;
 pub mod export;

@@ -1,0 +1,581 @@
+//! Work–precision study: what each digit of accuracy costs on a scene.
+//!
+//! [`accuracy_study`] runs every combination of engines × methods × tolerances to the scene's end
+//! time and compares the final state `(u, v)` with a reference solution:
+//!
+//! - **Reference**: the dense engine with Radau IIA at `reference_rtol` (default: the smallest
+//!   `rtol` of the study, so the tightest dense Radau run *is* the reference and its error is 0).
+//!   It is checked against the dense Radau run at the next looser tolerance (the second tightest;
+//!   ×10 when there is none) and that difference is reported: errors below it are not resolved.
+//! - **Error** of a run: `err_u = max_i |u_i − u_ref,i| / max_i |u_ref,i − u0_i|` and
+//!   `err_v = max_i |v_i − v_ref,i| / max_i |v_ref,i|` (largest |v| of the reference at start or
+//!   end); `error = max(err_u, err_v)`.
+//! - **Energy**: relative total-energy error between start and end `|E_end − E_0| / |E_0|`
+//!   (energy = kinetic + contact potential, paper eq. 1), and the paper's appendix-A measure,
+//!   the kinetic-energy error `|KE_0 − KE_end| / KE_0` (meaningful once the chain has separated,
+//!   when the potential energy has returned to zero).
+//! - **Cost**: wall time (median of `repeat` runs), accepted steps, rejected steps, right-hand
+//!   sides, events (hybrid), active bead-steps.
+//!
+//! Tolerances: each run uses `rtol` and `atol = atol_ratio · rtol` (in units of the characteristic
+//! scales, see [`crate::integrate`]). The fixed-step velocity Verlet method has no tolerance: its
+//! accuracy knob is the step, taken from `verlet_steps` in units of the characteristic time
+//! `τ = L/V` (`dt = s · τ`, passed as its `rtol`, see [`crate::integrate::verlet`]).
+//!
+//! Output (when `out_dir` is set): `accuracy.csv` (one row per run, columns [`CSV_HEADER`]) and a
+//! log–log plot of error against wall time, one line per engine/method, `accuracy.svg` and
+//! `accuracy.png` ([`plot`]).
+
+pub mod plot;
+
+use crate::engine::{self, EngineError, Observer, RunConfig, RunOutcome};
+use crate::integrate::Method;
+use crate::linalg::SolverKind;
+use crate::scene::{Engine, Scene};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What to run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AccuracyOptions {
+    /// Engines (default: hybrid, dense).
+    pub engines: Vec<Engine>,
+    /// Methods (default: radau5, dop853, verlet).
+    pub methods: Vec<Method>,
+    /// Relative tolerances of the adaptive methods (default 1e-4, 1e-6, 1e-8, 1e-10).
+    pub rtols: Vec<f64>,
+    /// Steps of the Verlet runs in units of `τ = L/V` (default 0.1, 0.03, 0.01, 0.003).
+    pub verlet_steps: Vec<f64>,
+    /// `atol = atol_ratio · rtol` for every run (default 0.01).
+    pub atol_ratio: f64,
+    /// End time (default: the scene's `until`).
+    pub until: Option<f64>,
+    /// Timed repetitions per run; the median wall time is reported (default 1).
+    pub repeat: usize,
+    /// Tolerance of the dense Radau reference (default: the smallest of `rtols`).
+    pub reference_rtol: Option<f64>,
+    /// Linear solver of the implicit method.
+    pub solver: SolverKind,
+    /// Step budget per run (a run that exceeds it is reported as failed).
+    pub max_steps: Option<u64>,
+    /// Directory for `accuracy.csv`, `accuracy.svg`, `accuracy.png` (`None`: write nothing).
+    pub out_dir: Option<PathBuf>,
+}
+
+impl Default for AccuracyOptions {
+    fn default() -> Self {
+        Self {
+            engines: vec![Engine::Hybrid, Engine::Dense],
+            methods: vec![Method::Radau5, Method::Dop853, Method::Verlet],
+            rtols: vec![1e-4, 1e-6, 1e-8, 1e-10],
+            verlet_steps: vec![0.1, 0.03, 0.01, 0.003],
+            atol_ratio: 0.01,
+            until: None,
+            repeat: 1,
+            reference_rtol: None,
+            solver: SolverKind::Auto,
+            max_steps: Some(50_000_000),
+            out_dir: None,
+        }
+    }
+}
+
+/// Why a study failed (single runs that fail are reported in their row instead).
+#[derive(Debug, thiserror::Error)]
+pub enum AccuracyError {
+    /// Unusable options.
+    #[error("accuracy study: {0}")]
+    Options(String),
+    /// The reference (or its check) run failed.
+    #[error("accuracy study: reference run (dense radau5, rtol {rtol:e}) failed: {source}")]
+    Reference {
+        /// Tolerance of the failed run.
+        rtol: f64,
+        /// The engine error.
+        source: EngineError,
+    },
+    /// Writing an output file failed.
+    #[error("accuracy study: writing {path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// Drawing the plot failed.
+    #[error("accuracy study: plotting {path}: {msg}")]
+    Plot {
+        /// The file.
+        path: PathBuf,
+        /// What the plotting backend said.
+        msg: String,
+    },
+}
+
+/// The reference solution and its self-check.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReferenceInfo {
+    /// Tolerance of the reference (dense Radau IIA).
+    pub rtol: f64,
+    /// Tolerance of the check run (the second tightest dense Radau run).
+    pub check_rtol: f64,
+    /// Error of the check run against the reference (relative u part).
+    pub check_err_u: f64,
+    /// Error of the check run against the reference (relative v part).
+    pub check_err_v: f64,
+    /// Wall time of the reference run (one run).
+    pub wall_seconds: f64,
+}
+
+/// One run of the study.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AccuracyRow {
+    /// Engine.
+    pub engine: Engine,
+    /// Method.
+    pub method: Method,
+    /// Relative tolerance (Verlet: the step in units of `τ`).
+    pub rtol: f64,
+    /// Absolute tolerance.
+    pub atol: f64,
+    /// Verlet only: the step in time units (`rtol · τ`).
+    pub verlet_dt: Option<f64>,
+    /// `None` on success, else the error message of the failed run.
+    pub failure: Option<String>,
+    /// True for the run that is the reference itself.
+    pub is_reference: bool,
+    /// Relative displacement error (see module docs).
+    pub err_u: f64,
+    /// Relative velocity error.
+    pub err_v: f64,
+    /// `max(err_u, err_v)`.
+    pub error: f64,
+    /// Relative total-energy error start → end.
+    pub energy_error: f64,
+    /// Relative kinetic-energy error start → end (paper appendix A).
+    pub ke_error: f64,
+    /// Median wall time in seconds.
+    pub wall_seconds: f64,
+    /// Accepted steps.
+    pub steps: u64,
+    /// Rejected steps.
+    pub rejected: u64,
+    /// Right-hand-side evaluations.
+    pub rhs_evals: u64,
+    /// Events (hybrid engine; 0 for dense).
+    pub events: u64,
+    /// Active bead-steps.
+    pub bead_steps: u64,
+}
+
+/// The whole study.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AccuracyReport {
+    /// Scene name.
+    pub scene: String,
+    /// Number of beads.
+    pub beads: usize,
+    /// End time.
+    pub until: f64,
+    /// Characteristic time `τ = L/V` (unit of the Verlet steps).
+    pub tau: f64,
+    /// The reference.
+    pub reference: ReferenceInfo,
+    /// One row per run, in the order engines × methods × tolerances.
+    pub rows: Vec<AccuracyRow>,
+    /// Remarks (e.g. plot drawn without text).
+    pub notes: Vec<String>,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+}
+
+/// Column names of `accuracy.csv`.
+pub const CSV_HEADER: &str = "engine,method,rtol,atol,verlet_dt,status,is_reference,err_u,err_v,error,energy_error,ke_error,wall_seconds,steps,rejected,rhs_evals,events,bead_steps";
+
+/// An observer that keeps nothing.
+struct Discard;
+
+impl Observer for Discard {
+    fn frame(&mut self, _t: f64, _u: &[f64], _v: &[f64]) -> Result<(), EngineError> {
+        Ok(())
+    }
+}
+
+/// Runs once, timing the whole call.
+fn timed_run(scene: &Scene, cfg: &RunConfig) -> Result<(RunOutcome, f64), EngineError> {
+    let start = Instant::now();
+    let out = engine::run(scene, cfg, &mut Discard)?;
+    Ok((out, start.elapsed().as_secs_f64()))
+}
+
+/// Median of a non-empty list.
+fn median(xs: &mut [f64]) -> f64 {
+    xs.sort_by(f64::total_cmp);
+    let k = xs.len();
+    if k % 2 == 1 {
+        xs[k / 2]
+    } else {
+        0.5 * (xs[k / 2 - 1] + xs[k / 2])
+    }
+}
+
+/// Relative errors `(err_u, err_v)` of the final state `(u, v)` against the reference outcome
+/// `r`, for the initial state `(u0, v0)` (see module docs). Non-finite states give infinity.
+pub fn relative_errors(u0: &[f64], v0: &[f64], r: &RunOutcome, u: &[f64], v: &[f64]) -> (f64, f64) {
+    let umax =
+        r.u.iter()
+            .zip(u0)
+            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+    let vmax = r.v.iter().chain(v0).fold(0.0_f64, |m, x| m.max(x.abs()));
+    let du = u
+        .iter()
+        .zip(&r.u)
+        .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+    let dv = v
+        .iter()
+        .zip(&r.v)
+        .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+    let rel = |d: f64, s: f64| if s > 0.0 { d / s } else { d };
+    // f64::max ignores NaN: a non-finite state is an infinite error.
+    if u.iter().chain(v).all(|x| x.is_finite()) {
+        (rel(du, umax), rel(dv, vmax))
+    } else {
+        (f64::INFINITY, f64::INFINITY)
+    }
+}
+
+fn check_options(opts: &AccuracyOptions) -> Result<(), AccuracyError> {
+    let bad = |s: String| Err(AccuracyError::Options(s));
+    if opts.engines.is_empty() || opts.methods.is_empty() {
+        return bad("no engine or no method given".into());
+    }
+    let adaptive = opts.methods.iter().any(|&m| m != Method::Verlet);
+    if adaptive && opts.rtols.is_empty() {
+        return bad("no tolerance given".into());
+    }
+    if opts.methods.contains(&Method::Verlet) && opts.verlet_steps.is_empty() {
+        return bad("no Verlet step given".into());
+    }
+    let in_unit = |x: f64| x > 0.0 && x < 1.0;
+    for &r in opts.rtols.iter().chain(&opts.reference_rtol) {
+        if !in_unit(r) {
+            return bad(format!("rtol {r} must be in (0, 1)"));
+        }
+    }
+    for &s in &opts.verlet_steps {
+        if !in_unit(s) {
+            return bad(format!(
+                "Verlet step {s} (in units of L/V) must be in (0, 1)"
+            ));
+        }
+    }
+    if !(opts.atol_ratio > 0.0 && opts.atol_ratio <= 1.0) {
+        return bad(format!("atol ratio {} must be in (0, 1]", opts.atol_ratio));
+    }
+    if opts.repeat == 0 {
+        return bad("repeat must be at least 1".into());
+    }
+    if let Some(t) = opts.until {
+        if !(t > 0.0 && t.is_finite()) {
+            return bad(format!("until = {t} must be positive and finite"));
+        }
+    }
+    Ok(())
+}
+
+/// Runs the study (see module docs). Runs that fail are reported in their row; the study fails
+/// only on bad options, a failed reference, or an output file that cannot be written.
+pub fn accuracy_study(
+    scene: &Scene,
+    opts: &AccuracyOptions,
+) -> Result<AccuracyReport, AccuracyError> {
+    check_options(opts)?;
+    let mut base = RunConfig::from_scene(scene);
+    base.until = opts.until.unwrap_or(scene.run.until);
+    base.every = None;
+    base.solver = opts.solver;
+    base.max_steps = opts.max_steps;
+    let cfg_for = |engine: Engine, method: Method, rtol: f64| RunConfig {
+        engine,
+        method,
+        rtol,
+        atol: (opts.atol_ratio * rtol).min(0.5),
+        ..base.clone()
+    };
+
+    // Reference and its check.
+    let mut sorted = opts.rtols.clone();
+    sorted.sort_by(f64::total_cmp);
+    sorted.dedup();
+    let ref_rtol = opts
+        .reference_rtol
+        .or_else(|| sorted.first().copied())
+        .unwrap_or(1e-10);
+    let check_rtol = sorted
+        .iter()
+        .copied()
+        .find(|&r| r > ref_rtol)
+        .unwrap_or((10.0 * ref_rtol).min(0.1));
+    let run_ref = |rtol: f64| {
+        timed_run(scene, &cfg_for(Engine::Dense, Method::Radau5, rtol))
+            .map_err(|source| AccuracyError::Reference { rtol, source })
+    };
+    let (reference, ref_wall) = run_ref(ref_rtol)?;
+    let (check, _) = run_ref(check_rtol)?;
+    let (check_err_u, check_err_v) =
+        relative_errors(&scene.u0, &scene.v0, &reference, &check.u, &check.v);
+
+    let chain = &scene.chain;
+    let ke0 = chain.kinetic_energy(&scene.v0);
+    let tau = chain.scales(&scene.u0, &scene.v0).time();
+    let mut rows = Vec::new();
+    for &engine in &opts.engines {
+        for &method in &opts.methods {
+            let knobs = if method == Method::Verlet {
+                &opts.verlet_steps
+            } else {
+                &opts.rtols
+            };
+            for &rtol in knobs {
+                let cfg = cfg_for(engine, method, rtol);
+                let mut row = measure(scene, &cfg, opts.repeat, &reference, ke0, tau);
+                row.is_reference =
+                    engine == Engine::Dense && method == Method::Radau5 && rtol == ref_rtol;
+                rows.push(row);
+            }
+        }
+    }
+    let mut report = AccuracyReport {
+        scene: scene.name.clone(),
+        beads: chain.len(),
+        until: base.until,
+        tau,
+        reference: ReferenceInfo {
+            rtol: ref_rtol,
+            check_rtol,
+            check_err_u,
+            check_err_v,
+            wall_seconds: ref_wall,
+        },
+        rows,
+        notes: Vec::new(),
+        files: Vec::new(),
+    };
+    if let Some(dir) = &opts.out_dir {
+        write_outputs(&mut report, dir)?;
+    }
+    Ok(report)
+}
+
+/// Runs one configuration `repeat` times and measures it against the reference.
+fn measure(
+    scene: &Scene,
+    cfg: &RunConfig,
+    repeat: usize,
+    reference: &RunOutcome,
+    ke0: f64,
+    tau: f64,
+) -> AccuracyRow {
+    let mut row = AccuracyRow {
+        engine: cfg.engine,
+        method: cfg.method,
+        rtol: cfg.rtol,
+        atol: cfg.atol,
+        verlet_dt: (cfg.method == Method::Verlet).then_some(cfg.rtol * tau),
+        failure: None,
+        is_reference: false,
+        err_u: f64::NAN,
+        err_v: f64::NAN,
+        error: f64::NAN,
+        energy_error: f64::NAN,
+        ke_error: f64::NAN,
+        wall_seconds: f64::NAN,
+        steps: 0,
+        rejected: 0,
+        rhs_evals: 0,
+        events: 0,
+        bead_steps: 0,
+    };
+    let mut walls = Vec::with_capacity(repeat);
+    let mut last = None;
+    for _ in 0..repeat {
+        match timed_run(scene, cfg) {
+            Ok((out, wall)) => {
+                walls.push(wall);
+                last = Some(out);
+            }
+            Err(e) => {
+                row.failure = Some(e.to_string());
+                return row;
+            }
+        }
+    }
+    let Some(out) = last else {
+        return row;
+    };
+    let (eu, ev) = relative_errors(&scene.u0, &scene.v0, reference, &out.u, &out.v);
+    row.err_u = eu;
+    row.err_v = ev;
+    row.error = eu.max(ev);
+    row.energy_error = out.relative_energy_error();
+    row.ke_error = (ke0 - scene.chain.kinetic_energy(&out.v)).abs() / ke0;
+    row.wall_seconds = median(&mut walls);
+    row.steps = out.stats.steps;
+    row.rejected = out.stats.rejected;
+    row.rhs_evals = out.stats.rhs_evals;
+    row.events = out.events_by_kind.iter().map(|(_, c)| c).sum();
+    row.bead_steps = out.stats.bead_steps;
+    row
+}
+
+/// The CSV text (header [`CSV_HEADER`], one line per row; numbers in shortest round-trip form).
+pub fn to_csv(report: &AccuracyReport) -> String {
+    let mut s = String::from(CSV_HEADER);
+    s.push('\n');
+    for r in &report.rows {
+        let dt = r.verlet_dt.map(|x| x.to_string()).unwrap_or_default();
+        let status = match &r.failure {
+            None => "ok".to_string(),
+            // Keep the CSV one field: no commas, quotes or newlines in the message.
+            Some(m) => format!("failed: {}", m.replace([',', '"', '\n'], " ")),
+        };
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            r.engine.name(),
+            r.method.name(),
+            r.rtol,
+            r.atol,
+            dt,
+            status,
+            r.is_reference,
+            r.err_u,
+            r.err_v,
+            r.error,
+            r.energy_error,
+            r.ke_error,
+            r.wall_seconds,
+            r.steps,
+            r.rejected,
+            r.rhs_evals,
+            r.events,
+            r.bead_steps
+        );
+    }
+    s
+}
+
+/// The table printed by `beadchain accuracy`.
+pub fn format_table(report: &AccuracyReport) -> String {
+    let mut s = String::new();
+    let rf = &report.reference;
+    let _ = writeln!(
+        s,
+        "{}: {} beads, until {}, tau = L/V = {:.4}; reference dense radau5 rtol {:e} ({:.3} s); \
+         check vs rtol {:e}: err_u {:.2e}, err_v {:.2e}",
+        report.scene,
+        report.beads,
+        report.until,
+        report.tau,
+        rf.rtol,
+        rf.wall_seconds,
+        rf.check_rtol,
+        rf.check_err_u,
+        rf.check_err_v
+    );
+    let _ = writeln!(
+        s,
+        "{:<7} {:<7} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>8} {:>12}",
+        "engine",
+        "method",
+        "rtol/dt",
+        "err_u",
+        "err_v",
+        "energy",
+        "KE",
+        "wall [s]",
+        "steps",
+        "events",
+        "bead-steps"
+    );
+    for r in &report.rows {
+        let knob = match r.verlet_dt {
+            Some(_) => format!("{}τ", r.rtol),
+            None => format!("{:.0e}", r.rtol),
+        };
+        if let Some(f) = &r.failure {
+            let _ = writeln!(
+                s,
+                "{:<7} {:<7} {:>9} FAILED: {f}",
+                r.engine.name(),
+                r.method.name(),
+                knob
+            );
+            continue;
+        }
+        let _ = writeln!(
+            s,
+            "{:<7} {:<7} {:>9} {:>9.2e} {:>9.2e} {:>9.2e} {:>9.2e} {:>10.4} {:>9} {:>8} {:>12}{}",
+            r.engine.name(),
+            r.method.name(),
+            knob,
+            r.err_u,
+            r.err_v,
+            r.energy_error,
+            r.ke_error,
+            r.wall_seconds,
+            r.steps,
+            r.events,
+            r.bead_steps,
+            if r.is_reference { "  (reference)" } else { "" }
+        );
+    }
+    for n in &report.notes {
+        let _ = writeln!(s, "note: {n}");
+    }
+    s
+}
+
+/// Writes `bytes` to `path` through a temporary sibling and a rename.
+fn write_file(path: &Path, bytes: &[u8]) -> Result<(), AccuracyError> {
+    let io = |source| AccuracyError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let tmp = PathBuf::from(tmp);
+    std::fs::write(&tmp, bytes).map_err(io)?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io(e)
+    })
+}
+
+/// Writes the CSV and the plots into `dir` (created if needed).
+fn write_outputs(report: &mut AccuracyReport, dir: &Path) -> Result<(), AccuracyError> {
+    std::fs::create_dir_all(dir).map_err(|source| AccuracyError::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let csv = dir.join("accuracy.csv");
+    write_file(&csv, to_csv(report).as_bytes())?;
+    report.files.push(csv);
+    let svg = dir.join("accuracy.svg");
+    let png = dir.join("accuracy.png");
+    let with_text = plot::write_plots(report, &svg, &png)?;
+    if !with_text {
+        report.notes.push(format!(
+            "no font file found (BEADCHAIN_FONT, {}): the plots are drawn without text",
+            plot::FONT_CANDIDATES.join(", ")
+        ));
+    }
+    report.files.push(svg);
+    report.files.push(png);
+    Ok(())
+}
+
+#[cfg(test)]
+#[path = "accuracy_tests.rs"]
+mod tests;

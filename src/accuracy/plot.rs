@@ -1,0 +1,185 @@
+//! The work–precision plot: error against wall time on log–log axes, one line per
+//! engine/method (points joined in the order of the tolerance list), drawn with `plotters` as SVG
+//! and PNG.
+//!
+//! Text (title, axis labels, legend) needs a TrueType font: `plotters` is built with its
+//! `ab_glyph` renderer (no system font discovery), and the font file is read at run time from
+//! `$BEADCHAIN_FONT` or the first of [`FONT_CANDIDATES`] that exists (DejaVu Sans from Debian's
+//! `fonts-dejavu-core`). Without one the plots are drawn without any text (lines and markers only;
+//! the CSV holds the numbers) and [`write_plots`] says so.
+
+use super::{AccuracyError, AccuracyReport};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::OnceLock;
+
+/// Font files tried in order (after `$BEADCHAIN_FONT`).
+pub const FONT_CANDIDATES: &[&str] = &[
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
+    "/Library/Fonts/Arial.ttf",
+    "C:\\Windows\\Fonts\\arial.ttf",
+];
+
+/// Font family name registered with plotters.
+const FAMILY: &str = "sans-serif";
+
+/// Registers a font once per process; true when text can be drawn.
+fn font_available() -> bool {
+    static OK: OnceLock<bool> = OnceLock::new();
+    *OK.get_or_init(|| {
+        let env = std::env::var("BEADCHAIN_FONT").ok();
+        let paths = env
+            .iter()
+            .map(String::as_str)
+            .chain(FONT_CANDIDATES.iter().copied());
+        for p in paths {
+            if let Ok(bytes) = std::fs::read(p) {
+                // plotters keeps fonts for the process lifetime: leak the bytes once.
+                let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+                if plotters::style::register_font(FAMILY, FontStyle::Normal, bytes).is_ok() {
+                    return true;
+                }
+            }
+        }
+        false
+    })
+}
+
+/// One line of the plot.
+struct Line {
+    name: String,
+    points: Vec<(f64, f64)>,
+}
+
+/// Successful runs with a positive error and wall time, grouped by engine/method (row order).
+fn lines(report: &AccuracyReport) -> Vec<Line> {
+    let mut out: Vec<Line> = Vec::new();
+    for r in &report.rows {
+        let usable = r.failure.is_none()
+            && r.error > 0.0
+            && r.error.is_finite()
+            && r.wall_seconds > 0.0
+            && r.wall_seconds.is_finite();
+        if !usable {
+            continue;
+        }
+        let name = format!("{} {}", r.engine.name(), r.method.name());
+        match out.iter_mut().find(|l| l.name == name) {
+            Some(l) => l.points.push((r.wall_seconds, r.error)),
+            None => out.push(Line {
+                name,
+                points: vec![(r.wall_seconds, r.error)],
+            }),
+        }
+    }
+    out
+}
+
+/// Log-axis range covering `xs` with a margin (a fixed range when empty).
+fn range(xs: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = xs.fold((f64::INFINITY, 0.0_f64), |(a, b), x| (a.min(x), b.max(x)));
+    if lo.is_finite() && hi > 0.0 {
+        (lo / 2.0, hi * 2.0)
+    } else {
+        (1e-3, 1.0)
+    }
+}
+
+/// Draws the chart on `root`.
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    report: &AccuracyReport,
+    text: bool,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(err)?;
+    let data = lines(report);
+    let (x0, x1) = range(data.iter().flat_map(|l| l.points.iter().map(|p| p.0)));
+    let (y0, y1) = range(data.iter().flat_map(|l| l.points.iter().map(|p| p.1)));
+    let mut builder = ChartBuilder::on(root);
+    builder.margin(20);
+    if text {
+        builder
+            .caption(
+                format!(
+                    "{} ({} beads, t = {}): error vs wall time",
+                    report.scene, report.beads, report.until
+                ),
+                (FAMILY, 22),
+            )
+            .x_label_area_size(50)
+            .y_label_area_size(80);
+    }
+    let mut chart = builder
+        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+        .map_err(err)?;
+    let mut mesh = chart.configure_mesh();
+    if text {
+        mesh.x_desc("wall time [s] (median)")
+            .y_desc("error vs reference, max(err_u, err_v)")
+            .x_label_formatter(&|x| format!("{x:.0e}"))
+            .y_label_formatter(&|y| format!("{y:.0e}"))
+            .label_style((FAMILY, 14))
+            .axis_desc_style((FAMILY, 16));
+    } else {
+        mesh.x_labels(0).y_labels(0);
+    }
+    mesh.draw().map_err(err)?;
+    for (k, l) in data.iter().enumerate() {
+        let color = Palette99::pick(k).to_rgba();
+        let series = chart
+            .draw_series(LineSeries::new(
+                l.points.iter().copied(),
+                color.stroke_width(2),
+            ))
+            .map_err(err)?;
+        if text {
+            series
+                .label(l.name.clone())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
+        }
+        chart
+            .draw_series(l.points.iter().map(|&p| Circle::new(p, 4, color.filled())))
+            .map_err(err)?;
+    }
+    if text {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .label_font((FAMILY, 14))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(err)?;
+    }
+    root.present().map_err(err)?;
+    Ok(())
+}
+
+/// Writes the SVG and PNG plots. Returns whether text was drawn (a font was found).
+pub fn write_plots(report: &AccuracyReport, svg: &Path, png: &Path) -> Result<bool, AccuracyError> {
+    let text = font_available();
+    let size = (900, 650);
+    {
+        let root = SVGBackend::new(svg, size).into_drawing_area();
+        draw(&root, report, text).map_err(|msg| AccuracyError::Plot {
+            path: svg.to_path_buf(),
+            msg,
+        })?;
+    }
+    {
+        let root = BitMapBackend::new(png, size).into_drawing_area();
+        draw(&root, report, text).map_err(|msg| AccuracyError::Plot {
+            path: png.to_path_buf(),
+            msg,
+        })?;
+    }
+    Ok(text)
+}
