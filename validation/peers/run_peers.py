@@ -26,7 +26,7 @@ validation/peers/results.md (wall-time ratio peer / beadchain hybrid at the same
 errors). Creates validation/peers/.venv with numpy and scipy from PyPI on first use.
 
 Usage: python3 validation/peers/run_peers.py [--quick] [--beads N] [--exponent n] [--prefactor a]
-       [--mass m] [--velocity v0] [--until T] [--rtols 1e-6,1e-8,1e-10] [--repeat K]
+       [--mass m] [--velocity v0] [--until T] [--rtols 1e-6,1e-8,1e-10,1e-12] [--hybrid-rtols ...] [--repeat K]
        [--timeout S] [--binary PATH]
 """
 import argparse
@@ -190,7 +190,9 @@ def main():
     ap.add_argument("--mass", type=float, default=1.0)
     ap.add_argument("--velocity", type=float, default=1.0)
     ap.add_argument("--until", type=float, help="end time [default: wave exit, N/1.21 + 40 for the default chain]")
-    ap.add_argument("--rtols", default="1e-6,1e-8,1e-10")
+    ap.add_argument("--rtols", default="1e-6,1e-8,1e-10,1e-12")
+    ap.add_argument("--hybrid-rtols", default="1e-5,1e-6,1e-7,1e-8,1e-9,1e-10,1e-11,1e-12",
+                    help="extra beadchain hybrid tolerances for the equal-or-better-error comparison")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--timeout", type=float, default=120.0, help="per SciPy/beadchain run, seconds")
     ap.add_argument("--peers", default=",".join(PEERS))
@@ -200,7 +202,7 @@ def main():
     if args.worker:
         return worker(json.loads(args.worker))
     if args.quick:
-        args.beads, args.repeat, args.rtols = 100, 1, "1e-8"
+        args.beads, args.repeat, args.rtols, args.hybrid_rtols = 100, 1, "1e-8", "1e-7,1e-8,1e-9"
     if args.until is None:
         default = (args.exponent, args.prefactor, args.mass, args.velocity) == (2.5, 1.0, 1.0, 1.0)
         if not default:
@@ -222,6 +224,13 @@ def main():
                 res = measure(lambda: run_scipy(args, p, rtol), args.repeat)
                 rows.append(dict(solver="scipy " + p, rtol=rtol, **res))
                 print(rows[-1], file=sys.stderr, flush=True)
+        extra = [float(x) for x in args.hybrid_rtols.split(",") if x]
+        for rtol in extra:
+            if rtol in rtols:
+                continue
+            res = measure(lambda: run_beadchain(args, "hybrid", rtol, tmp), args.repeat)
+            rows.append(dict(solver="beadchain hybrid", rtol=rtol, **res))
+            print(rows[-1], file=sys.stderr, flush=True)
     write_outputs(args, rows)
 
 
@@ -249,6 +258,28 @@ def write_outputs(args, rows):
         h = hyb.get(r["rtol"])
         ratio = "%.1f×" % (r["wall"] / max(h["wall"], 1e-4)) if h else ""
         lines.append("| %s | %g | %.3f | %s | %.1e |" % (r["solver"], r["rtol"], r["wall"], ratio, r["energy_error"]))
+    # Equal or better energy error: for every peer run, the cheapest hybrid run (any rtol) whose
+    # energy error is at most the peer's.
+    hyb_all = [r for r in rows if r["solver"] == "beadchain hybrid" and r["status"] == "ok"]
+    lines += [
+        "",
+        "At equal or better energy error (cheapest hybrid run, any rtol, with energy error <= the peer's):",
+        "",
+        "| solver | rtol | wall time (s) | energy error | hybrid rtol | hybrid wall (s) | hybrid energy error | speed-up |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        if r["solver"] == "beadchain hybrid" or r["status"] != "ok":
+            continue
+        ok = [h for h in hyb_all if h["energy_error"] <= r["energy_error"]]
+        if not ok:
+            lines.append("| %s | %g | %.3f | %.1e | none as accurate | | | |" % (
+                r["solver"], r["rtol"], r["wall"], r["energy_error"]))
+            continue
+        h = min(ok, key=lambda h: h["wall"])
+        lines.append("| %s | %g | %.3f | %.1e | %g | %.3f | %.1e | %.0f× |" % (
+            r["solver"], r["rtol"], r["wall"], r["energy_error"], h["rtol"], h["wall"],
+            h["energy_error"], r["wall"] / max(h["wall"], 1e-4)))
     text = "\n".join(lines) + "\n"
     with open(args.out + ".md", "w") as f:
         f.write(text)
