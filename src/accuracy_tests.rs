@@ -179,3 +179,18 @@ fn median_of_even_and_odd_lists() {
     assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
     assert_eq!(median(&mut [4.0, 1.0, 2.0, 3.0]), 2.5);
 }
+
+#[test]
+fn kinetic_energy_error_is_not_reported_before_the_chain_separates() {
+    // 30 beads to t = 8: the solitary wave is mid-chain, contacts are compressed, so the
+    // appendix-A kinetic-energy measure does not apply (it would read ~0.1-1, not an error).
+    let scene = striker(30, 8.0);
+    let mut opts = options();
+    opts.engines = vec![Engine::Dense];
+    opts.methods = vec![Method::Radau5];
+    opts.rtols = vec![1e-6, 1e-8];
+    let rep = accuracy_study(&scene, &opts).expect("study runs");
+    assert!(rep.rows.iter().all(|r| r.ke_error.is_nan()), "{:?}", rep.rows);
+    assert!(rep.rows.iter().all(|r| r.energy_error < 1e-5));
+    assert!(format_table(&rep).contains("n/a"));
+}
