@@ -42,6 +42,8 @@ enum Cmd {
     Analyze(crate::cli_analysis::AnalyzeArgs),
     /// Reproduce the paper's key numbers (--quick: reduced checks, seconds).
     Validate(crate::cli_analysis::ValidateArgs),
+    /// Plots (PNG/SVG): spacetime, profile, trace, energy (of a snapshot); map (of a CSV).
+    Plot(crate::cli_plot::PlotArgs),
     /// Continue an interrupted run from its checkpoint into the same output file.
     Resume {
         /// Checkpoint file (`OUTPUT.ckpt`).
@@ -221,6 +223,7 @@ pub fn dispatch(cli: Cli) -> Result<i32> {
             checkpoint_every,
         } => cli_ckpt::cmd_resume(&file, until, checkpoint_every),
         Cmd::Accuracy(a) => cmd_accuracy(a),
+        Cmd::Plot(a) => crate::cli_plot::cmd_plot(a),
         Cmd::Scenes => {
             for p in scene::presets() {
                 println!("{:<32} {}", p.name, p.description);

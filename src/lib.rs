@@ -13,5 +13,6 @@ pub mod export;
 pub mod integrate;
 pub mod linalg;
 pub mod model;
+pub mod plot;
 pub mod scene;
 pub mod snapshot;

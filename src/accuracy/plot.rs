@@ -4,50 +4,17 @@
 //!
 //! Text (title, axis labels, legend) needs a TrueType font: `plotters` is built with its
 //! `ab_glyph` renderer (no system font discovery), and the font file is read at run time from
-//! `$BEADCHAIN_FONT` or the first of [`FONT_CANDIDATES`] that exists (DejaVu Sans from Debian's
-//! `fonts-dejavu-core`). Without one the plots are drawn without any text (lines and markers only;
-//! the CSV holds the numbers) and [`write_plots`] says so.
+//! `$BEADCHAIN_FONT` or the first of [`FONT_CANDIDATES`] that exists (see [`crate::plot::font`]).
+//! Without one the plots are drawn without any text (lines and markers only; the CSV holds the
+//! numbers) and [`write_plots`] says so.
 
 use super::{AccuracyError, AccuracyReport};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
-use std::sync::OnceLock;
 
-/// Font files tried in order (after `$BEADCHAIN_FONT`).
-pub const FONT_CANDIDATES: &[&str] = &[
-    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
-    "/usr/share/fonts/TTF/DejaVuSans.ttf",
-    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
-    "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
-    "/Library/Fonts/Arial.ttf",
-    "C:\\Windows\\Fonts\\arial.ttf",
-];
-
-/// Font family name registered with plotters.
-const FAMILY: &str = "sans-serif";
-
-/// Registers a font once per process; true when text can be drawn.
-fn font_available() -> bool {
-    static OK: OnceLock<bool> = OnceLock::new();
-    *OK.get_or_init(|| {
-        let env = std::env::var("BEADCHAIN_FONT").ok();
-        let paths = env
-            .iter()
-            .map(String::as_str)
-            .chain(FONT_CANDIDATES.iter().copied());
-        for p in paths {
-            if let Ok(bytes) = std::fs::read(p) {
-                // plotters keeps fonts for the process lifetime: leak the bytes once.
-                let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-                if plotters::style::register_font(FAMILY, FontStyle::Normal, bytes).is_ok() {
-                    return true;
-                }
-            }
-        }
-        false
-    })
-}
+pub use crate::plot::font::FONT_CANDIDATES;
+use crate::plot::font::{font_available, FAMILY};
 
 /// One line of the plot.
 struct Line {

@@ -1,0 +1,159 @@
+//! Leading-wave energy against its peak bead with the fitted exponential (paper Sec. 5.2,
+//! Fig. 21): per frame, the leading wave of [`crate::analysis::track_leading`] (beads above 0.1 %
+//! of its peak `|v|`, energy eq. 13) gives a point `(peak bead, E_wave/E₀)` with `E₀` the total
+//! energy of the first frame; [`crate::analysis::fit_exponential`] fits `E = a e^{−γ i}` over
+//! the points with `from ≤ peak bead ≤ to`, drawn dashed with `γ ± s.e.` in the legend.
+
+use super::lines::{LineChart, Series, Style};
+use super::select::require_frames;
+use super::PlotError;
+use crate::analysis::{fit_exponential, track_leading, ExpFit, WaveOptions};
+use crate::snapshot::{Frame, Snapshot};
+
+/// What to draw.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnergyOptions {
+    /// Fit from this peak bead on [default: 20, or 0 for chains of at most 40 beads].
+    pub from: Option<usize>,
+    /// ... up to this peak bead [default: N − 10, or N − 1 for chains of at most 40 beads].
+    pub to: Option<usize>,
+    /// Logarithmic energy axis.
+    pub log: bool,
+    /// Image size in pixels.
+    pub size: (u32, u32),
+}
+
+impl Default for EnergyOptions {
+    fn default() -> Self {
+        Self {
+            from: None,
+            to: None,
+            log: false,
+            size: (900, 650),
+        }
+    }
+}
+
+/// The energy figure and its fit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnergyPlot {
+    /// The chart (points, fit line).
+    pub chart: LineChart,
+    /// The fit, or why there is none.
+    pub fit: Result<ExpFit, String>,
+    /// The fit range `(from, to)` in peak beads.
+    pub range: (usize, usize),
+}
+
+/// Builds the energy chart of `snap` (frames streamed one at a time).
+pub fn energy(snap: &Snapshot, opts: &EnergyOptions) -> Result<EnergyPlot, PlotError> {
+    require_frames(snap)?;
+    let chain = &snap.header().scene.chain;
+    let n = chain.len();
+    let small = n <= 40;
+    let from = opts.from.unwrap_or(if small { 0 } else { 20 });
+    let to = opts
+        .to
+        .unwrap_or(if small { n.saturating_sub(1) } else { n - 10 });
+    for (flag, b) in [("--from", from), ("--to", to)] {
+        if b >= n {
+            return Err(PlotError::Input(format!(
+                "{flag}: bead {b} is out of range (the chain has {n} beads, 0..={})",
+                n - 1
+            )));
+        }
+    }
+    if from > to {
+        return Err(PlotError::Input(format!(
+            "fit range --from {from} --to {to} is empty"
+        )));
+    }
+    let wave = WaveOptions::default();
+    let mut f = Frame::default();
+    let mut e0 = f64::NAN;
+    let mut pts = Vec::new();
+    for k in 0..snap.frame_count() {
+        snap.read_frame_into(k, &mut f)?;
+        if k == 0 {
+            e0 = chain.energy(&f.u, &f.v);
+        }
+        for p in track_leading(chain, std::iter::once((f.t, &f.u[..], &f.v[..])), &wave) {
+            pts.push((p.pulse.peak_bead as f64, p.energy / e0));
+        }
+    }
+    if !(e0 > 0.0 && e0.is_finite()) {
+        return Err(PlotError::Input(format!(
+            "{}: the first frame's energy is {e0}: nothing to normalise by",
+            snap.path().display()
+        )));
+    }
+    if pts.is_empty() {
+        return Err(PlotError::Input(format!(
+            "{}: no leading wave in any frame",
+            snap.path().display()
+        )));
+    }
+    let (fx, fe): (Vec<f64>, Vec<f64>) = pts
+        .iter()
+        .filter(|p| p.0 >= from as f64 && p.0 <= to as f64)
+        .copied()
+        .unzip();
+    let fit = fit_exponential(&fx, &fe).map_err(|e| e.to_string());
+    let mut series = vec![Series {
+        name: "leading wave (one point per frame)".into(),
+        points: pts,
+        style: Style::Markers,
+    }];
+    if let Ok(fit) = &fit {
+        let (x0, x1) = (
+            fx.iter().cloned().fold(f64::INFINITY, f64::min),
+            fx.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+        );
+        let curve = (0..=100)
+            .map(|j| {
+                let x = x0 + (x1 - x0) * j as f64 / 100.0;
+                (x, fit.a * (-fit.gamma * x).exp())
+            })
+            .collect();
+        series.push(Series {
+            name: format!(
+                "fit beads {from}..{to}: γ = {:.4e} ± {:.2e} ({} points)",
+                fit.gamma, fit.gamma_stderr, fit.n
+            ),
+            points: curve,
+            style: Style::Fit,
+        });
+    }
+    Ok(EnergyPlot {
+        chart: LineChart {
+            title: format!(
+                "{}: leading-wave energy, E = a exp(-γ i)",
+                snap.header().scene.name
+            ),
+            x_desc: "peak bead i of the leading wave".into(),
+            y_desc: "E_wave / E_0".into(),
+            series,
+            log_y: opts.log,
+            size: opts.size,
+        },
+        fit,
+        range: (from, to),
+    })
+}
+
+impl super::Figure for EnergyPlot {
+    fn size(&self) -> (u32, u32) {
+        self.chart.size
+    }
+
+    fn draw<DB: plotters::prelude::DrawingBackend>(
+        &self,
+        root: &plotters::prelude::DrawingArea<DB, plotters::coord::Shift>,
+        text: bool,
+    ) -> Result<(), String>
+    where
+        DB::ErrorType: 'static,
+    {
+        self.chart.draw(root, text)
+    }
+}

@@ -1,0 +1,185 @@
+//! A plain x–y chart of lines and markers with a legend: the figure behind [`super::profile`],
+//! [`super::trace`] and [`super::energy`]. A logarithmic y axis is drawn by plotting `log₁₀ y`
+//! and labelling the ticks with `10^y` (non-positive values are left out).
+
+use super::layout::{num_label, Layout};
+use super::{de, font::FAMILY, Figure};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Style {
+    /// Joined by a line.
+    Line,
+    /// Separate circles.
+    Markers,
+    /// A dashed black line (fits).
+    Fit,
+}
+
+/// One series.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Series {
+    /// Legend text.
+    pub name: String,
+    /// Points, in drawing order.
+    pub points: Vec<(f64, f64)>,
+    /// Drawing style.
+    pub style: Style,
+}
+
+/// A chart of several series.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LineChart {
+    /// Title.
+    pub title: String,
+    /// x axis description.
+    pub x_desc: String,
+    /// y axis description.
+    pub y_desc: String,
+    /// The series (colours by position).
+    pub series: Vec<Series>,
+    /// Logarithmic y axis.
+    pub log_y: bool,
+    /// Image size.
+    pub size: (u32, u32),
+}
+
+impl LineChart {
+    /// The y value as plotted (log₁₀ on a log axis; `None` when not drawable).
+    fn ty(&self, y: f64) -> Option<f64> {
+        if !y.is_finite() {
+            None
+        } else if self.log_y {
+            (y > 0.0).then(|| y.log10())
+        } else {
+            Some(y)
+        }
+    }
+
+    /// Points of a series as plotted.
+    fn plotted(&self, s: &Series) -> Vec<(f64, f64)> {
+        s.points
+            .iter()
+            .filter(|p| p.0.is_finite())
+            .filter_map(|&(x, y)| self.ty(y).map(|y| (x, y)))
+            .collect()
+    }
+
+    /// Axis ranges with a 5 % margin (unit ranges around a single value).
+    fn ranges(&self) -> ((f64, f64), (f64, f64)) {
+        let (mut x0, mut x1, mut y0, mut y1) = (
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        );
+        for s in &self.series {
+            for (x, y) in self.plotted(s) {
+                x0 = x0.min(x);
+                x1 = x1.max(x);
+                y0 = y0.min(y);
+                y1 = y1.max(y);
+            }
+        }
+        let pad = |lo: f64, hi: f64, frac: f64| {
+            if !lo.is_finite() {
+                (0.0, 1.0)
+            } else if hi <= lo {
+                let d = if lo == 0.0 { 1.0 } else { lo.abs() * 0.1 };
+                (lo - d, hi + d)
+            } else {
+                let d = (hi - lo) * frac;
+                (lo - d, hi + d)
+            }
+        };
+        (pad(x0, x1, 0.02), pad(y0, y1, 0.06))
+    }
+}
+
+impl Figure for LineChart {
+    fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        text: bool,
+    ) -> Result<(), String>
+    where
+        DB::ErrorType: 'static,
+    {
+        root.fill(&WHITE).map_err(de)?;
+        let lay = Layout::new(self.size, false);
+        let ((x0, x1), (y0, y1)) = self.ranges();
+        let mut chart = lay
+            .chart(root)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(de)?;
+        let log = self.log_y;
+        let mut mesh = chart.configure_mesh();
+        mesh.light_line_style(RGBColor(235, 235, 235));
+        let yfmt = move |y: &f64| {
+            if log {
+                num_label(10f64.powf(*y))
+            } else {
+                num_label(*y)
+            }
+        };
+        if text {
+            mesh.x_desc(self.x_desc.as_str())
+                .y_desc(self.y_desc.as_str())
+                .x_label_formatter(&|x| num_label(*x))
+                .y_label_formatter(&yfmt)
+                .label_style((FAMILY, 14))
+                .axis_desc_style((FAMILY, 16));
+        } else {
+            mesh.x_labels(0).y_labels(0);
+        }
+        mesh.draw().map_err(de)?;
+        for (k, s) in self.series.iter().enumerate() {
+            let pts = self.plotted(s);
+            let (color, series) = match s.style {
+                Style::Line => {
+                    let c = Palette99::pick(k).to_rgba();
+                    let a = chart
+                        .draw_series(LineSeries::new(pts, c.stroke_width(2)))
+                        .map_err(de)?;
+                    (c, a)
+                }
+                Style::Markers => {
+                    let c = Palette99::pick(k).to_rgba();
+                    let a = chart
+                        .draw_series(pts.into_iter().map(|p| Circle::new(p, 3, c.filled())))
+                        .map_err(de)?;
+                    (c, a)
+                }
+                Style::Fit => {
+                    let c = BLACK.to_rgba();
+                    let a = chart
+                        .draw_series(DashedLineSeries::new(pts, 8, 5, c.stroke_width(2)))
+                        .map_err(de)?;
+                    (c, a)
+                }
+            };
+            if text {
+                series.label(s.name.clone()).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+            }
+        }
+        if text && !self.series.is_empty() {
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .label_font((FAMILY, 14))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .draw()
+                .map_err(de)?;
+        }
+        lay.title(root, &self.title, text)
+    }
+}

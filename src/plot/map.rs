@@ -1,0 +1,319 @@
+//! 2-D parameter maps from a CSV (paper Fig. 16: reflected energy over `(n1, n2)`; Fig. 25:
+//! the transition contour): a heatmap on the grid of distinct `x` and `y` values (cells centred
+//! on the values themselves, edges halfway between neighbours, so uneven spacing is kept), the
+//! sequential colour map with a colour bar, and an optional level line ([`super::contour`]).
+//!
+//! Rows whose `z` is empty or not a number (or not positive with `--log-z`) are skipped with a
+//! warning naming the line; rows sharing `(x, y)` are averaged (with a warning); grid points
+//! without a row are drawn white. With `--log-z`, colours and the contour use `log₁₀ z`.
+
+use super::colormap::sequential;
+use super::contour::{marching_squares, Segment};
+use super::csvtable::Table;
+use super::layout::{num_label, Layout};
+use super::{de, font::FAMILY, Figure, PlotError};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+
+/// What to draw.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapOptions {
+    /// x column.
+    pub x: String,
+    /// y column.
+    pub y: String,
+    /// Colour (z) column.
+    pub z: String,
+    /// Colour by `log₁₀ z`.
+    pub log_z: bool,
+    /// Draw the level line `z = level`.
+    pub contour: Option<f64>,
+    /// Image size in pixels.
+    pub size: (u32, u32),
+}
+
+/// A gridded map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Map {
+    /// Title.
+    pub title: String,
+    /// Column names `(x, y, z)`.
+    pub names: (String, String, String),
+    /// Distinct x values, ascending.
+    pub xs: Vec<f64>,
+    /// Distinct y values, ascending.
+    pub ys: Vec<f64>,
+    /// Values as coloured (`z` or `log₁₀ z`), row-major `[j·nx + i]`, NaN = no data.
+    pub z: Vec<f64>,
+    /// Log colouring.
+    pub log_z: bool,
+    /// The level and its line segments.
+    pub contour: Option<(f64, Vec<Segment>)>,
+    /// Rows skipped or merged, one line each.
+    pub warnings: Vec<String>,
+    /// Image size.
+    pub size: (u32, u32),
+}
+
+/// Sorted distinct values.
+fn distinct(v: impl Iterator<Item = f64>) -> Vec<f64> {
+    let mut d: Vec<f64> = v.collect();
+    d.sort_by(f64::total_cmp);
+    d.dedup();
+    d
+}
+
+impl Map {
+    /// Reads `path` and grids the chosen columns.
+    pub fn from_csv(path: &Path, opts: &MapOptions) -> Result<Map, PlotError> {
+        let table = Table::read(path)?;
+        let (ix, iy, iz) = (
+            table.column(&opts.x, path)?,
+            table.column(&opts.y, path)?,
+            table.column(&opts.z, path)?,
+        );
+        let mut warnings = Vec::new();
+        let mut points = Vec::with_capacity(table.rows.len());
+        let field = |row: &[String], k: usize| row.get(k).map_or("", |s| s.as_str()).to_string();
+        for (line, row) in &table.rows {
+            let mut xy = [0.0; 2];
+            for (slot, (k, name)) in xy.iter_mut().zip([(ix, &opts.x), (iy, &opts.y)]) {
+                let s = field(row, k);
+                *slot = match s.parse::<f64>() {
+                    Ok(v) if v.is_finite() => v,
+                    _ => {
+                        return Err(PlotError::Csv {
+                            path: path.to_path_buf(),
+                            msg: format!("line {line}: column `{name}` is `{s}`, not a number"),
+                        })
+                    }
+                };
+            }
+            let s = field(row, iz);
+            match s.parse::<f64>() {
+                Ok(z) if z.is_finite() && (!opts.log_z || z > 0.0) => {
+                    points.push((xy[0], xy[1], z))
+                }
+                _ => warnings.push(format!(
+                    "{}: line {line}: skipped: column `{}` is `{s}`{}",
+                    path.display(),
+                    opts.z,
+                    if opts.log_z {
+                        ", not a positive number (--log-z)"
+                    } else {
+                        ", not a number"
+                    }
+                )),
+            }
+        }
+        let mut map = Map::from_points(&points, opts)?;
+        map.title = format!(
+            "{} over ({}, {}): {}",
+            opts.z,
+            opts.x,
+            opts.y,
+            path.file_name()
+                .map_or(String::new(), |f| f.to_string_lossy().into_owned())
+        );
+        warnings.append(&mut map.warnings);
+        map.warnings = warnings;
+        if map.xs.is_empty() {
+            return Err(PlotError::Csv {
+                path: path.to_path_buf(),
+                msg: format!("no row with a numeric `{}`", opts.z),
+            });
+        }
+        Ok(map)
+    }
+
+    /// Grids points `(x, y, z)` (z as given; `log₁₀` taken here with `log_z`).
+    pub fn from_points(points: &[(f64, f64, f64)], opts: &MapOptions) -> Result<Map, PlotError> {
+        let xs = distinct(points.iter().map(|p| p.0));
+        let ys = distinct(points.iter().map(|p| p.1));
+        let (nx, ny) = (xs.len(), ys.len());
+        let mut sum = vec![0.0; nx * ny];
+        let mut count = vec![0usize; nx * ny];
+        for &(x, y, z) in points {
+            // both found: the values came from these points
+            let i = xs.partition_point(|&v| v < x);
+            let j = ys.partition_point(|&v| v < y);
+            let z = if opts.log_z { z.log10() } else { z };
+            sum[j * nx + i] += z;
+            count[j * nx + i] += 1;
+        }
+        let mut warnings = Vec::new();
+        let z: Vec<f64> = sum
+            .iter()
+            .zip(&count)
+            .enumerate()
+            .map(|(k, (&s, &c))| {
+                if c > 1 {
+                    warnings.push(format!(
+                        "{} rows at ({} = {}, {} = {}): averaged",
+                        c,
+                        opts.x,
+                        xs[k % nx],
+                        opts.y,
+                        ys[k / nx]
+                    ));
+                }
+                if c == 0 {
+                    f64::NAN
+                } else {
+                    s / c as f64
+                }
+            })
+            .collect();
+        let contour = match opts.contour {
+            None => None,
+            Some(level) => {
+                let l = if opts.log_z {
+                    if level <= 0.0 {
+                        return Err(PlotError::Input(format!(
+                            "--contour {level}: must be positive with --log-z"
+                        )));
+                    }
+                    level.log10()
+                } else {
+                    level
+                };
+                Some((level, marching_squares(&xs, &ys, &z, l)))
+            }
+        };
+        Ok(Map {
+            title: format!("{} over ({}, {})", opts.z, opts.x, opts.y),
+            names: (opts.x.clone(), opts.y.clone(), opts.z.clone()),
+            xs,
+            ys,
+            z,
+            log_z: opts.log_z,
+            contour,
+            warnings,
+            size: opts.size,
+        })
+    }
+
+    /// Range of the finite values (a unit range around a single value).
+    fn zrange(&self) -> (f64, f64) {
+        let (lo, hi) = self
+            .z
+            .iter()
+            .filter(|v| v.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        if !lo.is_finite() {
+            (0.0, 1.0)
+        } else if hi <= lo {
+            (lo - 0.5, hi + 0.5)
+        } else {
+            (lo, hi)
+        }
+    }
+}
+
+/// Cell edges of sorted centres: halfway between neighbours, ends mirrored (±0.5 for one value).
+pub fn edges(c: &[f64]) -> Vec<f64> {
+    match c.len() {
+        0 => vec![],
+        1 => vec![c[0] - 0.5, c[0] + 0.5],
+        n => {
+            let mut e = Vec::with_capacity(n + 1);
+            e.push(c[0] - (c[1] - c[0]) / 2.0);
+            for k in 1..n {
+                e.push((c[k - 1] + c[k]) / 2.0);
+            }
+            e.push(c[n - 1] + (c[n - 1] - c[n - 2]) / 2.0);
+            e
+        }
+    }
+}
+
+impl Figure for Map {
+    fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        text: bool,
+    ) -> Result<(), String>
+    where
+        DB::ErrorType: 'static,
+    {
+        root.fill(&WHITE).map_err(de)?;
+        let lay = Layout::new(self.size, true);
+        let (ex, ey) = (edges(&self.xs), edges(&self.ys));
+        let (x0, x1) = (
+            ex.first().copied().unwrap_or(0.0),
+            ex.last().copied().unwrap_or(1.0),
+        );
+        let (y0, y1) = (
+            ey.first().copied().unwrap_or(0.0),
+            ey.last().copied().unwrap_or(1.0),
+        );
+        let mut chart = lay
+            .chart(root)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(de)?;
+        let (lo, hi) = self.zrange();
+        let nx = self.xs.len();
+        let cells = self.z.iter().enumerate().map(|(k, &v)| {
+            let (i, j) = (k % nx, k / nx);
+            let c = sequential((v - lo) / (hi - lo));
+            Rectangle::new([(ex[i], ey[j]), (ex[i + 1], ey[j + 1])], c.filled())
+        });
+        chart.draw_series(cells).map_err(de)?;
+        let mut mesh = chart.configure_mesh();
+        mesh.disable_mesh();
+        if text {
+            mesh.x_desc(self.names.0.as_str())
+                .y_desc(self.names.1.as_str())
+                .x_label_formatter(&|x| num_label(*x))
+                .y_label_formatter(&|y| num_label(*y))
+                .label_style((FAMILY, 14))
+                .axis_desc_style((FAMILY, 16));
+        } else {
+            mesh.x_labels(0).y_labels(0);
+        }
+        mesh.draw().map_err(de)?;
+        if let Some((level, segs)) = &self.contour {
+            let s = chart
+                .draw_series(
+                    segs.iter()
+                        .map(|s| PathElement::new(vec![s[0], s[1]], BLACK.stroke_width(3))),
+                )
+                .map_err(de)?;
+            if text {
+                s.label(format!("{} = {}", self.names.2, num_label(*level)))
+                    .legend(|(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(3))
+                    });
+                chart
+                    .configure_series_labels()
+                    .position(SeriesLabelPosition::UpperRight)
+                    .label_font((FAMILY, 14))
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(BLACK)
+                    .draw()
+                    .map_err(de)?;
+            }
+        }
+        lay.title(root, &self.title, text)?;
+        let ticks: Vec<(f64, String)> = (0..=4)
+            .map(|k| {
+                let s = k as f64 / 4.0;
+                let v = lo + s * (hi - lo);
+                (s, num_label(if self.log_z { 10f64.powf(v) } else { v }))
+            })
+            .collect();
+        let label = if self.log_z {
+            format!("{} (log)", self.names.2)
+        } else {
+            self.names.2.clone()
+        };
+        lay.colorbar(root, &sequential, &ticks, &label, text)
+    }
+}

@@ -1,0 +1,243 @@
+//! Selections in a snapshot: inclusive bead ranges `A:B`, time windows `T0:T1`, bead lists and
+//! frames nearest given times. Every error names the bead or time and the snapshot's extent.
+
+use super::PlotError;
+use crate::snapshot::Snapshot;
+use std::ops::Range;
+use std::str::FromStr;
+
+/// Inclusive bead range `A:B` (`A:` to the last bead, `:B` from bead 0, `:` or absent = all).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BeadRange {
+    /// First bead (default 0).
+    pub first: Option<usize>,
+    /// Last bead, inclusive (default N − 1).
+    pub last: Option<usize>,
+}
+
+/// Splits `A:B` into optional halves.
+fn halves(s: &str) -> Result<(Option<&str>, Option<&str>), String> {
+    let (a, b) = s
+        .split_once(':')
+        .ok_or_else(|| format!("`{s}` is not a range A:B"))?;
+    fn opt(x: &str) -> Option<&str> {
+        let x = x.trim();
+        (!x.is_empty()).then_some(x)
+    }
+    Ok((opt(a), opt(b)))
+}
+
+impl FromStr for BeadRange {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (a, b) = halves(s)?;
+        let bead = |x: &str| {
+            x.parse::<usize>()
+                .map_err(|_| format!("`{x}` in `{s}` is not a bead index"))
+        };
+        Ok(BeadRange {
+            first: a.map(bead).transpose()?,
+            last: b.map(bead).transpose()?,
+        })
+    }
+}
+
+impl BeadRange {
+    /// The inclusive range `(first, last)` in a chain of `n` beads; an empty range or a bead
+    /// beyond the chain is an error naming it.
+    pub fn resolve(&self, n: usize) -> Result<(usize, usize), PlotError> {
+        if n == 0 {
+            return Err(PlotError::Input("the snapshot has no beads".into()));
+        }
+        let a = self.first.unwrap_or(0);
+        let b = self.last.unwrap_or(n - 1);
+        for x in [a, b] {
+            if x >= n {
+                return Err(PlotError::Input(format!(
+                    "--beads: bead {x} is out of range (the chain has {n} beads, 0..={})",
+                    n - 1
+                )));
+            }
+        }
+        if a > b {
+            return Err(PlotError::Input(format!(
+                "--beads {a}:{b} is empty (the first bead is after the last)"
+            )));
+        }
+        Ok((a, b))
+    }
+}
+
+/// Time window `T0:T1` (either end optional), inclusive.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TimeRange {
+    /// Start (default: the first frame).
+    pub t0: Option<f64>,
+    /// End (default: the last frame).
+    pub t1: Option<f64>,
+}
+
+impl FromStr for TimeRange {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (a, b) = halves(s)?;
+        let time = |x: &str| match x.parse::<f64>() {
+            Ok(t) if t.is_finite() => Ok(t),
+            _ => Err(format!("`{x}` in `{s}` is not a finite time")),
+        };
+        Ok(TimeRange {
+            t0: a.map(time).transpose()?,
+            t1: b.map(time).transpose()?,
+        })
+    }
+}
+
+/// The run's time span as text, for messages.
+fn span(times: &[f64]) -> String {
+    match (times.first(), times.last()) {
+        (Some(a), Some(b)) => format!("frames at t = {a} .. {b}"),
+        _ => "no frames".into(),
+    }
+}
+
+/// Fails when the snapshot has no frame.
+pub fn require_frames(snap: &Snapshot) -> Result<(), PlotError> {
+    if snap.frame_count() == 0 {
+        return Err(PlotError::Input(format!(
+            "{}: the snapshot holds no frame",
+            snap.path().display()
+        )));
+    }
+    Ok(())
+}
+
+impl TimeRange {
+    /// Indices of the frames with `t0 ≤ t ≤ t1` (frame times ascending). A window outside the
+    /// run, reversed, or holding no frame is an error naming the times and the run's span.
+    pub fn frames(&self, times: &[f64]) -> Result<Range<usize>, PlotError> {
+        let (first, last) = match (times.first(), times.last()) {
+            (Some(&a), Some(&b)) => (a, b),
+            _ => return Err(PlotError::Input("the snapshot holds no frame".into())),
+        };
+        let t0 = self.t0.unwrap_or(first);
+        let t1 = self.t1.unwrap_or(last);
+        let text = format!(
+            "--t {}:{}",
+            self.t0.map_or(String::new(), |t| t.to_string()),
+            self.t1.map_or(String::new(), |t| t.to_string())
+        );
+        if t0 > t1 {
+            return Err(PlotError::Input(format!("{text} is empty (T0 > T1)")));
+        }
+        if t0 > last || t1 < first {
+            return Err(PlotError::Input(format!(
+                "{text} is outside the run ({})",
+                span(times)
+            )));
+        }
+        let lo = times.partition_point(|&t| t < t0);
+        let hi = times.partition_point(|&t| t <= t1);
+        if lo >= hi {
+            return Err(PlotError::Input(format!(
+                "{text} holds no frame ({})",
+                span(times)
+            )));
+        }
+        Ok(lo..hi)
+    }
+}
+
+/// Index of the frame nearest `t` (ties: the earlier); a time outside the run is an error.
+pub fn nearest_frame(times: &[f64], t: f64) -> Result<usize, PlotError> {
+    let (first, last) = match (times.first(), times.last()) {
+        (Some(&a), Some(&b)) => (a, b),
+        _ => return Err(PlotError::Input("the snapshot holds no frame".into())),
+    };
+    if !t.is_finite() || t < first || t > last {
+        return Err(PlotError::Input(format!(
+            "time {t} is outside the run ({})",
+            span(times)
+        )));
+    }
+    let k = times.partition_point(|&x| x < t);
+    if k == 0 {
+        return Ok(0);
+    }
+    if k >= times.len() {
+        return Ok(times.len() - 1);
+    }
+    Ok(if t - times[k - 1] <= times[k] - t {
+        k - 1
+    } else {
+        k
+    })
+}
+
+/// Checks a bead list against a chain of `n` beads.
+pub fn check_beads(beads: &[usize], n: usize) -> Result<(), PlotError> {
+    if beads.is_empty() {
+        return Err(PlotError::Input("--beads: no bead given".into()));
+    }
+    if let Some(&b) = beads.iter().find(|&&b| b >= n) {
+        return Err(PlotError::Input(format!(
+            "--beads: bead {b} is out of range (the chain has {n} beads, 0..={})",
+            n.saturating_sub(1)
+        )));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bead_ranges() {
+        let r: BeadRange = "3:7".parse().unwrap();
+        assert_eq!(r.resolve(10).unwrap(), (3, 7));
+        let r: BeadRange = "3:".parse().unwrap();
+        assert_eq!(r.resolve(10).unwrap(), (3, 9));
+        let r: BeadRange = ":".parse().unwrap();
+        assert_eq!(r.resolve(10).unwrap(), (0, 9));
+        let e = "3:12"
+            .parse::<BeadRange>()
+            .unwrap()
+            .resolve(10)
+            .unwrap_err();
+        assert!(e.to_string().contains("bead 12"), "{e}");
+        let e = "7:3".parse::<BeadRange>().unwrap().resolve(10).unwrap_err();
+        assert!(e.to_string().contains("empty"), "{e}");
+        assert!("x:3".parse::<BeadRange>().unwrap_err().contains("`x`"));
+        assert!("5".parse::<BeadRange>().is_err());
+    }
+
+    #[test]
+    fn time_windows_and_nearest() {
+        let times = [0.0, 1.0, 2.0, 3.0];
+        let w: TimeRange = "0.5:2".parse().unwrap();
+        assert_eq!(w.frames(&times).unwrap(), 1..3);
+        assert_eq!(TimeRange::default().frames(&times).unwrap(), 0..4);
+        let e = "5:6"
+            .parse::<TimeRange>()
+            .unwrap()
+            .frames(&times)
+            .unwrap_err();
+        assert!(e.to_string().contains("outside the run"), "{e}");
+        let e = "1.2:1.8"
+            .parse::<TimeRange>()
+            .unwrap()
+            .frames(&times)
+            .unwrap_err();
+        assert!(e.to_string().contains("no frame"), "{e}");
+        assert!("2:1".parse::<TimeRange>().unwrap().frames(&times).is_err());
+        assert_eq!(nearest_frame(&times, 1.4).unwrap(), 1);
+        assert_eq!(nearest_frame(&times, 1.6).unwrap(), 2);
+        assert_eq!(nearest_frame(&times, 3.0).unwrap(), 3);
+        assert!(nearest_frame(&times, 3.5).is_err());
+        assert!(nearest_frame(&times, -0.1).is_err());
+        assert!(check_beads(&[1, 12], 10)
+            .unwrap_err()
+            .to_string()
+            .contains("bead 12"));
+    }
+}

@@ -1,0 +1,319 @@
+//! Space–time velocity map (paper Figs. 3, 5, 10, 13): bead index on x, time on y (upwards), one
+//! cell per (bead, frame) coloured by the signed velocity with the diverging map of
+//! [`super::colormap`], normalised by the largest `|v|` of the selection.
+//!
+//! **Scales.** Linear: `s = v / max|v|`. Log: `s = sign(v) · (log₁₀(|v|/max|v|) + 4) / 4`,
+//! zero below `|v|/max|v| = 10⁻⁴` ([`LOG_FLOOR`]), so the paper's 0.1 % wave threshold (Sec. 3.2)
+//! is at `|s| = 1/4` and small reflected/secondary pulses stay visible.
+//!
+//! **Bounded memory.** Beads and frames are binned onto at most the plot area's pixels
+//! (`nx ≤ width`, `ny ≤ height`); each cell keeps the velocity of largest `|v|` among its beads
+//! and frames (a narrow pulse is never averaged away). Frames are streamed one at a time into a
+//! reused buffer, so memory is `O(nx·ny + N)` whatever the snapshot's size.
+
+use super::colormap::{diverging, NO_DATA};
+use super::layout::{num_label, Layout};
+use super::select::{require_frames, BeadRange, TimeRange};
+use super::{de, font::FAMILY, Figure, PlotError};
+use crate::snapshot::{Frame, Snapshot};
+use plotters::coord::Shift;
+use plotters::element::BitMapElement;
+use plotters::prelude::*;
+
+/// Smallest `|v|/max|v|` shown on the log scale.
+pub const LOG_FLOOR: f64 = 1e-4;
+
+/// Colour scale of the map.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Scale {
+    /// `v / max|v|`.
+    #[default]
+    Linear,
+    /// `sign(v) · log₁₀(|v|/max|v|)`, clipped at [`LOG_FLOOR`].
+    Log,
+}
+
+/// What to draw.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpacetimeOptions {
+    /// Beads (inclusive range; default all).
+    pub beads: BeadRange,
+    /// Time window (default the whole run).
+    pub t: TimeRange,
+    /// Colour scale.
+    pub scale: Scale,
+    /// Image size in pixels.
+    pub size: (u32, u32),
+}
+
+impl Default for SpacetimeOptions {
+    fn default() -> Self {
+        Self {
+            beads: BeadRange::default(),
+            t: TimeRange::default(),
+            scale: Scale::Linear,
+            size: (900, 700),
+        }
+    }
+}
+
+/// Cells along one axis: `n` bins whose centres run evenly from `lo` to `hi`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Axis {
+    /// Centre of the first cell.
+    pub lo: f64,
+    /// Centre of the last cell.
+    pub hi: f64,
+    /// Number of cells.
+    pub n: usize,
+}
+
+impl Axis {
+    /// The cell containing `x` (nearest centre, clamped).
+    pub fn bin(&self, x: f64) -> usize {
+        if self.n <= 1 || self.hi <= self.lo {
+            return 0;
+        }
+        let k = ((x - self.lo) / (self.hi - self.lo) * (self.n - 1) as f64).round();
+        if k.is_nan() || k < 0.0 {
+            0
+        } else {
+            (k as usize).min(self.n - 1)
+        }
+    }
+    /// Outer edges of the first and last cell.
+    pub fn edges(&self) -> (f64, f64) {
+        let h = if self.n > 1 && self.hi > self.lo {
+            (self.hi - self.lo) / (self.n - 1) as f64
+        } else {
+            1.0
+        };
+        (self.lo - h / 2.0, self.hi + h / 2.0)
+    }
+}
+
+/// A binned space–time velocity map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spacetime {
+    /// Title (scene name and scale).
+    pub title: String,
+    /// Bead axis (cell centres in bead indices).
+    pub x: Axis,
+    /// Time axis (cell centres in time).
+    pub y: Axis,
+    /// Signed velocity of largest `|v|` per cell, row-major, row 0 = earliest; NaN = no frame.
+    pub cells: Vec<f64>,
+    /// Largest `|v|` of the selection (the normalisation).
+    pub vmax: f64,
+    /// Colour scale.
+    pub scale: Scale,
+    /// Image size.
+    pub size: (u32, u32),
+}
+
+impl Spacetime {
+    /// Reads the selected beads and frames of `snap` into a map of at most the plot area's
+    /// pixels.
+    pub fn from_snapshot(snap: &Snapshot, opts: &SpacetimeOptions) -> Result<Self, PlotError> {
+        require_frames(snap)?;
+        let n = snap.header().n_beads as usize;
+        let (a, b) = opts.beads.resolve(n)?;
+        let times = snap.frame_times();
+        let frames = opts.t.frames(times)?;
+        let (_, _, pw, ph) = Layout::new(opts.size, true).plot_rect();
+        let nb = b - a + 1;
+        let nf = frames.len();
+        let x = Axis {
+            lo: a as f64,
+            hi: b as f64,
+            n: nb.min(pw as usize).max(1),
+        };
+        let y = Axis {
+            lo: times[frames.start],
+            hi: times[frames.end - 1],
+            n: nf.min(ph as usize).max(1),
+        };
+        // column of each bead, computed once
+        let col: Vec<usize> = (a..=b).map(|i| x.bin(i as f64)).collect();
+        let mut cells = vec![f64::NAN; x.n * y.n];
+        let mut vmax = 0.0f64;
+        let mut f = Frame::default();
+        for k in frames {
+            snap.read_frame_into(k, &mut f)?;
+            let row = y.bin(f.t);
+            let line = &mut cells[row * x.n..(row + 1) * x.n];
+            for (j, &v) in f.v[a..=b].iter().enumerate() {
+                let c = &mut line[col[j]];
+                if c.is_nan() || v.abs() > c.abs() {
+                    *c = v;
+                }
+                vmax = vmax.max(v.abs());
+            }
+        }
+        let name = &snap.header().scene.name;
+        Ok(Spacetime {
+            title: format!(
+                "{name}: velocity v(bead, t){}",
+                if opts.scale == Scale::Log {
+                    ", log scale"
+                } else {
+                    ""
+                }
+            ),
+            x,
+            y,
+            cells,
+            vmax,
+            scale: opts.scale,
+            size: opts.size,
+        })
+    }
+
+    /// The normalised value `s ∈ [−1, 1]` of a velocity (see the module docs).
+    pub fn normalise(&self, v: f64) -> f64 {
+        if v.is_nan() {
+            return f64::NAN;
+        }
+        if self.vmax <= 0.0 {
+            return 0.0;
+        }
+        let r = v / self.vmax;
+        match self.scale {
+            Scale::Linear => r.clamp(-1.0, 1.0),
+            Scale::Log => {
+                let a = r.abs();
+                if a < LOG_FLOOR {
+                    0.0
+                } else {
+                    r.signum() * ((a.log10() - LOG_FLOOR.log10()) / -LOG_FLOOR.log10()).min(1.0)
+                }
+            }
+        }
+    }
+
+    /// The cell value (signed velocity) at bead `bead` and time `t`.
+    pub fn cell(&self, bead: f64, t: f64) -> f64 {
+        self.cells[self.y.bin(t) * self.x.n + self.x.bin(bead)]
+    }
+
+    /// Figure layout.
+    pub fn layout(&self) -> Layout {
+        Layout::new(self.size, true)
+    }
+
+    /// Pixel `(px, py)` of the image at bead `bead` and time `t` (inside the plot area).
+    pub fn pixel(&self, bead: f64, t: f64) -> (u32, u32) {
+        let (x0, y0, pw, ph) = self.layout().plot_rect();
+        let (ex0, ex1) = self.x.edges();
+        let (ey0, ey1) = self.y.edges();
+        let fx = ((bead - ex0) / (ex1 - ex0)).clamp(0.0, 1.0);
+        let fy = ((ey1 - t) / (ey1 - ey0)).clamp(0.0, 1.0);
+        let px = (fx * pw as f64).floor().min(pw as f64 - 1.0) as u32;
+        let py = (fy * ph as f64).floor().min(ph as f64 - 1.0) as u32;
+        (x0 as u32 + px, y0 as u32 + py)
+    }
+
+    /// The plot area as RGB pixels (`pw × ph`), nearest cell per pixel centre.
+    fn raster(&self, pw: u32, ph: u32) -> Vec<u8> {
+        let (ex0, ex1) = self.x.edges();
+        let (ey0, ey1) = self.y.edges();
+        let cols: Vec<usize> = (0..pw)
+            .map(|p| self.x.bin(ex0 + (p as f64 + 0.5) / pw as f64 * (ex1 - ex0)))
+            .collect();
+        let mut buf = vec![0u8; (pw * ph) as usize * 3];
+        for py in 0..ph {
+            let t = ey1 - (py as f64 + 0.5) / ph as f64 * (ey1 - ey0);
+            let row = self.y.bin(t);
+            let line = &self.cells[row * self.x.n..(row + 1) * self.x.n];
+            for (px, &c) in cols.iter().enumerate() {
+                let v = line[c];
+                let col = if v.is_nan() {
+                    NO_DATA
+                } else {
+                    diverging(self.normalise(v))
+                };
+                let k = (py as usize * pw as usize + px) * 3;
+                buf[k..k + 3].copy_from_slice(&[col.0, col.1, col.2]);
+            }
+        }
+        buf
+    }
+
+    /// Colour-bar ticks `(s ∈ [0, 1], label)`.
+    fn ticks(&self) -> Vec<(f64, String)> {
+        let pos = |s: f64| (s + 1.0) / 2.0;
+        match self.scale {
+            Scale::Linear => [-1.0, -0.5, 0.0, 0.5, 1.0]
+                .iter()
+                .map(|&s| (pos(s), num_label(s * self.vmax)))
+                .collect(),
+            Scale::Log => {
+                // |v|/max|v| = 1, 0.1, 0.01, 0.001 (the 0.1 % wave threshold); 1e-4 maps to 0
+                let mut t = vec![(0.5, "0".to_string())];
+                for k in 0..=3 {
+                    let s = (4 - k) as f64 / 4.0;
+                    let v = self.vmax * 10f64.powi(-k);
+                    t.push((pos(s), num_label(v)));
+                    t.push((pos(-s), num_label(-v)));
+                }
+                t
+            }
+        }
+    }
+}
+
+impl Figure for Spacetime {
+    fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        text: bool,
+    ) -> Result<(), String>
+    where
+        DB::ErrorType: 'static,
+    {
+        root.fill(&WHITE).map_err(de)?;
+        let lay = self.layout();
+        let (x0, y0, pw, ph) = lay.plot_rect();
+        let (ex0, ex1) = self.x.edges();
+        let (ey0, ey1) = self.y.edges();
+        let mut chart = lay
+            .chart(root)
+            .build_cartesian_2d(ex0..ex1, ey0..ey1)
+            .map_err(de)?;
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        lay.check(xr, yr)?;
+        if let Some(el) = BitMapElement::with_owned_buffer((x0, y0), (pw, ph), self.raster(pw, ph))
+        {
+            root.draw(&el).map_err(de)?;
+        }
+        let mut mesh = chart.configure_mesh();
+        mesh.disable_mesh();
+        if text {
+            mesh.x_desc("bead index i")
+                .y_desc("time t")
+                .x_label_formatter(&|x| num_label(*x))
+                .y_label_formatter(&|y| num_label(*y))
+                .label_style((FAMILY, 14))
+                .axis_desc_style((FAMILY, 16));
+        } else {
+            mesh.x_labels(0).y_labels(0);
+        }
+        mesh.draw().map_err(de)?;
+        lay.title(root, &self.title, text)?;
+        let label = match self.scale {
+            Scale::Linear => "v",
+            Scale::Log => "v (log |v|)",
+        };
+        lay.colorbar(
+            root,
+            &|s| diverging(2.0 * s - 1.0),
+            &self.ticks(),
+            label,
+            text,
+        )
+    }
+}

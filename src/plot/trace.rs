@@ -1,0 +1,56 @@
+//! Velocity traces `v_i(t)` of chosen beads (paper Figs. 10–13, bottom panels: beads 71–74).
+
+use super::layout::Layout;
+use super::lines::{LineChart, Series, Style};
+use super::select::{check_beads, require_frames, TimeRange};
+use super::{decimate, PlotError};
+use crate::snapshot::{Frame, Snapshot};
+
+/// What to draw.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TraceOptions {
+    /// Beads, one line each.
+    pub beads: Vec<usize>,
+    /// Time window (default the whole run).
+    pub t: TimeRange,
+    /// Image size in pixels.
+    pub size: (u32, u32),
+}
+
+/// Trace figure: a [`LineChart`] of `v` against time.
+pub type Trace = LineChart;
+
+/// Builds the trace chart of `snap` (streams the frames; memory grows with frames × beads
+/// chosen, not with the chain).
+pub fn trace(snap: &Snapshot, opts: &TraceOptions) -> Result<Trace, PlotError> {
+    require_frames(snap)?;
+    let n = snap.header().n_beads as usize;
+    check_beads(&opts.beads, n)?;
+    let frames = opts.t.frames(snap.frame_times())?;
+    let mut pts: Vec<Vec<(f64, f64)>> = vec![Vec::with_capacity(frames.len()); opts.beads.len()];
+    let mut f = Frame::default();
+    for k in frames {
+        snap.read_frame_into(k, &mut f)?;
+        for (p, &i) in pts.iter_mut().zip(&opts.beads) {
+            p.push((f.t, f.v[i]));
+        }
+    }
+    let (_, _, pw, _) = Layout::new(opts.size, false).plot_rect();
+    let series = pts
+        .iter()
+        .zip(&opts.beads)
+        .map(|(p, i)| Series {
+            name: format!("bead {i}"),
+            points: decimate(p, pw as usize),
+            style: Style::Line,
+        })
+        .collect();
+    Ok(LineChart {
+        title: format!("{}: bead velocities", snap.header().scene.name),
+        x_desc: "time".into(),
+        y_desc: "velocity v".into(),
+        series,
+        log_y: false,
+        size: opts.size,
+    })
+}
