@@ -3,6 +3,7 @@
 //! `beadchain::analysis::paper`.
 //!
 //! `cargo bench --bench paper_validation -- [interface|grid|impurity|periodic|disorder [N]|all]`
+//! and part B (`benches/paper_b.rs`): `periodic4|pairwise|breathing|transfer|composite`
 //! (a plain program kept under `benches/`: it is a long measurement, not a test).
 
 use beadchain::analysis::least_squares;
@@ -11,6 +12,9 @@ use beadchain::analysis::paper::{
     reflection_grid, PaperError, RunInfo,
 };
 use std::time::Instant;
+
+#[path = "paper_b.rs"]
+mod paper_b;
 
 fn note(info: &RunInfo) -> String {
     match &info.hybrid_failure {
@@ -183,6 +187,13 @@ fn main() -> Result<(), PaperError> {
     }
     let what = args.first().cloned().unwrap_or_else(|| "all".into());
     let beads: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(300);
+    if let Some(res) = paper_b::dispatch(&what) {
+        if let Err(e) = res {
+            eprintln!("paper_validation {what}: {e}");
+            std::process::exit(1);
+        }
+        return Ok(());
+    }
     let all = what == "all";
     if all || what == "interface" {
         interfaces()?;

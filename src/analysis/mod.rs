@@ -6,6 +6,10 @@
 //!   `|v_out/v_in|` (Sec. 5.1, Fig. 18).
 //! - [`fit`]: least-squares exponential decay `E(x) = a e^{−γx}` (Sec. 5.2, eq. 20 ff.) and
 //!   ordinary multilinear least squares (the Table 2 fit, eq. 21).
+//! - [`window`], [`periodic`]: windowed wave energy behind the front and the periodic-chain
+//!   experiments built on it (Sec. 4, Figs. 10–14).
+//! - [`transfer`]: bead-to-bead energy transfer ratio in disordered chains (Sec. 5.2, Fig. 23).
+//! - [`composite`]: composite mass–exponent interfaces (Sec. 6, Fig. 25).
 //! - [`state`]: the steady-state criterion of appendix A (also as a run stop condition) and
 //!   fragmentation statistics (open gaps, fragments and their velocities).
 //!
@@ -16,12 +20,16 @@
 //! potential part of a wave (about 30-40 % of a solitary wave's energy at any instant), not the
 //! ratios once pulses are compared at like moments.
 
+pub mod composite;
 pub mod fit;
 pub mod interface;
 pub mod paper;
+pub mod periodic;
 pub mod quick;
 pub mod state;
+pub mod transfer;
 pub mod wave;
+pub mod window;
 
 pub use fit::{fit_exponential, least_squares, ExpFit, LinearFit};
 pub use interface::{energy_split, velocity_ratio, EnergySplit, VelocityRatio};
