@@ -15,3 +15,4 @@ pub mod linalg;
 pub mod model;
 pub mod scene;
 pub mod snapshot;
+pub mod sweep;

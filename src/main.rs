@@ -7,6 +7,7 @@
 mod cli;
 mod cli_analysis;
 mod cli_ckpt;
+mod cli_sweep;
 
 use clap::Parser;
 
