@@ -53,7 +53,10 @@ pub fn cmd_sweep(a: SweepArgs) -> Result<i32> {
         anyhow::bail!("--jobs 0: need at least one worker thread");
     }
     let out = a.out.clone().unwrap_or_else(|| {
-        let stem = a.file.file_stem().map_or("sweep".into(), |s| s.to_string_lossy());
+        let stem = a
+            .file
+            .file_stem()
+            .map_or("sweep".into(), |s| s.to_string_lossy());
         PathBuf::from(format!("{stem}.csv"))
     });
     let opts = SweepOptions {
@@ -67,7 +70,9 @@ pub fn cmd_sweep(a: SweepArgs) -> Result<i32> {
     if a.quiet || !std::io::stderr().is_terminal() {
         bar.set_draw_target(ProgressDrawTarget::hidden());
     }
-    if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} runs, {elapsed} (eta {eta})") {
+    if let Ok(style) =
+        ProgressStyle::with_template("{bar:40} {pos}/{len} runs, {elapsed} (eta {eta})")
+    {
         bar.set_style(style);
     }
     let progress = |done: usize, total: usize| {

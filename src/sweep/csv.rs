@@ -138,7 +138,10 @@ pub fn read_result(path: &Path, partial: bool) -> Result<ResultFile, SweepError>
             if partial {
                 lines.pop();
             } else {
-                return Err(bad(lines.len(), "last line is cut short (no newline)".into()));
+                return Err(bad(
+                    lines.len(),
+                    "last line is cut short (no newline)".into(),
+                ));
             }
         }
     }
@@ -160,7 +163,10 @@ pub fn read_result(path: &Path, partial: bool) -> Result<ResultFile, SweepError>
         let ln = i + 3;
         let f = split_fields(l).map_err(|m| bad(ln, m))?;
         if f.len() != ncol {
-            return Err(bad(ln, format!("{} fields, the header has {ncol}", f.len())));
+            return Err(bad(
+                ln,
+                format!("{} fields, the header has {ncol}", f.len()),
+            ));
         }
         let idx: usize = f[0]
             .parse()
@@ -224,7 +230,11 @@ pub struct MergeSummary {
 /// Joins shard result files into `out` (rows sorted by run, written atomically). The shards must
 /// carry the same spec line and columns and no run twice; runs of the sweep found in no shard are
 /// an error unless `allow_missing`.
-pub fn merge(out: &Path, shards: &[PathBuf], allow_missing: bool) -> Result<MergeSummary, SweepError> {
+pub fn merge(
+    out: &Path,
+    shards: &[PathBuf],
+    allow_missing: bool,
+) -> Result<MergeSummary, SweepError> {
     let first = shards
         .first()
         .ok_or_else(|| SweepError::Options("merge: no shard files given".into()))?;

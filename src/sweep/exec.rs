@@ -31,7 +31,9 @@ impl std::str::FromStr for Shard {
     type Err = SweepError;
     fn from_str(s: &str) -> Result<Self, SweepError> {
         let bad = |why: &str| SweepError::Options(format!("--shard {s}: {why}"));
-        let (k, m) = s.split_once('/').ok_or_else(|| bad("expected K/M, e.g. 3/8"))?;
+        let (k, m) = s
+            .split_once('/')
+            .ok_or_else(|| bad("expected K/M, e.g. 3/8"))?;
         let k: usize = k.trim().parse().map_err(|_| bad("K is not a number"))?;
         let m: usize = m.trim().parse().map_err(|_| bad("M is not a number"))?;
         if m == 0 || k == 0 || k > m {
@@ -80,7 +82,10 @@ pub struct SweepSummary {
 
 /// `OUT.partial`.
 pub fn partial_path(out: &Path) -> PathBuf {
-    let mut name = out.file_name().map(|s| s.to_os_string()).unwrap_or_default();
+    let mut name = out
+        .file_name()
+        .map(|s| s.to_os_string())
+        .unwrap_or_default();
     name.push(".partial");
     out.with_file_name(name)
 }
@@ -106,7 +111,12 @@ impl Observer for Capture<'_> {
                 self.events = Some(0);
             }
             EngineState::Hybrid(h) => {
-                let cl: u64 = h.clusters.iter().flatten().map(|c| c.integ.stats.steps).sum();
+                let cl: u64 = h
+                    .clusters
+                    .iter()
+                    .flatten()
+                    .map(|c| c.integ.stats.steps)
+                    .sum();
                 self.steps = Some(h.stats.steps + cl);
                 self.events = Some(h.counts.iter().sum());
             }
@@ -301,7 +311,10 @@ pub fn run_sweep(
     let resumed = done.len();
     // Rewrite the partial file cleanly (drops a line cut short), then append to it.
     csv::write_atomic(&partial, &csv::render(&spec_line, &columns, &done))?;
-    let mut pending: Vec<&RunPoint> = mine.iter().filter(|r| !done.contains_key(&r.index)).collect();
+    let mut pending: Vec<&RunPoint> = mine
+        .iter()
+        .filter(|r| !done.contains_key(&r.index))
+        .collect();
     if let Some(mx) = opts.max_runs {
         pending.truncate(mx);
     }
@@ -322,35 +335,38 @@ pub fn run_sweep(
     progress(resumed, n_mine);
     let result = pool.install(|| {
         use rayon::prelude::*;
-        pending.par_iter().try_for_each(|run| -> Result<(), SweepError> {
-            let t0 = Instant::now();
-            let res = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_one(spec, run)))
-                .unwrap_or_else(|p| {
-                    let msg = p
-                        .downcast_ref::<String>()
-                        .cloned()
-                        .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-                        .unwrap_or_default();
-                    Err(format!("panic: {msg}"))
-                });
-            let wall = opts.timing.then(|| t0.elapsed().as_secs_f64());
-            let row = format_row(spec, run, &res, wall);
-            let mut g = sink
-                .lock()
-                .map_err(|_| SweepError::Options("a worker thread failed".into()))?;
-            let (file, rows, count) = &mut *g;
-            file.write_all(format!("{row}\n").as_bytes())
-                .and_then(|_| file.flush())
-                .map_err(|e| SweepError::Io {
-                    file: partial.display().to_string(),
-                    action: "cannot append a row".into(),
-                    reason: e.to_string(),
-                })?;
-            rows.insert(run.index, row);
-            *count += 1;
-            progress(*count, n_mine);
-            Ok(())
-        })
+        pending
+            .par_iter()
+            .try_for_each(|run| -> Result<(), SweepError> {
+                let t0 = Instant::now();
+                let res =
+                    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_one(spec, run)))
+                        .unwrap_or_else(|p| {
+                            let msg = p
+                                .downcast_ref::<String>()
+                                .cloned()
+                                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                                .unwrap_or_default();
+                            Err(format!("panic: {msg}"))
+                        });
+                let wall = opts.timing.then(|| t0.elapsed().as_secs_f64());
+                let row = format_row(spec, run, &res, wall);
+                let mut g = sink
+                    .lock()
+                    .map_err(|_| SweepError::Options("a worker thread failed".into()))?;
+                let (file, rows, count) = &mut *g;
+                file.write_all(format!("{row}\n").as_bytes())
+                    .and_then(|_| file.flush())
+                    .map_err(|e| SweepError::Io {
+                        file: partial.display().to_string(),
+                        action: "cannot append a row".into(),
+                        reason: e.to_string(),
+                    })?;
+                rows.insert(run.index, row);
+                *count += 1;
+                progress(*count, n_mine);
+                Ok(())
+            })
     });
     result?;
     let (_, rows, _) = sink
@@ -410,16 +426,20 @@ fn check_partial(
     }
     let np = spec.param_columns().len();
     for (i, row) in &old.rows {
-        let Some(run) = mine.iter().find(|r| r.index == *i) else {
+        let Ok(pos) = mine.binary_search_by_key(i, |r| r.index) else {
             return Err(bad(0, format!("run {i} is not a run of this sweep/shard")));
         };
+        let run = &mine[pos];
         let fields = csv::split_fields(row).map_err(|m| bad(0, m))?;
         let expect = format_row(spec, run, &Err(String::new()), None);
         let expect = csv::split_fields(&expect).map_err(|m| bad(0, m))?;
         if fields[1..=np] != expect[1..=np] {
             return Err(bad(
                 0,
-                format!("run {i}: its parameters differ from this sweep's ({})", run.describe()),
+                format!(
+                    "run {i}: its parameters differ from this sweep's ({})",
+                    run.describe()
+                ),
             ));
         }
     }

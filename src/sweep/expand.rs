@@ -113,10 +113,21 @@ impl SweepSpec {
     pub fn run_table(&self, run: &RunPoint) -> Result<Table, SweepError> {
         let mut t = self.base.clone();
         for (k, v) in self.set.iter().chain(&run.params) {
-            set_key(&mut t, k, v.clone()).map_err(|m| SweepError::Key {
-                file: self.file.clone(),
-                key: format!("\"{k}\""),
-                message: format!("run {}: {m}", run.index),
+            set_key(&mut t, k, v.clone()).map_err(|m| {
+                let in_set = self.set.iter().any(|(s, _)| s == k);
+                SweepError::Key {
+                    file: self.file.clone(),
+                    key: if in_set {
+                        format!("[set].\"{k}\"")
+                    } else {
+                        format!("\"{k}\"")
+                    },
+                    message: if in_set {
+                        m
+                    } else {
+                        format!("run {} ({}): {m}", run.index, run.describe())
+                    },
+                }
             })?;
         }
         Ok(t)
@@ -129,7 +140,7 @@ impl SweepSpec {
             file: self.file.clone(),
             run: run.index,
             params: run.describe(),
-            source,
+            source: Box::new(source),
         };
         let text = toml::to_string(&t).map_err(|e| SweepError::Key {
             file: self.file.clone(),
@@ -138,7 +149,7 @@ impl SweepSpec {
         })?;
         let origin = format!("scene {}", self.scene_spec);
         let mut s = scene::parse_str(&text, &self.base_dir, &origin).map_err(serr)?;
-        if !t.get("scene").and_then(|s| s.get("name")).is_some() {
+        if t.get("scene").and_then(|s| s.get("name")).is_none() {
             s.name = self.scene_spec.clone();
         }
         Ok(s)
@@ -207,9 +218,7 @@ impl SweepSpec {
 /// and numeric parts index arrays.
 pub fn set_key(root: &mut Table, key: &str, value: Value) -> Result<(), String> {
     let parts: Vec<&str> = key.split('.').collect();
-    let (last, path) = parts
-        .split_last()
-        .ok_or_else(|| "empty key".to_string())?;
+    let (last, path) = parts.split_last().ok_or_else(|| "empty key".to_string())?;
     let mut cur: &mut Value = root
         .entry(parts[0].to_string())
         .or_insert_with(|| Value::Table(Table::new()));
@@ -235,7 +244,12 @@ pub fn set_key(root: &mut Table, key: &str, value: Value) -> Result<(), String> 
     }
 }
 
-fn step<'a>(cur: &'a mut Value, p: &str, walked: &str, create: bool) -> Result<&'a mut Value, String> {
+fn step<'a>(
+    cur: &'a mut Value,
+    p: &str,
+    walked: &str,
+    create: bool,
+) -> Result<&'a mut Value, String> {
     match cur {
         Value::Table(t) => {
             if create {
@@ -250,9 +264,8 @@ fn step<'a>(cur: &'a mut Value, p: &str, walked: &str, create: bool) -> Result<&
             let i: usize = p
                 .parse()
                 .map_err(|_| format!("`{walked}` is an array: `{p}` must be an index"))?;
-            a.get_mut(i).ok_or_else(|| {
-                format!("`{walked}` has {len} entries, index {i} is out of range")
-            })
+            a.get_mut(i)
+                .ok_or_else(|| format!("`{walked}` has {len} entries, index {i} is out of range"))
         }
         other => Err(format!(
             "the base scene's `{walked}` is {}, not a table or array",

@@ -118,10 +118,10 @@ pub enum SweepError {
         /// The run's parameters, `key=value` comma-separated.
         params: String,
         /// The scene error.
-        source: SceneError,
+        source: Box<SceneError>,
     },
     /// A result file is malformed or does not belong to this sweep.
-    #[error("{file}:{line}: {message}")]
+    #[error("{file}{}: {message}", line_suffix(*.line))]
     Csv {
         /// The CSV file.
         file: String,
@@ -133,6 +133,15 @@ pub enum SweepError {
     /// Bad options (shard, jobs).
     #[error("{0}")]
     Options(String),
+}
+
+/// `:LINE`, or nothing for line 0 (the file as a whole).
+fn line_suffix(line: usize) -> String {
+    if line == 0 {
+        String::new()
+    } else {
+        format!(":{line}")
+    }
 }
 
 /// What `[measure]` asks for beyond the fixed columns.
@@ -248,9 +257,9 @@ impl SweepSpec {
             message,
         };
         let root: Table = toml::from_str(text).map_err(|e| {
-            let line = e
-                .span()
-                .map_or(0, |s| text[..s.start.min(text.len())].matches('\n').count() + 1);
+            let line = e.span().map_or(0, |s| {
+                text[..s.start.min(text.len())].matches('\n').count() + 1
+            });
             SweepError::Csv {
                 file: file.to_string(),
                 line,
@@ -274,7 +283,12 @@ impl SweepSpec {
                     format!("expected a preset name or file, got {}", type_name(v)),
                 ))
             }
-            None => return Err(key_err("scene", "missing (base scene: preset or file)".into())),
+            None => {
+                return Err(key_err(
+                    "scene",
+                    "missing (base scene: preset or file)".into(),
+                ))
+            }
         };
         let (base_text, base_dir) = base_scene(&scene_spec, dir)
             .map_err(|m| key_err("scene", format!("\"{scene_spec}\": {m}")))?;
