@@ -44,6 +44,10 @@ enum Cmd {
     Validate(crate::cli_analysis::ValidateArgs),
     /// Plots (PNG/SVG): spacetime, profile, trace, energy (of a snapshot); map (of a CSV).
     Plot(crate::cli_plot::PlotArgs),
+    /// Run a parameter sweep (grid/list over scene keys and seeds) in parallel into one CSV.
+    Sweep(crate::cli_sweep::SweepArgs),
+    /// Merge the result files of `sweep --shard K/M` runs into one CSV.
+    Merge(crate::cli_sweep::MergeArgs),
     /// Continue an interrupted run from its checkpoint into the same output file.
     Resume {
         /// Checkpoint file (`OUTPUT.ckpt`).
@@ -224,6 +228,8 @@ pub fn dispatch(cli: Cli) -> Result<i32> {
         } => cli_ckpt::cmd_resume(&file, until, checkpoint_every),
         Cmd::Accuracy(a) => cmd_accuracy(a),
         Cmd::Plot(a) => crate::cli_plot::cmd_plot(a),
+        Cmd::Sweep(a) => crate::cli_sweep::cmd_sweep(a),
+        Cmd::Merge(a) => crate::cli_sweep::cmd_merge(a),
         Cmd::Scenes => {
             for p in scene::presets() {
                 println!("{:<32} {}", p.name, p.description);

@@ -16,3 +16,4 @@ pub mod model;
 pub mod plot;
 pub mod scene;
 pub mod snapshot;
+pub mod sweep;

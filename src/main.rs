@@ -8,6 +8,7 @@ mod cli;
 mod cli_analysis;
 mod cli_ckpt;
 mod cli_plot;
+mod cli_sweep;
 
 use clap::Parser;
 

@@ -1,0 +1,303 @@
+//! Result files: the spec line and column header, row fields, reading a (possibly interrupted)
+//! result file, atomic writes, and merging shard files.
+//!
+//! Layout: line 1 `# beadchain sweep spec=HASH runs=N`, line 2 the column names, then one row per
+//! run (RFC 4180 quoting: a field with `,` or `"` is quoted, `"` doubled; no field holds a newline).
+
+use super::{SweepError, SweepSpec};
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// The first line of a result file (without newline).
+pub fn spec_line(hash: u64, runs: usize) -> String {
+    format!("# beadchain sweep spec={hash:016x} runs={runs}")
+}
+
+/// The fixed result columns after the parameters.
+pub const FIXED: &[&str] = &["status", "t_end", "energy_error", "steps", "events"];
+
+/// All column names of a sweep's result file.
+pub fn columns(spec: &SweepSpec, timing: bool) -> Vec<String> {
+    let mut c = vec!["run".to_string()];
+    c.extend(spec.param_columns());
+    c.extend(FIXED.iter().map(|s| s.to_string()));
+    let m = &spec.measure;
+    if m.interface.is_some() {
+        c.push("left_fraction".into());
+    }
+    if m.decay.is_some() {
+        c.push("gamma".into());
+        c.push("gamma_se".into());
+    }
+    if m.impurity.is_some() {
+        c.push("v_ratio".into());
+    }
+    if m.fragments.is_some() {
+        c.push("fragments".into());
+    }
+    if timing {
+        c.push("wall_seconds".into());
+    }
+    c
+}
+
+/// A CSV field, quoted when it holds `,` or `"`; control characters become spaces.
+pub fn field(s: &str) -> String {
+    let s: String = s
+        .chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect();
+    if s.contains(',') || s.contains('"') {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s
+    }
+}
+
+/// Splits one CSV line into fields (inverse of [`field`]).
+pub fn split_fields(line: &str) -> Result<Vec<String>, String> {
+    let mut out = Vec::new();
+    let mut cur = String::new();
+    let mut chars = line.chars().peekable();
+    let mut quoted = false;
+    let mut at_start = true;
+    while let Some(c) = chars.next() {
+        if quoted {
+            if c == '"' {
+                if chars.peek() == Some(&'"') {
+                    chars.next();
+                    cur.push('"');
+                } else {
+                    quoted = false;
+                }
+            } else {
+                cur.push(c);
+            }
+        } else if c == '"' && at_start {
+            quoted = true;
+            at_start = false;
+        } else if c == ',' {
+            out.push(std::mem::take(&mut cur));
+            at_start = true;
+        } else {
+            cur.push(c);
+            at_start = false;
+        }
+    }
+    if quoted {
+        return Err("unterminated quoted field".into());
+    }
+    out.push(cur);
+    Ok(out)
+}
+
+/// A result file read back: its two header lines and its rows by run index.
+#[derive(Clone, Debug, Default)]
+pub struct ResultFile {
+    /// Line 1 (`# beadchain sweep ...`).
+    pub spec_line: String,
+    /// Line 2 (column names).
+    pub columns: String,
+    /// Rows (without newline) by run index.
+    pub rows: BTreeMap<usize, String>,
+}
+
+impl ResultFile {
+    /// The total number of runs of the sweep, from the spec line.
+    pub fn total_runs(&self) -> Option<usize> {
+        self.spec_line
+            .rsplit("runs=")
+            .next()
+            .and_then(|s| s.trim().parse().ok())
+    }
+}
+
+fn io_err(path: &Path, action: &str, e: std::io::Error) -> SweepError {
+    SweepError::Io {
+        file: path.display().to_string(),
+        action: action.to_string(),
+        reason: e.to_string(),
+    }
+}
+
+/// Reads a result file. With `partial`, a last line without newline (a write cut short) is
+/// dropped; otherwise it is an error. Each row must have as many fields as there are columns and
+/// a run index not seen before.
+pub fn read_result(path: &Path, partial: bool) -> Result<ResultFile, SweepError> {
+    let text = std::fs::read_to_string(path).map_err(|e| io_err(path, "cannot read", e))?;
+    let file = path.display().to_string();
+    let bad = |line: usize, message: String| SweepError::Csv {
+        file: file.clone(),
+        line,
+        message,
+    };
+    let mut lines: Vec<&str> = text.split_inclusive('\n').collect();
+    if let Some(last) = lines.last() {
+        if !last.ends_with('\n') {
+            if partial {
+                lines.pop();
+            } else {
+                return Err(bad(
+                    lines.len(),
+                    "last line is cut short (no newline)".into(),
+                ));
+            }
+        }
+    }
+    let mut lines = lines.into_iter().map(|l| l.trim_end_matches(['\n', '\r']));
+    let spec_line = lines.next().unwrap_or("").to_string();
+    if !spec_line.starts_with("# beadchain sweep spec=") {
+        return Err(bad(
+            1,
+            "not a beadchain sweep result (expected `# beadchain sweep spec=...`)".into(),
+        ));
+    }
+    let columns = lines
+        .next()
+        .ok_or_else(|| bad(2, "missing the column header".into()))?
+        .to_string();
+    let ncol = split_fields(&columns).map_err(|m| bad(2, m))?.len();
+    let mut rows = BTreeMap::new();
+    for (i, l) in lines.enumerate() {
+        let ln = i + 3;
+        let f = split_fields(l).map_err(|m| bad(ln, m))?;
+        if f.len() != ncol {
+            return Err(bad(
+                ln,
+                format!("{} fields, the header has {ncol}", f.len()),
+            ));
+        }
+        let idx: usize = f[0]
+            .parse()
+            .map_err(|_| bad(ln, format!("run index `{}` is not a number", f[0])))?;
+        if rows.insert(idx, l.to_string()).is_some() {
+            return Err(bad(ln, format!("run {idx} appears twice")));
+        }
+    }
+    Ok(ResultFile {
+        spec_line,
+        columns,
+        rows,
+    })
+}
+
+/// The whole file: header lines and the rows in run order.
+pub fn render(spec_line: &str, columns: &str, rows: &BTreeMap<usize, String>) -> String {
+    let mut s = String::with_capacity(64 * (rows.len() + 2));
+    s.push_str(spec_line);
+    s.push('\n');
+    s.push_str(columns);
+    s.push('\n');
+    for r in rows.values() {
+        s.push_str(r);
+        s.push('\n');
+    }
+    s
+}
+
+/// Writes `content` to `path` through a temporary sibling file and a rename (never a half-written
+/// file under `path`).
+pub fn write_atomic(path: &Path, content: &str) -> Result<(), SweepError> {
+    let mut name = path
+        .file_name()
+        .map(|s| s.to_os_string())
+        .unwrap_or_default();
+    name.push(format!(".tmp{}", std::process::id()));
+    let tmp: PathBuf = path.with_file_name(name);
+    let res = (|| -> std::io::Result<()> {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(content.as_bytes())?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if let Err(e) = res {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(io_err(path, "cannot write", e));
+    }
+    Ok(())
+}
+
+/// What [`merge`] did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MergeSummary {
+    /// Rows written.
+    pub rows: usize,
+    /// Run indices of the sweep found in no shard.
+    pub missing: Vec<usize>,
+}
+
+/// Joins shard result files into `out` (rows sorted by run, written atomically). The shards must
+/// carry the same spec line and columns and no run twice; runs of the sweep found in no shard are
+/// an error unless `allow_missing`.
+pub fn merge(
+    out: &Path,
+    shards: &[PathBuf],
+    allow_missing: bool,
+) -> Result<MergeSummary, SweepError> {
+    let first = shards
+        .first()
+        .ok_or_else(|| SweepError::Options("merge: no shard files given".into()))?;
+    let head = read_result(first, false)?;
+    let mut rows: BTreeMap<usize, String> = BTreeMap::new();
+    let mut from: BTreeMap<usize, &Path> = BTreeMap::new();
+    for s in shards {
+        let r = read_result(s, false)?;
+        let mismatch = |what: &str| SweepError::Csv {
+            file: s.display().to_string(),
+            line: if what == "spec line" { 1 } else { 2 },
+            message: format!(
+                "its {what} differs from {}'s: the shards come from different sweeps",
+                first.display()
+            ),
+        };
+        if r.spec_line != head.spec_line {
+            return Err(mismatch("spec line"));
+        }
+        if r.columns != head.columns {
+            return Err(mismatch("column header"));
+        }
+        for (i, row) in r.rows {
+            if let Some(prev) = from.get(&i) {
+                return Err(SweepError::Csv {
+                    file: s.display().to_string(),
+                    line: 0,
+                    message: format!("run {i} is also in {}", prev.display()),
+                });
+            }
+            from.insert(i, s);
+            rows.insert(i, row);
+        }
+    }
+    let total = head.total_runs().ok_or_else(|| SweepError::Csv {
+        file: first.display().to_string(),
+        line: 1,
+        message: "no `runs=N` in the spec line".into(),
+    })?;
+    if let Some((&i, _)) = rows.range(total..).next() {
+        return Err(SweepError::Csv {
+            file: from[&i].display().to_string(),
+            line: 0,
+            message: format!("run {i} is beyond the sweep's {total} runs"),
+        });
+    }
+    let missing: Vec<usize> = (0..total).filter(|i| !rows.contains_key(i)).collect();
+    if !missing.is_empty() && !allow_missing {
+        let shown: Vec<String> = missing.iter().take(20).map(|i| i.to_string()).collect();
+        return Err(SweepError::Csv {
+            file: out.display().to_string(),
+            line: 0,
+            message: format!(
+                "{} of {total} runs are in no shard: {}{} (use --allow-missing to merge anyway)",
+                missing.len(),
+                shown.join(", "),
+                if missing.len() > 20 { ", ..." } else { "" }
+            ),
+        });
+    }
+    write_atomic(out, &render(&head.spec_line, &head.columns, &rows))?;
+    Ok(MergeSummary {
+        rows: rows.len(),
+        missing,
+    })
+}

@@ -1,0 +1,447 @@
+//! Running a sweep: the runs of a shard in parallel (rayon), each measured on the fly and turned
+//! into one CSV row, appended to `OUT.partial` as it finishes; the sorted `OUT` at the end.
+//!
+//! Each run uses the scene's own engine settings ([`RunConfig::from_scene`]) under a
+//! [`Watch`] (leading-wave track, incoming/reflected peak velocities; stop at bead `N − margin`,
+//! as `analysis::paper::run_watched`), optionally wrapped in [`SteadyStateStop`] (appendix A). A
+//! stopped run reports the counters of the engine state handed to the observer at the stop.
+
+use super::csv::{self, field, ResultFile};
+use super::expand::{format_value, RunPoint};
+use super::{SweepError, SweepSpec};
+use crate::analysis::paper::Watch;
+use crate::analysis::{energy_split, fit_exponential, fragmentation, SteadyStateStop};
+use crate::engine::{self, Control, EngineError, EngineState, Observer, RunConfig};
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::time::Instant;
+
+/// `--shard K/M`: the runs with `index % M == K − 1` (K is 1-based).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    /// 1-based shard number.
+    pub k: usize,
+    /// Number of shards.
+    pub m: usize,
+}
+
+impl std::str::FromStr for Shard {
+    type Err = SweepError;
+    fn from_str(s: &str) -> Result<Self, SweepError> {
+        let bad = |why: &str| SweepError::Options(format!("--shard {s}: {why}"));
+        let (k, m) = s
+            .split_once('/')
+            .ok_or_else(|| bad("expected K/M, e.g. 3/8"))?;
+        let k: usize = k.trim().parse().map_err(|_| bad("K is not a number"))?;
+        let m: usize = m.trim().parse().map_err(|_| bad("M is not a number"))?;
+        if m == 0 || k == 0 || k > m {
+            return Err(bad("need 1 <= K <= M"));
+        }
+        Ok(Shard { k, m })
+    }
+}
+
+impl Shard {
+    /// Whether run `index` belongs to this shard.
+    pub fn contains(&self, index: usize) -> bool {
+        index % self.m == self.k - 1
+    }
+}
+
+/// How to run a sweep.
+#[derive(Clone, Debug)]
+pub struct SweepOptions {
+    /// Final result file (`OUT.partial` holds the rows while running).
+    pub out: PathBuf,
+    /// Worker threads (`None`: all cores).
+    pub jobs: Option<usize>,
+    /// Only this slice of the runs.
+    pub shard: Option<Shard>,
+    /// Run at most this many new runs, then stop leaving `OUT.partial` (for tests, time limits).
+    pub max_runs: Option<usize>,
+    /// Add a `wall_seconds` column (then output bytes differ between runs).
+    pub timing: bool,
+}
+
+/// What [`run_sweep`] did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepSummary {
+    /// Runs of this shard.
+    pub runs: usize,
+    /// Rows taken from an existing `OUT.partial`.
+    pub resumed: usize,
+    /// Runs done now.
+    pub ran: usize,
+    /// Rows with an error status (this shard, all rows).
+    pub failed: usize,
+    /// Whether `OUT` was written (all runs of the shard done).
+    pub complete: bool,
+}
+
+/// `OUT.partial`.
+pub fn partial_path(out: &Path) -> PathBuf {
+    let mut name = out
+        .file_name()
+        .map(|s| s.to_os_string())
+        .unwrap_or_default();
+    name.push(".partial");
+    out.with_file_name(name)
+}
+
+/// Observer that keeps the integrator-step and event counts of the state handed over at a stop.
+struct Capture<'a> {
+    inner: &'a mut dyn Observer,
+    steps: Option<u64>,
+    events: Option<u64>,
+}
+
+impl Observer for Capture<'_> {
+    fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
+        self.inner.frame(t, u, v)
+    }
+    fn control(&mut self, t: f64) -> Control {
+        self.inner.control(t)
+    }
+    fn checkpoint(&mut self, state: &EngineState) -> Result<(), EngineError> {
+        match state {
+            EngineState::Dense(d) => {
+                self.steps = Some(d.integ.stats.steps);
+                self.events = Some(0);
+            }
+            EngineState::Hybrid(h) => {
+                let cl: u64 = h
+                    .clusters
+                    .iter()
+                    .flatten()
+                    .map(|c| c.integ.stats.steps)
+                    .sum();
+                self.steps = Some(h.stats.steps + cl);
+                self.events = Some(h.counts.iter().sum());
+            }
+        }
+        self.inner.checkpoint(state)
+    }
+}
+
+/// Measured values of one run (`None`: not asked for or not available).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Measured {
+    /// End or stop time.
+    pub t_end: f64,
+    /// `|E_end − E_0|/|E_0|`.
+    pub energy_error: f64,
+    /// Accepted integrator steps.
+    pub steps: Option<u64>,
+    /// Hybrid-engine events.
+    pub events: Option<u64>,
+    /// `E_left/E_total` at the interface bead.
+    pub left_fraction: Option<f64>,
+    /// Decay rate and its standard error.
+    pub gamma: Option<(f64, f64)>,
+    /// `|v_out/v_in|`.
+    pub v_ratio: Option<f64>,
+    /// Fragment count.
+    pub fragments: Option<usize>,
+}
+
+/// Runs one sweep point: `Ok(measured, problem)` (a measure that failed is reported as the
+/// problem, with the other columns kept), `Err` when the run could not be done at all.
+pub fn run_one(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<String>), String> {
+    let scene = spec.scene_for(run).map_err(|e| e.to_string())?;
+    let cfg = RunConfig::from_scene(&scene);
+    let n = scene.chain.len();
+    let m = &spec.measure;
+    let stop_at = spec.stop.margin.map_or(usize::MAX, |g| n - g);
+    let k = m.impurity.or(m.interface).unwrap_or(5);
+    let mut watch = Watch::new(scene.chain.clone(), k, stop_at);
+    let (res, steps, events) = {
+        let mut ss;
+        let inner: &mut dyn Observer = if spec.stop.steady_state {
+            ss = SteadyStateStop::new(&mut watch, &scene.chain);
+            &mut ss
+        } else {
+            &mut watch
+        };
+        let mut cap = Capture {
+            inner,
+            steps: None,
+            events: None,
+        };
+        let r = engine::run(&scene, &cfg, &mut cap);
+        (r, cap.steps, cap.events)
+    };
+    let chain = &scene.chain;
+    let mut out = Measured::default();
+    let (u, v) = match res {
+        Ok(o) => {
+            out.t_end = o.t_end;
+            out.energy_error = o.relative_energy_error();
+            out.steps = Some(o.stats.steps);
+            out.events = Some(o.events_by_kind.iter().map(|(_, c)| c).sum());
+            (o.u, o.v)
+        }
+        Err(EngineError::Interrupted(_)) => {
+            let (t, u, v) = std::mem::take(&mut watch.last);
+            let e0 = chain.energy(&scene.u0, &scene.v0);
+            out.t_end = t;
+            out.energy_error = (chain.energy(&u, &v) - e0).abs() / e0.abs();
+            out.steps = steps;
+            out.events = events;
+            (u, v)
+        }
+        Err(e) => return Err(e.to_string()),
+    };
+    let mut problem = None;
+    if let Some(k) = m.interface {
+        let sp = energy_split(chain, &u, &v, k);
+        out.left_fraction = Some(sp.left / sp.total());
+    }
+    if let Some(d) = m.decay {
+        let e0 = watch
+            .track
+            .iter()
+            .find(|p| p.1 >= d.e0_bead)
+            .map_or(1.0, |p| p.2);
+        let (mut x, mut e) = (Vec::new(), Vec::<f64>::new());
+        for p in watch.track.iter().filter(|p| p.1 >= d.from) {
+            if e.last().is_some_and(|&prev| p.2 / e0 > d.jump * prev) {
+                break;
+            }
+            x.push(p.1 as f64);
+            e.push(p.2 / e0);
+        }
+        match fit_exponential(&x, &e) {
+            Ok(f) => out.gamma = Some((f.gamma, f.gamma_stderr)),
+            Err(err) => problem = Some(format!("decay fit: {err}")),
+        }
+    }
+    if m.impurity.is_some() {
+        out.v_ratio = Some(watch.v_out / watch.v_in);
+    }
+    if let Some(g) = m.fragments {
+        out.fragments = Some(fragmentation(chain, &u, &v, g).fragments.len());
+    }
+    Ok((out, problem))
+}
+
+/// The CSV row of a run (without newline).
+pub fn format_row(
+    spec: &SweepSpec,
+    run: &RunPoint,
+    result: &Result<(Measured, Option<String>), String>,
+    wall: Option<f64>,
+) -> String {
+    let mut f = vec![run.index.to_string()];
+    for c in spec.param_columns() {
+        let v = run.params.iter().find(|(k, _)| *k == c);
+        f.push(v.map_or(String::new(), |(_, v)| field(&format_value(v))));
+    }
+    let e = |x: f64| format!("{x:e}");
+    let o = |x: Option<String>| x.unwrap_or_default();
+    let m = &spec.measure;
+    match result {
+        Err(msg) => {
+            f.push(field(&format!("error: {msg}")));
+            let n = csv::FIXED.len() - 1
+                + usize::from(m.interface.is_some())
+                + 2 * usize::from(m.decay.is_some())
+                + usize::from(m.impurity.is_some())
+                + usize::from(m.fragments.is_some());
+            f.extend(std::iter::repeat_n(String::new(), n));
+        }
+        Ok((r, problem)) => {
+            f.push(match problem {
+                None => "ok".into(),
+                Some(p) => field(&format!("error: {p}")),
+            });
+            f.push(e(r.t_end));
+            f.push(e(r.energy_error));
+            f.push(o(r.steps.map(|s| s.to_string())));
+            f.push(o(r.events.map(|s| s.to_string())));
+            if m.interface.is_some() {
+                f.push(o(r.left_fraction.map(e)));
+            }
+            if m.decay.is_some() {
+                f.push(o(r.gamma.map(|g| e(g.0))));
+                f.push(o(r.gamma.map(|g| e(g.1))));
+            }
+            if m.impurity.is_some() {
+                f.push(o(r.v_ratio.map(e)));
+            }
+            if m.fragments.is_some() {
+                f.push(o(r.fragments.map(|x| x.to_string())));
+            }
+        }
+    }
+    if let Some(w) = wall {
+        f.push(format!("{w:.3}"));
+    }
+    f.join(",")
+}
+
+/// Runs a sweep (or one shard of it) into `opts.out`, resuming from `OUT.partial`. Every run's
+/// scene is built and checked first; a bad sweep fails before anything runs. `progress(done,
+/// total)` is called after each run (from worker threads).
+pub fn run_sweep(
+    spec: &SweepSpec,
+    opts: &SweepOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<SweepSummary, SweepError> {
+    let all = spec.check_all()?;
+    let total = all.len();
+    let mine: Vec<RunPoint> = all
+        .into_iter()
+        .filter(|r| opts.shard.is_none_or(|s| s.contains(r.index)))
+        .collect();
+    let spec_line = csv::spec_line(spec.hash, total);
+    let columns = csv::columns(spec, opts.timing)
+        .iter()
+        .map(|c| field(c))
+        .collect::<Vec<_>>()
+        .join(",");
+    let partial = partial_path(&opts.out);
+    let mut done: BTreeMap<usize, String> = BTreeMap::new();
+    if partial.exists() {
+        let old = csv::read_result(&partial, true)?;
+        check_partial(spec, &partial, &old, &spec_line, &columns, &mine)?;
+        done = old.rows;
+    }
+    let resumed = done.len();
+    // Rewrite the partial file cleanly (drops a line cut short), then append to it.
+    csv::write_atomic(&partial, &csv::render(&spec_line, &columns, &done))?;
+    let mut pending: Vec<&RunPoint> = mine
+        .iter()
+        .filter(|r| !done.contains_key(&r.index))
+        .collect();
+    if let Some(mx) = opts.max_runs {
+        pending.truncate(mx);
+    }
+    let file = std::fs::OpenOptions::new()
+        .append(true)
+        .open(&partial)
+        .map_err(|e| SweepError::Io {
+            file: partial.display().to_string(),
+            action: "cannot open for appending".into(),
+            reason: e.to_string(),
+        })?;
+    let sink = Mutex::new((file, done, resumed));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.jobs.unwrap_or(0))
+        .build()
+        .map_err(|e| SweepError::Options(format!("--jobs: {e}")))?;
+    let n_mine = mine.len();
+    progress(resumed, n_mine);
+    let result = pool.install(|| {
+        use rayon::prelude::*;
+        pending
+            .par_iter()
+            .try_for_each(|run| -> Result<(), SweepError> {
+                let t0 = Instant::now();
+                let res =
+                    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_one(spec, run)))
+                        .unwrap_or_else(|p| {
+                            let msg = p
+                                .downcast_ref::<String>()
+                                .cloned()
+                                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                                .unwrap_or_default();
+                            Err(format!("panic: {msg}"))
+                        });
+                let wall = opts.timing.then(|| t0.elapsed().as_secs_f64());
+                let row = format_row(spec, run, &res, wall);
+                let mut g = sink
+                    .lock()
+                    .map_err(|_| SweepError::Options("a worker thread failed".into()))?;
+                let (file, rows, count) = &mut *g;
+                file.write_all(format!("{row}\n").as_bytes())
+                    .and_then(|_| file.flush())
+                    .map_err(|e| SweepError::Io {
+                        file: partial.display().to_string(),
+                        action: "cannot append a row".into(),
+                        reason: e.to_string(),
+                    })?;
+                rows.insert(run.index, row);
+                *count += 1;
+                progress(*count, n_mine);
+                Ok(())
+            })
+    });
+    result?;
+    let (_, rows, _) = sink
+        .into_inner()
+        .map_err(|_| SweepError::Options("a worker thread failed".into()))?;
+    let failed = rows.values().filter(|r| is_error_row(r)).count();
+    let complete = rows.len() == n_mine;
+    if complete {
+        csv::write_atomic(&opts.out, &csv::render(&spec_line, &columns, &rows))?;
+        std::fs::remove_file(&partial).map_err(|e| SweepError::Io {
+            file: partial.display().to_string(),
+            action: "cannot remove".into(),
+            reason: e.to_string(),
+        })?;
+    }
+    Ok(SweepSummary {
+        runs: n_mine,
+        resumed,
+        ran: pending.len(),
+        failed,
+        complete,
+    })
+}
+
+fn is_error_row(row: &str) -> bool {
+    row.contains(",error: ") || row.contains(",\"error: ")
+}
+
+/// Rows of an existing partial file must belong to this sweep, shard and parameters.
+fn check_partial(
+    spec: &SweepSpec,
+    path: &Path,
+    old: &ResultFile,
+    spec_line: &str,
+    columns: &str,
+    mine: &[RunPoint],
+) -> Result<(), SweepError> {
+    let bad = |line: usize, message: String| SweepError::Csv {
+        file: path.display().to_string(),
+        line,
+        message,
+    };
+    if old.spec_line != spec_line {
+        return Err(bad(
+            1,
+            format!(
+                "written by a different sweep spec (`{}`, this sweep: `{spec_line}`): the sweep file or its scene changed; delete it or choose another --out",
+                old.spec_line
+            ),
+        ));
+    }
+    if old.columns != columns {
+        return Err(bad(
+            2,
+            "its columns differ from this sweep's (e.g. --timing changed); delete it or choose another --out".into(),
+        ));
+    }
+    let np = spec.param_columns().len();
+    for (i, row) in &old.rows {
+        let Ok(pos) = mine.binary_search_by_key(i, |r| r.index) else {
+            return Err(bad(0, format!("run {i} is not a run of this sweep/shard")));
+        };
+        let run = &mine[pos];
+        let fields = csv::split_fields(row).map_err(|m| bad(0, m))?;
+        let expect = format_row(spec, run, &Err(String::new()), None);
+        let expect = csv::split_fields(&expect).map_err(|m| bad(0, m))?;
+        if fields[1..=np] != expect[1..=np] {
+            return Err(bad(
+                0,
+                format!(
+                    "run {i}: its parameters differ from this sweep's ({})",
+                    run.describe()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}

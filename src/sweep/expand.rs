@@ -1,0 +1,275 @@
+//! Expansion of a sweep into runs (points × grid product × seeds, in that nesting order, the
+//! seeds fastest) and the scene of each run: the base scene's TOML with the dotted-key overrides
+//! written in, then the normal scene parser and validator.
+
+use super::{SweepError, SweepSpec};
+use crate::scene::{self, Scene};
+use toml::{Table, Value};
+
+/// One run of a sweep.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunPoint {
+    /// 0-based run index (the order of expansion).
+    pub index: usize,
+    /// The swept keys and their values, in column order (absent point keys are left out).
+    pub params: Vec<(String, Value)>,
+}
+
+impl RunPoint {
+    /// `key=value, ...` for messages.
+    pub fn describe(&self) -> String {
+        self.params
+            .iter()
+            .map(|(k, v)| format!("{k}={}", format_value(v)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// A parameter value as written in the CSV: floats with `{:e}` (shortest exact round trip),
+/// integers, booleans and strings as they are, anything else as inline TOML.
+pub fn format_value(v: &Value) -> String {
+    match v {
+        Value::Float(x) => format!("{x:e}"),
+        Value::Integer(i) => i.to_string(),
+        Value::Boolean(b) => b.to_string(),
+        Value::String(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
+impl SweepSpec {
+    /// The parameter column names: grid keys, then point keys not in the grid (alphabetical),
+    /// then the seed key.
+    pub fn param_columns(&self) -> Vec<String> {
+        let mut cols: Vec<String> = self.grid.iter().map(|(k, _)| k.clone()).collect();
+        let mut extra: Vec<String> = Vec::new();
+        for p in &self.points {
+            for (k, _) in p {
+                if !cols.contains(k) && !extra.contains(k) {
+                    extra.push(k.clone());
+                }
+            }
+        }
+        extra.sort();
+        cols.extend(extra);
+        if let Some((k, _)) = &self.seeds {
+            cols.push(k.clone());
+        }
+        cols
+    }
+
+    /// Every run of the sweep, in index order.
+    pub fn runs(&self) -> Vec<RunPoint> {
+        let cols = self.param_columns();
+        let empty = vec![Vec::new()];
+        let points = if self.points.is_empty() {
+            &empty
+        } else {
+            &self.points
+        };
+        let seeds: Vec<Option<&Value>> = match &self.seeds {
+            Some((_, v)) => v.iter().map(Some).collect(),
+            None => vec![None],
+        };
+        let grid_total: usize = self.grid.iter().map(|(_, v)| v.len()).product();
+        let mut out = Vec::new();
+        for p in points {
+            for g in 0..grid_total {
+                // Mixed-radix digits of g, the last grid key fastest.
+                let mut rest = g;
+                let mut gvals = vec![None; self.grid.len()];
+                for (d, (_, vals)) in self.grid.iter().enumerate().rev() {
+                    gvals[d] = Some(&vals[rest % vals.len()]);
+                    rest /= vals.len();
+                }
+                for s in &seeds {
+                    let mut params = Vec::new();
+                    for c in &cols {
+                        let v = if let Some(d) = self.grid.iter().position(|(k, _)| k == c) {
+                            gvals[d]
+                        } else if let Some((_, v)) = p.iter().find(|(k, _)| k == c) {
+                            Some(v)
+                        } else if self.seeds.as_ref().is_some_and(|(k, _)| k == c) {
+                            *s
+                        } else {
+                            None
+                        };
+                        if let Some(v) = v {
+                            params.push((c.clone(), v.clone()));
+                        }
+                    }
+                    out.push(RunPoint {
+                        index: out.len(),
+                        params,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// The base scene's TOML with `[set]` and the run's parameters written in.
+    pub fn run_table(&self, run: &RunPoint) -> Result<Table, SweepError> {
+        let mut t = self.base.clone();
+        for (k, v) in self.set.iter().chain(&run.params) {
+            set_key(&mut t, k, v.clone()).map_err(|m| {
+                let in_set = self.set.iter().any(|(s, _)| s == k);
+                SweepError::Key {
+                    file: self.file.clone(),
+                    key: if in_set {
+                        format!("[set].\"{k}\"")
+                    } else {
+                        format!("\"{k}\"")
+                    },
+                    message: if in_set {
+                        m
+                    } else {
+                        format!("run {} ({}): {m}", run.index, run.describe())
+                    },
+                }
+            })?;
+        }
+        Ok(t)
+    }
+
+    /// The resolved, validated scene of one run.
+    pub fn scene_for(&self, run: &RunPoint) -> Result<Scene, SweepError> {
+        let t = self.run_table(run)?;
+        let serr = |source| SweepError::Scene {
+            file: self.file.clone(),
+            run: run.index,
+            params: run.describe(),
+            source: Box::new(source),
+        };
+        let text = toml::to_string(&t).map_err(|e| SweepError::Key {
+            file: self.file.clone(),
+            key: format!("run {}", run.index),
+            message: format!("cannot write the run's scene as TOML: {e}"),
+        })?;
+        let origin = format!("scene {}", self.scene_spec);
+        let mut s = scene::parse_str(&text, &self.base_dir, &origin).map_err(serr)?;
+        if t.get("scene").and_then(|s| s.get("name")).is_none() {
+            s.name = self.scene_spec.clone();
+        }
+        Ok(s)
+    }
+
+    /// Builds every run's scene once (nothing is run) and checks the measures fit the chains:
+    /// the first problem fails the whole sweep.
+    pub fn check_all(&self) -> Result<Vec<RunPoint>, SweepError> {
+        let runs = self.runs();
+        for r in &runs {
+            let s = self.scene_for(r)?;
+            self.check_scene(r, &s)?;
+        }
+        Ok(runs)
+    }
+
+    fn check_scene(&self, r: &RunPoint, s: &Scene) -> Result<(), SweepError> {
+        let n = s.chain.len();
+        let err = |key: &str, message: String| SweepError::Key {
+            file: self.file.clone(),
+            key: key.to_string(),
+            message: format!("run {} ({}): {message}", r.index, r.describe()),
+        };
+        let m = &self.measure;
+        for (key, k) in [
+            ("[measure].interface", m.interface),
+            ("[measure].impurity", m.impurity),
+        ] {
+            if let Some(k) = k {
+                if k == 0 || k >= n {
+                    return Err(err(key, format!("bead {k} is outside 1..={}", n - 1)));
+                }
+            }
+        }
+        if let Some(d) = m.decay {
+            if d.from >= n {
+                return Err(err(
+                    "[measure].decay.from",
+                    format!("bead {} is beyond the chain of {n} beads", d.from),
+                ));
+            }
+        }
+        if let Some(mg) = self.stop.margin {
+            if mg >= n {
+                return Err(err(
+                    "[stop].margin",
+                    format!("{mg} is not less than the chain's {n} beads"),
+                ));
+            }
+        }
+        let needs_frames = m.decay.is_some()
+            || m.impurity.is_some()
+            || self.stop.margin.is_some()
+            || self.stop.steady_state;
+        if needs_frames && s.run.every.is_none() {
+            return Err(err(
+                "[measure]/[stop]",
+                "the frame-based measures and stops need frames: the scene has no [run] every (add \"run.every\" to [set])".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Writes `value` at the dotted `key` of `root`: parts walk into tables (created when missing)
+/// and numeric parts index arrays.
+pub fn set_key(root: &mut Table, key: &str, value: Value) -> Result<(), String> {
+    let parts: Vec<&str> = key.split('.').collect();
+    let (last, path) = parts.split_last().ok_or_else(|| "empty key".to_string())?;
+    let mut cur: &mut Value = root
+        .entry(parts[0].to_string())
+        .or_insert_with(|| Value::Table(Table::new()));
+    let mut walked = parts[0].to_string();
+    for p in &path[1..] {
+        cur = step(cur, p, &walked, true)?;
+        walked = format!("{walked}.{p}");
+    }
+    match cur {
+        Value::Table(t) => {
+            t.insert(last.to_string(), value);
+            Ok(())
+        }
+        Value::Array(_) => {
+            let slot = step(cur, last, &walked, false)?;
+            *slot = value;
+            Ok(())
+        }
+        other => Err(format!(
+            "the base scene's `{walked}` is {}, not a table",
+            super::type_name(other)
+        )),
+    }
+}
+
+fn step<'a>(
+    cur: &'a mut Value,
+    p: &str,
+    walked: &str,
+    create: bool,
+) -> Result<&'a mut Value, String> {
+    match cur {
+        Value::Table(t) => {
+            if create {
+                Ok(t.entry(p.to_string())
+                    .or_insert_with(|| Value::Table(Table::new())))
+            } else {
+                t.get_mut(p).ok_or_else(|| format!("no `{walked}.{p}`"))
+            }
+        }
+        Value::Array(a) => {
+            let len = a.len();
+            let i: usize = p
+                .parse()
+                .map_err(|_| format!("`{walked}` is an array: `{p}` must be an index"))?;
+            a.get_mut(i)
+                .ok_or_else(|| format!("`{walked}` has {len} entries, index {i} is out of range"))
+        }
+        other => Err(format!(
+            "the base scene's `{walked}` is {}, not a table or array",
+            super::type_name(other)
+        )),
+    }
+}

@@ -1,0 +1,602 @@
+//! Parameter sweeps: many runs of one base scene with scene keys overridden, run in parallel,
+//! one CSV row per run (`beadchain sweep SWEEP.toml`, `beadchain merge`).
+//!
+//! Submodules: [`expand`] (grid/list expansion, scene overrides), [`exec`] (parallel execution and
+//! the measurements), [`csv`] (result rows, resuming, merging shards).
+//!
+//! ## The sweep file
+//!
+//! ```toml
+//! scene = "interface_3.0_2.5"      # REQUIRED: preset name, or a scene file relative to this file
+//!
+//! [set]                            # fixed overrides for every run (not result columns)
+//! "chain.beads" = 60
+//! "run.until" = 20000.0
+//!
+//! [grid]                           # cartesian product; keys in alphabetical order, the last fastest
+//! "chain.exponent.base" = [2.5, 3.0, 3.5]
+//! "chain.exponent.segments.0.value" = [2.5, 3.0, 3.5]
+//!
+//! [[point]]                        # explicit list (combined with the grid: every point x the grid)
+//! "initial.striker_si" = 0.11
+//!
+//! [seeds]                          # fastest-varying dimension; the target key is explicit
+//! key = "scene.seed"
+//! values = [1, 2, 3]
+//!
+//! [measure]                        # optional result columns (see below)
+//! interface = 30                   # left_fraction = E_left/E_total at interface bead 30
+//! impurity = 50                    # v_ratio = |v_out/v_in| in front of bead 50
+//! decay = true                     # gamma, gamma_se; or { from = 25, e0_bead = 15, jump = 1.3 }
+//! fragments = true                 # fragments at the end; or { gap_tol = 0.0 }
+//!
+//! [stop]                           # optional early stops (default: the scene's [run] until)
+//! margin = 10                      # when the leading pulse's peak reaches bead N - margin
+//! steady_state = true              # at the appendix-A steady state
+//! ```
+//!
+//! **Keys** are the keys of a scene file written with dots and always quoted: `"chain.exponent"`
+//! is `exponent` in `[chain]`; deeper parts walk into inline tables (`"chain.exponent.random.eps"`)
+//! and numeric parts index arrays (`"chain.exponent.segments.0.value"`). Missing tables on the way
+//! are created; a key must have at least two parts (a whole table is never replaced). Each run's
+//! TOML is the base scene with `[set]`, the point, the grid values and the seed written in, then
+//! read by the normal scene parser and validator, so every value gets the scene's checks and
+//! messages. Every run's scene is built before any run starts: an unknown key, a wrong type, an
+//! empty list or a bad preset fails the whole sweep with one line naming the sweep file, the run
+//! and the key; nothing is run. A run that fails (integration error, no wave to fit) gives a row
+//! with `status` = the error text instead.
+//!
+//! **Columns**: `run` (0-based index), one column per grid/point/seed key (the value as given;
+//! numbers in `{:e}` form), `status` (`ok` or the error), `t_end` (the stop or end time),
+//! `energy_error` (`|E_end − E_0|/|E_0|`), `steps` (accepted integrator steps), `events` (hybrid
+//! engine events: contact closings/openings, collisions), then the `[measure]` columns:
+//! - `left_fraction` (`interface = K`): energy of beads `0..K` over the total at the final frame,
+//!   [`crate::analysis::energy_split`]. It contains the striker's rebound; the paper's reflected
+//!   energy (Fig. 6) is `left_fraction − left_fraction(n2 = n1)` (the uniform run of the grid).
+//! - `gamma`, `gamma_se` (`decay`): fit `E/E0 = a e^{−γ x}` of the leading-wave energy (eq. 13)
+//!   against its peak bead `x ≥ from`, `E0` at the first frame with peak `≥ e0_bead`, up to the first
+//!   jump by more than `jump` between frames (as [`crate::analysis::paper::decay_gamma`], Sec. 5.2,
+//!   Fig. 20).
+//! - `v_ratio` (`impurity = K`): `|v_out/v_in|` of beads `min(K/2, 20)..K−3` over all frames
+//!   (Sec. 5.1, Fig. 18; [`crate::analysis::paper::Watch`]).
+//! - `fragments`: number of fragments of the final state ([`crate::analysis::fragmentation`]).
+//! - `wall_seconds` only with `--timing` (otherwise identical inputs give identical bytes).
+//!
+//! The frame-based measures and stops need frames: the scene (or `[set]`) must give `run.every`.
+//!
+//! **Files.** The first line is `# beadchain sweep spec=HASH runs=N`: HASH is a 64-bit FNV-1a hash
+//! of the sweep file and base scene (as parsed TOML, so comments and spacing do not count) and N
+//! the number of runs of the whole sweep. Rows are appended to `OUT.partial` (flushed per row) as
+//! runs finish; a restart skips the rows already there (refusing a partial file of another spec);
+//! at the end the rows are written sorted by run into `OUT` (temporary file + rename) and the
+//! partial file is removed. `--shard K/M` runs the runs with `run % M == K − 1`; `merge` joins
+//! shard files into the same bytes as an unsharded run.
+
+pub mod csv;
+pub mod exec;
+pub mod expand;
+
+pub use csv::merge;
+pub use exec::{run_sweep, Shard, SweepOptions, SweepSummary};
+pub use expand::RunPoint;
+
+use crate::scene::{presets, SceneError};
+use std::path::{Path, PathBuf};
+use toml::{Table, Value};
+
+/// Why a sweep could not be read, resumed, run or merged. Every message is one line naming the
+/// file (and key, run or line).
+#[derive(Debug, thiserror::Error)]
+pub enum SweepError {
+    /// A file could not be read or written.
+    #[error("{file}: {action}: {reason}")]
+    Io {
+        /// The file.
+        file: String,
+        /// What was being done.
+        action: String,
+        /// OS error text.
+        reason: String,
+    },
+    /// A key of the sweep file is unknown, missing, of the wrong type or has a bad value.
+    #[error("{file}: {key}: {message}")]
+    Key {
+        /// Sweep file.
+        file: String,
+        /// Key path in the sweep file (e.g. `[grid]."chain.exponent"`).
+        key: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The scene of one run was rejected by the scene parser/validator.
+    #[error("{file}: run {run} ({params}): {source}")]
+    Scene {
+        /// Sweep file.
+        file: String,
+        /// Run index.
+        run: usize,
+        /// The run's parameters, `key=value` comma-separated.
+        params: String,
+        /// The scene error.
+        source: Box<SceneError>,
+    },
+    /// A result file is malformed or does not belong to this sweep.
+    #[error("{file}{}: {message}", line_suffix(*.line))]
+    Csv {
+        /// The CSV file.
+        file: String,
+        /// 1-based line (0: the file as a whole).
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// Bad options (shard, jobs).
+    #[error("{0}")]
+    Options(String),
+}
+
+/// `:LINE`, or nothing for line 0 (the file as a whole).
+fn line_suffix(line: usize) -> String {
+    if line == 0 {
+        String::new()
+    } else {
+        format!(":{line}")
+    }
+}
+
+/// What `[measure]` asks for beyond the fixed columns.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Measure {
+    /// Interface bead `K` for `left_fraction`.
+    pub interface: Option<usize>,
+    /// Impurity bead `K` for `v_ratio`.
+    pub impurity: Option<usize>,
+    /// Leading-wave decay fit settings for `gamma`, `gamma_se`.
+    pub decay: Option<Decay>,
+    /// Gap tolerance of the fragment count, when asked for.
+    pub fragments: Option<f64>,
+}
+
+/// Settings of the leading-wave decay fit (defaults as in `analysis::paper::decay_gamma`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Decay {
+    /// Fit the points whose peak bead is at least this (default 25).
+    pub from: usize,
+    /// Normalise by the energy at the first frame whose peak bead is at least this (default 15).
+    pub e0_bead: usize,
+    /// Stop the fit at the first frame-to-frame energy rise by more than this factor (default 1.3).
+    pub jump: f64,
+}
+
+impl Default for Decay {
+    fn default() -> Self {
+        Decay {
+            from: 25,
+            e0_bead: 15,
+            jump: 1.3,
+        }
+    }
+}
+
+/// Early stop conditions (`[stop]`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stop {
+    /// Stop when the leading pulse's peak reaches bead `N − margin`.
+    pub margin: Option<usize>,
+    /// Stop at the appendix-A steady state.
+    pub steady_state: bool,
+}
+
+/// A parsed sweep file.
+#[derive(Clone, Debug)]
+pub struct SweepSpec {
+    /// The sweep file as named by the user (used in messages).
+    pub file: String,
+    /// The base scene as written in the file (`scene = ...`).
+    pub scene_spec: String,
+    /// The base scene's TOML.
+    pub base: Table,
+    /// Directory that resolves the base scene's `{ file = ... }` references.
+    pub base_dir: PathBuf,
+    /// Fixed overrides.
+    pub set: Vec<(String, Value)>,
+    /// Grid dimensions (alphabetical key order; the last varies fastest).
+    pub grid: Vec<(String, Vec<Value>)>,
+    /// Explicit points (each a list of overrides).
+    pub points: Vec<Vec<(String, Value)>>,
+    /// Seed key and values (fastest-varying dimension).
+    pub seeds: Option<(String, Vec<Value>)>,
+    /// Result columns.
+    pub measure: Measure,
+    /// Early stops.
+    pub stop: Stop,
+    /// FNV-1a hash of the sweep file and base scene (as parsed TOML).
+    pub hash: u64,
+}
+
+/// 64-bit FNV-1a (stable across platforms and Rust versions).
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in bytes {
+        h ^= u64::from(*b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+fn type_name(v: &Value) -> &'static str {
+    match v {
+        Value::String(_) => "a string",
+        Value::Integer(_) => "an integer",
+        Value::Float(_) => "a float",
+        Value::Boolean(_) => "a boolean",
+        Value::Datetime(_) => "a datetime",
+        Value::Array(_) => "an array",
+        Value::Table(_) => "a table",
+    }
+}
+
+impl SweepSpec {
+    /// Reads and checks a sweep file (the base scene is resolved relative to it).
+    pub fn load(path: &Path) -> Result<SweepSpec, SweepError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| SweepError::Io {
+            file: file.clone(),
+            action: "cannot read sweep file".into(),
+            reason: e.to_string(),
+        })?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        Self::parse_str(&text, dir, &file)
+    }
+
+    /// Parses sweep text; `dir` resolves a scene path, `file` names the sweep in messages.
+    pub fn parse_str(text: &str, dir: &Path, file: &str) -> Result<SweepSpec, SweepError> {
+        let key_err = |key: &str, message: String| SweepError::Key {
+            file: file.to_string(),
+            key: key.to_string(),
+            message,
+        };
+        let root: Table = toml::from_str(text).map_err(|e| {
+            let line = e.span().map_or(0, |s| {
+                text[..s.start.min(text.len())].matches('\n').count() + 1
+            });
+            SweepError::Csv {
+                file: file.to_string(),
+                line,
+                message: format!("malformed TOML: {}", e.message().trim().replace('\n', "; ")),
+            }
+        })?;
+        const TOP: &[&str] = &["scene", "set", "grid", "point", "seeds", "measure", "stop"];
+        for k in root.keys() {
+            if !TOP.contains(&k.as_str()) {
+                return Err(key_err(
+                    k,
+                    format!("unknown key (expected one of: {})", TOP.join(", ")),
+                ));
+            }
+        }
+        let scene_spec = match root.get("scene") {
+            Some(Value::String(s)) => s.clone(),
+            Some(v) => {
+                return Err(key_err(
+                    "scene",
+                    format!("expected a preset name or file, got {}", type_name(v)),
+                ))
+            }
+            None => {
+                return Err(key_err(
+                    "scene",
+                    "missing (base scene: preset or file)".into(),
+                ))
+            }
+        };
+        let (base_text, base_dir) = base_scene(&scene_spec, dir)
+            .map_err(|m| key_err("scene", format!("\"{scene_spec}\": {m}")))?;
+        let base: Table = toml::from_str(&base_text)
+            .map_err(|e| key_err("scene", format!("\"{scene_spec}\": malformed TOML: {e}")))?;
+
+        let table = |name: &str| -> Result<Option<&Table>, SweepError> {
+            match root.get(name) {
+                None => Ok(None),
+                Some(Value::Table(t)) => Ok(Some(t)),
+                Some(v) => Err(key_err(
+                    &format!("[{name}]"),
+                    format!("expected a table, got {}", type_name(v)),
+                )),
+            }
+        };
+        let check_key = |where_: &str, k: &str| -> Result<(), SweepError> {
+            let parts: Vec<&str> = k.split('.').collect();
+            if parts.len() < 2 || parts.iter().any(|p| p.is_empty()) {
+                return Err(key_err(
+                    &format!("{where_}.\"{k}\""),
+                    "expected a quoted dotted scene key such as \"chain.exponent\" (table.key; a whole table cannot be replaced)".into(),
+                ));
+            }
+            Ok(())
+        };
+        let overrides = |where_: &str, t: &Table| -> Result<Vec<(String, Value)>, SweepError> {
+            let mut out = Vec::new();
+            for (k, v) in t {
+                check_key(where_, k)?;
+                out.push((k.clone(), v.clone()));
+            }
+            Ok(out)
+        };
+        let set = match table("set")? {
+            Some(t) => overrides("[set]", t)?,
+            None => Vec::new(),
+        };
+        let mut grid = Vec::new();
+        if let Some(t) = table("grid")? {
+            for (k, v) in t {
+                check_key("[grid]", k)?;
+                let key = format!("[grid].\"{k}\"");
+                match v {
+                    Value::Array(a) if a.is_empty() => {
+                        return Err(key_err(&key, "empty list of values".into()))
+                    }
+                    Value::Array(a) => grid.push((k.clone(), a.clone())),
+                    v => {
+                        return Err(key_err(
+                            &key,
+                            format!("expected a list of values, got {}", type_name(v)),
+                        ))
+                    }
+                }
+            }
+        }
+        let mut points = Vec::new();
+        match root.get("point") {
+            None => {}
+            Some(Value::Array(a)) => {
+                for (i, p) in a.iter().enumerate() {
+                    let w = format!("[[point]] {i}");
+                    match p {
+                        Value::Table(t) => points.push(overrides(&w, t)?),
+                        v => {
+                            return Err(key_err(
+                                &w,
+                                format!("expected a table, got {}", type_name(v)),
+                            ))
+                        }
+                    }
+                }
+            }
+            Some(v) => {
+                return Err(key_err(
+                    "point",
+                    format!("expected [[point]] tables, got {}", type_name(v)),
+                ))
+            }
+        }
+        let seeds = match table("seeds")? {
+            None => None,
+            Some(t) => Some(parse_seeds(t, &key_err)?),
+        };
+        if let Some((k, _)) = &seeds {
+            check_key("[seeds].key", k)?;
+        }
+        // A key may be set by only one of [set], [grid], [[point]], [seeds].
+        let mut claims: Vec<(&str, &str)> = Vec::new();
+        claims.extend(set.iter().map(|(k, _)| (k.as_str(), "[set]")));
+        claims.extend(grid.iter().map(|(k, _)| (k.as_str(), "[grid]")));
+        for p in &points {
+            claims.extend(p.iter().map(|(k, _)| (k.as_str(), "[[point]]")));
+        }
+        if let Some((k, _)) = &seeds {
+            claims.push((k.as_str(), "[seeds]"));
+        }
+        for (i, (k, by)) in claims.iter().enumerate() {
+            if let Some((_, first)) = claims[..i].iter().find(|(o, b)| o == k && b != by) {
+                return Err(key_err(
+                    &format!("{by}.\"{k}\""),
+                    format!("also set in {first} (each key may be set in one place only)"),
+                ));
+            }
+        }
+        let measure = match table("measure")? {
+            Some(t) => parse_measure(t, &key_err)?,
+            None => Measure::default(),
+        };
+        let stop = match table("stop")? {
+            Some(t) => parse_stop(t, &key_err)?,
+            None => Stop::default(),
+        };
+        let canon = format!(
+            "{}\n#--scene--\n{}",
+            toml::to_string(&root).unwrap_or_else(|_| text.to_string()),
+            toml::to_string(&base).unwrap_or_else(|_| base_text.clone())
+        );
+        Ok(SweepSpec {
+            file: file.to_string(),
+            scene_spec,
+            base,
+            base_dir,
+            set,
+            grid,
+            points,
+            seeds,
+            measure,
+            stop,
+            hash: fnv1a(canon.as_bytes()),
+        })
+    }
+}
+
+/// TOML text and base directory of the base scene: a file relative to `dir`, else a preset.
+fn base_scene(spec: &str, dir: &Path) -> Result<(String, PathBuf), String> {
+    let path = dir.join(spec);
+    if path.is_file() {
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+        let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+        return Ok((text, base));
+    }
+    match presets::presets().iter().find(|p| p.name == spec) {
+        Some(p) => Ok((p.toml.to_string(), PathBuf::from("."))),
+        None => Err(format!(
+            "no scene file {} and no preset of that name (presets: {})",
+            path.display(),
+            presets::presets()
+                .iter()
+                .map(|p| p.name)
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+    }
+}
+
+type KeyErr<'a> = dyn Fn(&str, String) -> SweepError + 'a;
+
+fn check_table_keys(t: &Table, name: &str, allowed: &[&str], e: &KeyErr) -> Result<(), SweepError> {
+    for k in t.keys() {
+        if !allowed.contains(&k.as_str()) {
+            return Err(e(
+                &format!("[{name}].{k}"),
+                format!("unknown key (expected one of: {})", allowed.join(", ")),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn get_usize(t: &Table, name: &str, key: &str, e: &KeyErr) -> Result<Option<usize>, SweepError> {
+    match t.get(key) {
+        None => Ok(None),
+        Some(Value::Integer(i)) if *i >= 0 => Ok(Some(*i as usize)),
+        Some(v) => Err(e(
+            &format!("[{name}].{key}"),
+            format!("expected a non-negative integer, got {v}"),
+        )),
+    }
+}
+
+fn get_f64(t: &Table, name: &str, key: &str, e: &KeyErr) -> Result<Option<f64>, SweepError> {
+    match t.get(key) {
+        None => Ok(None),
+        Some(Value::Float(x)) if x.is_finite() => Ok(Some(*x)),
+        Some(Value::Integer(i)) => Ok(Some(*i as f64)),
+        Some(v) => Err(e(
+            &format!("[{name}].{key}"),
+            format!("expected a finite number, got {v}"),
+        )),
+    }
+}
+
+fn parse_seeds(t: &Table, e: &KeyErr) -> Result<(String, Vec<Value>), SweepError> {
+    check_table_keys(t, "seeds", &["key", "values"], e)?;
+    let key = match t.get("key") {
+        Some(Value::String(s)) => s.clone(),
+        Some(v) => {
+            return Err(e(
+                "[seeds].key",
+                format!("expected a string, got {}", type_name(v)),
+            ))
+        }
+        None => {
+            return Err(e(
+                "[seeds].key",
+                "missing: name the scene key the seed goes to, e.g. \"scene.seed\"".into(),
+            ))
+        }
+    };
+    let values = match t.get("values") {
+        Some(Value::Array(a)) if a.is_empty() => {
+            return Err(e("[seeds].values", "empty list of seeds".into()))
+        }
+        Some(Value::Array(a)) => a.clone(),
+        Some(v) => {
+            return Err(e(
+                "[seeds].values",
+                format!("expected a list of integers, got {}", type_name(v)),
+            ))
+        }
+        None => return Err(e("[seeds].values", "missing".into())),
+    };
+    for (i, v) in values.iter().enumerate() {
+        if !matches!(v, Value::Integer(s) if *s >= 0) {
+            return Err(e(
+                &format!("[seeds].values[{i}]"),
+                format!("expected a non-negative integer, got {v}"),
+            ));
+        }
+    }
+    Ok((key, values))
+}
+
+fn parse_measure(t: &Table, e: &KeyErr) -> Result<Measure, SweepError> {
+    const M: &str = "measure";
+    check_table_keys(t, M, &["interface", "impurity", "decay", "fragments"], e)?;
+    let decay = match t.get("decay") {
+        None | Some(Value::Boolean(false)) => None,
+        Some(Value::Boolean(true)) => Some(Decay::default()),
+        Some(Value::Table(d)) => {
+            check_table_keys(d, "measure].decay", &["from", "e0_bead", "jump"], e)?;
+            let def = Decay::default();
+            let jump = get_f64(d, "measure].decay", "jump", e)?.unwrap_or(def.jump);
+            if jump <= 1.0 {
+                return Err(e(
+                    "[measure].decay.jump",
+                    format!("must be > 1, got {jump}"),
+                ));
+            }
+            Some(Decay {
+                from: get_usize(d, "measure].decay", "from", e)?.unwrap_or(def.from),
+                e0_bead: get_usize(d, "measure].decay", "e0_bead", e)?.unwrap_or(def.e0_bead),
+                jump,
+            })
+        }
+        Some(v) => {
+            return Err(e(
+                "[measure].decay",
+                format!("expected true/false or a table, got {}", type_name(v)),
+            ))
+        }
+    };
+    let fragments = match t.get("fragments") {
+        None | Some(Value::Boolean(false)) => None,
+        Some(Value::Boolean(true)) => Some(0.0),
+        Some(Value::Table(f)) => {
+            check_table_keys(f, "measure].fragments", &["gap_tol"], e)?;
+            let g = get_f64(f, "measure].fragments", "gap_tol", e)?.unwrap_or(0.0);
+            if g < 0.0 {
+                return Err(e(
+                    "[measure].fragments.gap_tol",
+                    format!("must be >= 0, got {g}"),
+                ));
+            }
+            Some(g)
+        }
+        Some(v) => {
+            return Err(e(
+                "[measure].fragments",
+                format!("expected true/false or a table, got {}", type_name(v)),
+            ))
+        }
+    };
+    Ok(Measure {
+        interface: get_usize(t, M, "interface", e)?,
+        impurity: get_usize(t, M, "impurity", e)?,
+        decay,
+        fragments,
+    })
+}
+
+fn parse_stop(t: &Table, e: &KeyErr) -> Result<Stop, SweepError> {
+    check_table_keys(t, "stop", &["margin", "steady_state"], e)?;
+    let steady_state = match t.get("steady_state") {
+        None => false,
+        Some(Value::Boolean(b)) => *b,
+        Some(v) => {
+            return Err(e(
+                "[stop].steady_state",
+                format!("expected true or false, got {}", type_name(v)),
+            ))
+        }
+    };
+    Ok(Stop {
+        margin: get_usize(t, "stop", "margin", e)?,
+        steady_state,
+    })
+}
