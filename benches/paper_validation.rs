@@ -3,6 +3,7 @@
 //! `beadchain::analysis::paper`.
 //!
 //! `cargo bench --bench paper_validation -- [interface|grid|impurity|periodic|disorder [N]|all]`
+//! and `wavelength|timings|impurity_examples|appendix_a|appendix_b` (in `paper_a.rs`)
 //! (a plain program kept under `benches/`: it is a long measurement, not a test).
 
 use beadchain::analysis::least_squares;
@@ -11,6 +12,9 @@ use beadchain::analysis::paper::{
     reflection_grid, PaperError, RunInfo,
 };
 use std::time::Instant;
+
+#[path = "paper_a.rs"]
+mod paper_a;
 
 fn note(info: &RunInfo) -> String {
     match &info.hybrid_failure {
@@ -183,6 +187,10 @@ fn main() -> Result<(), PaperError> {
     }
     let what = args.first().cloned().unwrap_or_else(|| "all".into());
     let beads: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(300);
+    // wavelength | timings | impurity_examples | appendix_a | appendix_b (benches/paper_a.rs)
+    if paper_a::dispatch(&what)? {
+        return Ok(());
+    }
     let all = what == "all";
     if all || what == "interface" {
         interfaces()?;

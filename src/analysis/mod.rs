@@ -6,6 +6,8 @@
 //!   `|v_out/v_in|` (Sec. 5.1, Fig. 18).
 //! - [`fit`]: least-squares exponential decay `E(x) = a e^{−γx}` (Sec. 5.2, eq. 20 ff.) and
 //!   ordinary multilinear least squares (the Table 2 fit, eq. 21).
+//! - [`wavelength`], [`timings`], [`impurities`], [`appendix`]: Fig. 2 wave width, the Fig. 4
+//!   gap timings, Figs. 15/17 impurities, appendices A and B.
 //! - [`state`]: the steady-state criterion of appendix A (also as a run stop condition) and
 //!   fragmentation statistics (open gaps, fragments and their velocities).
 //!
@@ -16,12 +18,16 @@
 //! potential part of a wave (about 30-40 % of a solitary wave's energy at any instant), not the
 //! ratios once pulses are compared at like moments.
 
+pub mod appendix;
 pub mod fit;
+pub mod impurities;
 pub mod interface;
 pub mod paper;
 pub mod quick;
 pub mod state;
+pub mod timings;
 pub mod wave;
+pub mod wavelength;
 
 pub use fit::{fit_exponential, least_squares, ExpFit, LinearFit};
 pub use interface::{energy_split, velocity_ratio, EnergySplit, VelocityRatio};
