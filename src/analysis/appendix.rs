@@ -75,6 +75,10 @@ pub struct EnergyError {
     pub seconds: f64,
     /// The engine's error message if the run failed (errors are then `NaN`).
     pub failure: Option<String>,
+    /// At the last frame: largest overlap (length units) and the contact where it is.
+    pub max_overlap: (f64, usize),
+    /// At the last frame: most negative `(v_{i+1} − v_i) / max|v|` and the bead `i`.
+    pub worst_step: (f64, usize),
 }
 
 /// Runs `scene` with `engine`, Radau IIA, `rtol`, `atol`, frames every `every` up to `until`,
@@ -120,7 +124,16 @@ pub fn energy_error(
     } else {
         (c.kinetic_energy(&last.v), c.energy(&last.u, &last.v))
     };
+    let max_overlap = (0..last.v.len().saturating_sub(1))
+        .map(|i| (c.overlap(i, last.u[i], last.u[i + 1]), i))
+        .fold((f64::NEG_INFINITY, 0), |a, b| if b.0 > a.0 { b } else { a });
+    let vmax = last.v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let worst_step = (0..last.v.len().saturating_sub(1))
+        .map(|i| ((last.v[i + 1] - last.v[i]) / vmax, i))
+        .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
     EnergyError {
+        max_overlap,
+        worst_step,
         engine,
         rtol,
         atol,

@@ -2,7 +2,7 @@
 //!
 //! - [`census`]: the pulses of a frame with their peak velocity relative to the incoming peak and
 //!   their share of the energy (eq. 13 with ½, see the [module docs](super)), classified as
-//!   reflected (moving left, peak in `5..k`: beads 0–4 carry the striker's rebound, present in a
+//!   reflected (moving left, peak in `2..k`: beads 0–1 carry the striker's rebound, present in a
 //!   uniform chain too), transmitted (moving right, peak beyond the impurity) or other.
 //! - [`impurity_example`]: Fig. 15 (`s = 1`, `n = 3.0`, `n_imp = 3.5` and `2.5`).
 //! - [`collective_impurity`]: Fig. 17 (`n = 4`, `s = 1`, `δn = −0.25` vs `−1.5`): how far the
@@ -22,7 +22,7 @@ use std::time::Instant;
 /// Where a pulse is going.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PulseKind {
-    /// Moving left, peak in `5..k`.
+    /// Moving left, peak in `2..k`.
     Reflected,
     /// Moving right, peak beyond the impurity/interface.
     Transmitted,
@@ -61,7 +61,7 @@ pub fn census(
         .into_iter()
         .filter(|p| p.peak_velocity.abs() > min_rel * v_in)
         .map(|p| {
-            let kind = if p.peak_velocity < 0.0 && p.peak_bead >= 5 && p.peak_bead < k {
+            let kind = if p.peak_velocity < 0.0 && p.peak_bead >= 2 && p.peak_bead < k {
                 PulseKind::Reflected
             } else if p.peak_velocity > 0.0 && p.peak_bead > right {
                 PulseKind::Transmitted
@@ -94,7 +94,7 @@ pub struct ImpurityExample {
     pub pulses: Vec<PulseRow>,
     /// Incoming peak velocity (largest forward velocity of beads 20..k−3).
     pub v_in: f64,
-    /// Stop time (leading wave at `beads − 12`).
+    /// Stop time (leading wave at `stop_at`).
     pub t_stop: f64,
     /// Wall-clock seconds.
     pub seconds: f64,
@@ -102,19 +102,21 @@ pub struct ImpurityExample {
 
 /// Impurity of `s` contacts with exponent `n_imp` from contact `k` in a physical chain of
 /// `beads` beads of exponent `n` (hybrid, Radau, `rtol = 1e-8`); pulses when the leading wave
-/// reaches `beads − 12`.
+/// reaches bead `stop_at` (e.g. `k + 40`: the reflected pulse is still inside the chain;
+/// `beads − 12`: the transmitted train has separated).
 pub fn impurity_example(
     n: f64,
     s: usize,
     n_imp: f64,
     beads: usize,
     k: usize,
+    stop_at: usize,
 ) -> Result<ImpurityExample, PaperError> {
     let t0 = Instant::now();
     let tau = time_per_bead(n)?.max(time_per_bead(n_imp)?);
     let ex = format!("{{ base = {n}, impurity = {{ at = {k}, s = {s}, value = {n_imp} }} }}");
     let sc = physical_scene(beads, &ex, 0, tau * beads as f64 * 40.0, tau / 5.0)?;
-    let (w, _) = run_watched(&sc, k, beads.saturating_sub(12), 1e-8)?;
+    let (w, _) = run_watched(&sc, k, stop_at, 1e-8)?;
     let (t, u, v) = &w.last;
     Ok(ImpurityExample {
         pulses: census(&sc.chain, u, v, w.v_in, k, k + s, 0.01),

@@ -65,10 +65,7 @@ pub struct Profile {
 /// Peak of a sampled curve: `(time, value)` by a parabola through the largest sample and its
 /// neighbours; `None` if empty or the maximum is not positive.
 pub fn peak_of(t: &[f64], v: &[f64]) -> Option<(f64, f64)> {
-    let (i, &m) = v
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.total_cmp(b.1))?;
+    let (i, &m) = v.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1))?;
     if m <= 0.0 {
         return None;
     }
@@ -302,9 +299,11 @@ mod tests {
         // n = 3: λ = π √1 = π (abs 1e-12)
         assert!((continuum_wavelength(3.0) - std::f64::consts::PI).abs() < 1e-12);
         assert!(continuum_wavelength(2.0).is_nan());
-        // n = 4: cos² profile, FWHM = λ/2 (abs 1e-12)
+        // n = 4: cos profile (exponent 2/(n−2) = 1), FWHM = 2λ/3 (abs 1e-12)
         let l4 = continuum_wavelength(4.0);
-        assert!((continuum_width_above(4.0, 0.5) - l4 / 2.0).abs() < 1e-12);
+        assert!((continuum_width_above(4.0, 0.5) - 2.0 * l4 / 3.0).abs() < 1e-12);
+        // n = 6: cos^½ profile, support width λ (frac → 0)
+        assert!((continuum_width_above(6.0, 1e-300) - continuum_wavelength(6.0)).abs() < 1e-9);
     }
 
     #[test]
@@ -321,7 +320,10 @@ mod tests {
         assert!((l / lam - 1.0).abs() < 1e-6, "{l} vs {lam}");
         assert!(rms < 1e-6);
         let w = width_above(&p, 0.5);
-        assert!((w - 1.3 * continuum_width_above(n, 0.5)).abs() < 1e-3, "{w}");
+        assert!(
+            (w - 1.3 * continuum_width_above(n, 0.5)).abs() < 1e-3,
+            "{w}"
+        );
     }
 
     #[test]
