@@ -2,8 +2,10 @@
 //! hybrid engine on generated physical (Table 1 steel) scenes; the experiments live in
 //! `beadchain::analysis::paper`.
 //!
-//! `cargo bench --bench paper_validation -- [interface|grid|impurity|periodic|disorder [N]|all]`
-//! and part B (`benches/paper_b.rs`): `periodic4|pairwise|breathing|transfer|composite`
+//! `cargo bench --bench paper_validation -- [interface|grid|impurity|periodic|disorder [N]|all]`,
+//! part A (`benches/paper_a.rs`): `wavelength|timings|impurity_examples|appendix_a|appendix_b`,
+//! part B (`benches/paper_b.rs`): `periodic4|pairwise|breathing|transfer|composite`; `all` runs
+//! every experiment
 //! (a plain program kept under `benches/`: it is a long measurement, not a test).
 
 use beadchain::analysis::least_squares;
@@ -15,6 +17,8 @@ use std::time::Instant;
 
 #[path = "paper_b.rs"]
 mod paper_b;
+#[path = "paper_a.rs"]
+mod paper_a;
 
 fn note(info: &RunInfo) -> String {
     match &info.hybrid_failure {
@@ -187,14 +191,29 @@ fn main() -> Result<(), PaperError> {
     }
     let what = args.first().cloned().unwrap_or_else(|| "all".into());
     let beads: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(300);
-    if let Some(res) = paper_b::dispatch(&what) {
-        if let Err(e) = res {
-            eprintln!("paper_validation {what}: {e}");
-            std::process::exit(1);
+    let all = what == "all";
+    // Part A (benches/paper_a.rs) and part B (benches/paper_b.rs); `all` runs every experiment.
+    let part_a = ["wavelength", "timings", "impurity_examples", "appendix_a", "appendix_b"];
+    let part_b = ["periodic4", "pairwise", "breathing", "transfer", "composite"];
+    let wanted: Vec<&str> = if all {
+        part_a.iter().chain(part_b.iter()).copied().collect()
+    } else {
+        vec![what.as_str()]
+    };
+    let mut handled = false;
+    for w in wanted {
+        handled |= paper_a::dispatch(w)?;
+        if let Some(res) = paper_b::dispatch(w) {
+            handled = true;
+            if let Err(e) = res {
+                eprintln!("paper_validation {w}: {e}");
+                std::process::exit(1);
+            }
         }
+    }
+    if handled && !all {
         return Ok(());
     }
-    let all = what == "all";
     if all || what == "interface" {
         interfaces()?;
     }

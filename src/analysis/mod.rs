@@ -10,6 +10,8 @@
 //!   experiments built on it (Sec. 4, Figs. 10–14).
 //! - [`transfer`]: bead-to-bead energy transfer ratio in disordered chains (Sec. 5.2, Fig. 23).
 //! - [`composite`]: composite mass–exponent interfaces (Sec. 6, Fig. 25).
+//! - [`wavelength`], [`timings`], [`impurities`], [`appendix`]: Fig. 2 wave width, the Fig. 4
+//!   gap timings, Figs. 15/17 impurities, appendices A and B.
 //! - [`state`]: the steady-state criterion of appendix A (also as a run stop condition) and
 //!   fragmentation statistics (open gaps, fragments and their velocities).
 //!
@@ -20,15 +22,19 @@
 //! potential part of a wave (about 30-40 % of a solitary wave's energy at any instant), not the
 //! ratios once pulses are compared at like moments.
 
+pub mod appendix;
 pub mod composite;
 pub mod fit;
+pub mod impurities;
 pub mod interface;
 pub mod paper;
 pub mod periodic;
 pub mod quick;
 pub mod state;
+pub mod timings;
 pub mod transfer;
 pub mod wave;
+pub mod wavelength;
 pub mod window;
 
 pub use fit::{fit_exponential, least_squares, ExpFit, LinearFit};

@@ -1,0 +1,403 @@
+//! Gap openings/closings at an interface and the freeze / two-body exchange times `t1 … t5` of
+//! the paper's Sec. 3.1 (Figs. 3–4, interface `n1 = 3.0 → n2 = 3.5` at bead `k = 50`).
+//!
+//! The paper's text defines the times; with contact `c` between beads `c` and `c+1` (contact
+//! `k−1` = beads 49|50 is the last `n1` contact), we read them as:
+//! - `t1`: "the initial wave hits the interface … a gap between bead 49 and bead 50 opens": the
+//!   first opening of contact `k−1`;
+//! - `t2`: start of the first frozen state, "bead 49 freely travelling forward while bead 50 is
+//!   travelling backwards": the first time after `t1` when contacts `k−2`, `k−1` and `k` are all
+//!   open (beads 49 and 50 both free);
+//! - `t3`: "beads 49 and 50 exchange momenta in an elastic two-body collision": the next closing
+//!   of contact `k−1` (its reopening, the end of the collision, is `t3_end`);
+//! - `t4`: "bead 50 closes the gap to its right neighbour": first closing of contact `k` after `t3`;
+//! - `t5`: "bead 49 reaches its left neighbour": first closing of contact `k−2` after `t3`.
+//!
+//! Openings/closings come from two independent sources: (a) the overlaps `δ_c(t)` sampled every
+//! frame (frames `τ/50` apart, `τ` = time per bead of `n1`), a change of sign with hysteresis
+//! `θ = 10⁻⁶ · max δ_{k−1}` (a contact is closed above `θ`, open below `−θ`), the time by linear
+//! interpolation of the zero crossing; (b) the hybrid engine's event log
+//! ([`crate::engine::RunOutcome::events`]), whose thresholds are `atol · L` (see
+//! [`crate::engine::hybrid`]). Source (a) works for both engines (the dense cross-check).
+
+use super::paper::{physical_scene, run_watched, time_per_bead, PaperError};
+use crate::engine::{self, EngineError, Observer, RunConfig, RunOutcome};
+use crate::scene::{Engine, Scene};
+use crate::snapshot::{EventKind, EventRecord};
+use std::time::Instant;
+
+/// A contact opening (`closed = false`) or closing (`closed = true`) at time `t`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Transition {
+    /// Time.
+    pub t: f64,
+    /// Contact index (between beads `contact` and `contact + 1`).
+    pub contact: usize,
+    /// `true`: the gap closed (contact starts); `false`: the contact opened.
+    pub closed: bool,
+}
+
+/// Openings/closings from sampled overlaps: `delta[j][f]` is the overlap of contact
+/// `contacts[j]` at frame time `t[f]`; hysteresis `theta` (see the module docs). Sorted by time.
+pub fn transitions_from_frames(
+    t: &[f64],
+    contacts: &[usize],
+    delta: &[Vec<f64>],
+    theta: f64,
+) -> Vec<Transition> {
+    let mut out = Vec::new();
+    for (j, &c) in contacts.iter().enumerate() {
+        let d = &delta[j];
+        let mut state: Option<bool> = None;
+        for f in 1..d.len().min(t.len()) {
+            let now = if d[f] > theta {
+                Some(true)
+            } else if d[f] < -theta {
+                Some(false)
+            } else {
+                continue;
+            };
+            if state.is_some() && state != now {
+                // the zero crossing just before frame f: the last sign change of δ
+                let s = d[f] > 0.0;
+                let mut g = f;
+                while g > 0 && (d[g - 1] > 0.0) == s {
+                    g -= 1;
+                }
+                let (a, b) = (g.saturating_sub(1), g);
+                let tc = if a < b && d[b] != d[a] {
+                    t[a] - d[a] * (t[b] - t[a]) / (d[b] - d[a])
+                } else {
+                    t[b]
+                };
+                out.push(Transition {
+                    t: tc.clamp(t[a], t[b]),
+                    contact: c,
+                    closed: now == Some(true),
+                });
+            }
+            state = now;
+        }
+    }
+    out.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.contact.cmp(&b.contact)));
+    out
+}
+
+/// Openings/closings of the given contacts from the hybrid engine's event log.
+pub fn transitions_from_events(events: &[EventRecord], contacts: &[usize]) -> Vec<Transition> {
+    let mut out: Vec<Transition> = events
+        .iter()
+        .filter(|e| matches!(e.kind, EventKind::Open | EventKind::Close))
+        .filter(|e| contacts.contains(&(e.contact as usize)))
+        .map(|e| Transition {
+            t: e.t,
+            contact: e.contact as usize,
+            closed: e.kind == EventKind::Close,
+        })
+        .collect();
+    out.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.contact.cmp(&b.contact)));
+    out
+}
+
+/// The times `t1 … t5` (module docs); `None` where the event did not happen in the run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct InterfaceTimings {
+    /// First opening of contact `k−1`.
+    pub t1: Option<f64>,
+    /// Beads `k−1`, `k` both free (contacts `k−2`, `k−1`, `k` open).
+    pub t2: Option<f64>,
+    /// Two-body collision of beads `k−1`, `k` starts.
+    pub t3: Option<f64>,
+    /// ... and ends (contact `k−1` reopens).
+    pub t3_end: Option<f64>,
+    /// Bead `k` closes the gap to `k+1`.
+    pub t4: Option<f64>,
+    /// Bead `k−1` closes the gap to `k−2`.
+    pub t5: Option<f64>,
+}
+
+impl InterfaceTimings {
+    /// `[t1, t2, t3, t4, t5]`.
+    pub fn as_array(&self) -> [Option<f64>; 5] {
+        [self.t1, self.t2, self.t3, self.t4, self.t5]
+    }
+}
+
+/// Extracts [`InterfaceTimings`] for interface bead `k ≥ 2` from time-ordered transitions.
+pub fn interface_timings(tr: &[Transition], k: usize) -> InterfaceTimings {
+    let mut out = InterfaceTimings::default();
+    if k < 2 {
+        return out;
+    }
+    let first = |c: usize, closed: bool, after: f64| {
+        tr.iter()
+            .find(|x| x.contact == c && x.closed == closed && x.t > after)
+            .map(|x| x.t)
+    };
+    let Some(t1) = first(k - 1, false, f64::NEG_INFINITY) else {
+        return out;
+    };
+    out.t1 = Some(t1);
+    // replay the states of contacts k−2, k−1, k (start: closed, the wave passes them)
+    let mut open = [false; 3];
+    for x in tr {
+        if x.contact + 2 >= k && x.contact <= k {
+            open[x.contact + 2 - k] = !x.closed;
+        }
+        if x.t >= t1 && open.iter().all(|&o| o) {
+            out.t2 = Some(x.t);
+            break;
+        }
+    }
+    let Some(t2) = out.t2 else { return out };
+    out.t3 = first(k - 1, true, t2);
+    let Some(t3) = out.t3 else { return out };
+    out.t3_end = first(k - 1, false, t3);
+    out.t4 = first(k, true, t3);
+    out.t5 = first(k - 2, true, t3);
+    out
+}
+
+/// Observer recording overlaps of contacts `c_lo..c_hi`, velocities of beads `b_lo..b_hi`, the
+/// largest velocity of `probe` (incoming peak) and the last frame.
+pub struct Window {
+    chain: crate::model::Chain,
+    /// Contact range (half-open).
+    pub contacts: (usize, usize),
+    /// Bead range (half-open).
+    pub beads: (usize, usize),
+    /// Probe bead for the incoming peak velocity.
+    pub probe: usize,
+    /// Frame times.
+    pub t: Vec<f64>,
+    /// `delta[j][f]`: overlap of contact `contacts.0 + j` at frame `f`.
+    pub delta: Vec<Vec<f64>>,
+    /// `vel[j][f]`: velocity of bead `beads.0 + j` at frame `f`.
+    pub vel: Vec<Vec<f64>>,
+    /// Largest velocity of the probe bead.
+    pub v_in: f64,
+    /// Last frame `(t, u, v)`.
+    pub last: (f64, Vec<f64>, Vec<f64>),
+}
+
+impl Window {
+    /// A window over contacts `c` and beads `b` (half-open ranges) of `chain`.
+    pub fn new(
+        chain: crate::model::Chain,
+        c: (usize, usize),
+        b: (usize, usize),
+        probe: usize,
+    ) -> Self {
+        Window {
+            chain,
+            contacts: c,
+            beads: b,
+            probe,
+            t: Vec::new(),
+            delta: vec![Vec::new(); c.1 - c.0],
+            vel: vec![Vec::new(); b.1 - b.0],
+            v_in: 0.0,
+            last: (0.0, vec![], vec![]),
+        }
+    }
+}
+
+impl Observer for Window {
+    fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
+        self.t.push(t);
+        for (j, c) in (self.contacts.0..self.contacts.1).enumerate() {
+            self.delta[j].push(self.chain.overlap(c, u[c], u[c + 1]));
+        }
+        for (j, b) in (self.beads.0..self.beads.1).enumerate() {
+            self.vel[j].push(v[b]);
+        }
+        self.v_in = self.v_in.max(v[self.probe]);
+        self.last = (t, u.to_vec(), v.to_vec());
+        Ok(())
+    }
+}
+
+/// Median of a slice (`NaN` if empty).
+fn median(mut x: Vec<f64>) -> f64 {
+    if x.is_empty() {
+        return f64::NAN;
+    }
+    x.sort_by(f64::total_cmp);
+    x[x.len() / 2]
+}
+
+/// A timed interface run.
+pub struct TimingRun {
+    /// The scene that ran.
+    pub scene: Scene,
+    /// Times from the sampled overlaps.
+    pub frames: InterfaceTimings,
+    /// Times from the hybrid event log (`None` for the dense engine).
+    pub events: Option<InterfaceTimings>,
+    /// Openings/closings of contacts `k−3..=k+1` from the sampled overlaps.
+    pub transitions: Vec<Transition>,
+    /// The same from the hybrid event log (empty for the dense engine).
+    pub event_transitions: Vec<Transition>,
+    /// Time per bead of the left medium.
+    pub tau: f64,
+    /// Incoming peak velocity (bead `k−10`).
+    pub v_in: f64,
+    /// Median velocities of beads `k−1`, `k` between `t2` and `t3`.
+    pub frozen1: (f64, f64),
+    /// Median velocities of beads `k−1`, `k` between `t3_end` and `min(t4, t5)`.
+    pub frozen2: (f64, f64),
+    /// The window's recording.
+    pub window: Window,
+    /// Engine outcome (energies, events).
+    pub outcome: RunOutcome,
+    /// Wall-clock seconds (both the stop-time probe and the recorded run).
+    pub seconds: f64,
+}
+
+/// Runs a physical scene with exponent value `exponent` (TOML), `seed`, `beads`, interface bead
+/// `k`: first a watched run (stop when the leading wave reaches `beads − 12`) for the end time,
+/// then the recorded run to that time with `engine`, Radau, `rtol`, `atol = rtol/100`, frames
+/// `tau/50` apart (`tau`: time per bead of the left medium, `tau_slow`: of the slower medium).
+#[allow(clippy::too_many_arguments)]
+pub fn timing_run(
+    exponent: &str,
+    seed: u64,
+    tau: f64,
+    tau_slow: f64,
+    beads: usize,
+    k: usize,
+    engine: Engine,
+    rtol: f64,
+) -> Result<TimingRun, PaperError> {
+    let t0 = Instant::now();
+    let probe = physical_scene(
+        beads,
+        exponent,
+        seed,
+        tau_slow * beads as f64 * 20.0,
+        tau / 5.0,
+    )?;
+    let (w, _) = run_watched(&probe, k, beads.saturating_sub(12), rtol)?;
+    let until = w.last.0.max(tau);
+    let sc = physical_scene(beads, exponent, seed, until, tau / 50.0)?;
+    let mut cfg = RunConfig::from_scene(&sc);
+    cfg.engine = engine;
+    cfg.rtol = rtol;
+    cfg.atol = rtol / 100.0;
+    let mut win = Window::new(
+        sc.chain.clone(),
+        (k - 3, k + 2),
+        (k - 2, k + 2),
+        k.saturating_sub(10),
+    );
+    let outcome = engine::run(&sc, &cfg, &mut win)?;
+    let contacts: Vec<usize> = (k - 3..k + 2).collect();
+    let dmax = win.delta[2].iter().cloned().fold(0.0, f64::max);
+    let tr = transitions_from_frames(&win.t, &contacts, &win.delta, 1e-6 * dmax);
+    let frames = interface_timings(&tr, k);
+    let etr = transitions_from_events(&outcome.events, &contacts);
+    let events = (engine == Engine::Hybrid).then(|| interface_timings(&etr, k));
+    let between = |a: Option<f64>, b: Option<f64>, j: usize| {
+        let (Some(a), Some(b)) = (a, b) else {
+            return f64::NAN;
+        };
+        median(
+            win.t
+                .iter()
+                .zip(&win.vel[j])
+                .filter(|(t, _)| **t > a && **t < b)
+                .map(|(_, v)| *v)
+                .collect(),
+        )
+    };
+    let end2 = match (frames.t4, frames.t5) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    };
+    let frozen1 = (
+        between(frames.t2, frames.t3, 1),
+        between(frames.t2, frames.t3, 2),
+    );
+    let frozen2 = (
+        between(frames.t3_end, end2, 1),
+        between(frames.t3_end, end2, 2),
+    );
+    Ok(TimingRun {
+        scene: sc,
+        frames,
+        events,
+        transitions: tr,
+        event_transitions: etr,
+        tau,
+        v_in: win.v_in,
+        frozen1,
+        frozen2,
+        window: win,
+        outcome,
+        seconds: t0.elapsed().as_secs_f64(),
+    })
+}
+
+/// [`timing_run`] for the clean interface `n1 → n2` at bead `k` (Radau, `rtol = 1e-8`).
+pub fn interface_timing_run(
+    n1: f64,
+    n2: f64,
+    beads: usize,
+    k: usize,
+    engine: Engine,
+) -> Result<TimingRun, PaperError> {
+    let (t1, t2) = (time_per_bead(n1)?, time_per_bead(n2)?);
+    let ex = format!("{{ base = {n1}, segments = [{{ from = {k}, value = {n2} }}] }}");
+    timing_run(&ex, 0, t1, t1.max(t2), beads, k, engine, 1e-8)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tr(t: f64, contact: usize, closed: bool) -> Transition {
+        Transition { t, contact, closed }
+    }
+
+    #[test]
+    fn frame_transitions_interpolate_zero_crossings() {
+        // contact 7: +1 → −1 between t = 1 and 2 (crossing 1.5), back to +3 between 3 and 4
+        // (crossing 3.25); values inside ±θ are ignored (no spurious transitions)
+        let t = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0];
+        let d = vec![vec![0.0, 1.0, -1.0, -1.0, 3.0, 1e-9]];
+        let x = transitions_from_frames(&t, &[7], &d, 1e-6);
+        assert_eq!(x.len(), 2, "{x:?}");
+        // linear interpolation: exact to rounding (abs 1e-12)
+        assert!((x[0].t - 1.5).abs() < 1e-12 && !x[0].closed && x[0].contact == 7);
+        assert!((x[1].t - 3.25).abs() < 1e-12 && x[1].closed);
+    }
+
+    #[test]
+    fn timings_follow_the_paper_sequence() {
+        // k = 50: wave closes 48, 49, 50; 49 opens (t1 = 2), 48 opens (3), 50 opens (4 → t2),
+        // 49 closes (6 → t3) and reopens (7), 50 closes (9 → t4), 48 closes (11 → t5)
+        let x = [
+            tr(0.5, 48, true),
+            tr(1.0, 49, true),
+            tr(1.5, 50, true),
+            tr(2.0, 49, false),
+            tr(3.0, 48, false),
+            tr(4.0, 50, false),
+            tr(6.0, 49, true),
+            tr(7.0, 49, false),
+            tr(9.0, 50, true),
+            tr(11.0, 48, true),
+        ];
+        let s = interface_timings(&x, 50);
+        assert_eq!(
+            s.as_array(),
+            [Some(2.0), Some(4.0), Some(6.0), Some(9.0), Some(11.0)]
+        );
+        assert_eq!(s.t3_end, Some(7.0));
+        // without the two-body collision: t3, t4, t5 are missing
+        let s = interface_timings(&x[..6], 50);
+        assert_eq!(s.t2, Some(4.0));
+        assert_eq!(s.t3, None);
+        assert_eq!(s.t4, None);
+    }
+}
