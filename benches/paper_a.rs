@@ -10,7 +10,7 @@ use beadchain::analysis::impurities::{
 };
 use beadchain::analysis::paper::{physical_scene, time_per_bead, PaperError};
 use beadchain::analysis::timings::{interface_timing_run, InterfaceTimings, TimingRun};
-use beadchain::analysis::wavelength::measure_wavelength;
+use beadchain::analysis::wavelength::{measure_wavelength, WavelengthResult};
 use beadchain::scene::Engine;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -43,6 +43,25 @@ fn opt(x: Option<f64>) -> String {
     x.map_or("NaN".into(), |v| format!("{v:.6e}"))
 }
 
+/// One `data/wavelength.csv` row.
+fn wavelength_row(r: &WavelengthResult, n: f64, beads: usize, engine: &str) -> String {
+    format!(
+        "{n},{beads},{},{},{},{},{},{},{},{},{},{},{},{},{engine}",
+        r.lambda_c,
+        r.lambda_fit.0,
+        r.lambda_fit.1,
+        r.fit_rms,
+        r.fwhm.0,
+        r.fwhm.1,
+        r.width_01.0,
+        r.width_01.1,
+        r.count_01,
+        r.tau,
+        r.probes.0,
+        r.probes.1
+    )
+}
+
 fn wavelength() -> Result<(), PaperError> {
     let t0 = Instant::now();
     println!("| n | λ_c | λ_fit (j1) | λ_fit (j2) | λ_fit/λ_c | FWHM / cont. | width >0.1% / cont. | beads >0.1% | fit rms | τ | wall (s) |");
@@ -67,21 +86,7 @@ fn wavelength() -> Result<(), PaperError> {
             r.tau,
             r.seconds
         );
-        rows.push(format!(
-            "{n},{beads},{},{},{},{},{},{},{},{},{},{},{},{},hybrid",
-            r.lambda_c,
-            r.lambda_fit.0,
-            r.lambda_fit.1,
-            r.fit_rms,
-            r.fwhm.0,
-            r.fwhm.1,
-            r.width_01.0,
-            r.width_01.1,
-            r.count_01,
-            r.tau,
-            r.probes.0,
-            r.probes.1
-        ));
+        rows.push(wavelength_row(&r, n, beads, "hybrid"));
     }
     // cross-check one case with the dense engine
     let r = measure_wavelength(3.0, 200, Engine::Dense, 1e-8, 0.005)?;
@@ -89,21 +94,7 @@ fn wavelength() -> Result<(), PaperError> {
         "dense cross-check n = 3: λ_fit = {:.4} / {:.4}, FWHM {:.4}, beads >0.1% {:.2}, τ = {:.5}, wall {:.1} s",
         r.lambda_fit.0, r.lambda_fit.1, r.fwhm.0, r.count_01, r.tau, r.seconds
     );
-    rows.push(format!(
-        "3,200,{},{},{},{},{},{},{},{},{},{},{},{},dense",
-        r.lambda_c,
-        r.lambda_fit.0,
-        r.lambda_fit.1,
-        r.fit_rms,
-        r.fwhm.0,
-        r.fwhm.1,
-        r.width_01.0,
-        r.width_01.1,
-        r.count_01,
-        r.tau,
-        r.probes.0,
-        r.probes.1
-    ));
+    rows.push(wavelength_row(&r, 3.0, 200, "dense"));
     write_csv(
         "wavelength",
         "n,beads,lambda_c,lambda_fit_j1,lambda_fit_j2,fit_rms,fwhm,fwhm_c,width_01,width_01_c,count_01,tau,j1,j2,engine",

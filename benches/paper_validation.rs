@@ -15,10 +15,10 @@ use beadchain::analysis::paper::{
 };
 use std::time::Instant;
 
-#[path = "paper_b.rs"]
-mod paper_b;
 #[path = "paper_a.rs"]
 mod paper_a;
+#[path = "paper_b.rs"]
+mod paper_b;
 
 fn note(info: &RunInfo) -> String {
     match &info.hybrid_failure {
@@ -193,8 +193,20 @@ fn main() -> Result<(), PaperError> {
     let beads: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(300);
     let all = what == "all";
     // Part A (benches/paper_a.rs) and part B (benches/paper_b.rs); `all` runs every experiment.
-    let part_a = ["wavelength", "timings", "impurity_examples", "appendix_a", "appendix_b"];
-    let part_b = ["periodic4", "pairwise", "breathing", "transfer", "composite"];
+    let part_a = [
+        "wavelength",
+        "timings",
+        "impurity_examples",
+        "appendix_a",
+        "appendix_b",
+    ];
+    let part_b = [
+        "periodic4",
+        "pairwise",
+        "breathing",
+        "transfer",
+        "composite",
+    ];
     let wanted: Vec<&str> = if all {
         part_a.iter().chain(part_b.iter()).copied().collect()
     } else {

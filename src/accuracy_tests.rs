@@ -1,28 +1,22 @@
 //! Tests of the work–precision study on small striker chains.
 
 use super::*;
+use crate::integrate::test_util;
 use crate::model::Chain;
 use crate::scene::RunSettings;
 
 /// `n` unit-mass beads, exponent 2.5, prefactor 1, bead 0 striking at 1.
 fn striker(n: usize, until: f64) -> Scene {
-    let mut v = vec![0.0; n];
-    v[0] = 1.0;
+    let (u0, v0) = test_util::striker(n, 1.0);
     Scene {
         name: format!("striker{n}"),
         description: String::new(),
         chain: Chain {
-            mass: vec![1.0; n],
-            exponent: vec![2.5; n - 1],
             prefactor: vec![1.0; n - 1],
-            precompression: None,
-            field: None,
-            left_wall: None,
-            right_wall: None,
-            hard: None,
+            ..test_util::uniform_chain(n)
         },
-        u0: vec![0.0; n],
-        v0: v,
+        u0,
+        v0,
         run: RunSettings {
             until,
             ..Default::default()
@@ -190,7 +184,11 @@ fn kinetic_energy_error_is_not_reported_before_the_chain_separates() {
     opts.methods = vec![Method::Radau5];
     opts.rtols = vec![1e-6, 1e-8];
     let rep = accuracy_study(&scene, &opts).expect("study runs");
-    assert!(rep.rows.iter().all(|r| r.ke_error.is_nan()), "{:?}", rep.rows);
+    assert!(
+        rep.rows.iter().all(|r| r.ke_error.is_nan()),
+        "{:?}",
+        rep.rows
+    );
     assert!(rep.rows.iter().all(|r| r.energy_error < 1e-5));
     assert!(format_table(&rep).contains("n/a"));
 }

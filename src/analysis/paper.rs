@@ -123,11 +123,7 @@ impl Observer for Watch {
         Ok(())
     }
     fn control(&mut self, _t: f64) -> Control {
-        if self.stop {
-            Control::Stop
-        } else {
-            Control::Continue
-        }
+        Control::stop_if(self.stop)
     }
 }
 

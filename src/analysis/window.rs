@@ -154,11 +154,7 @@ impl Observer for WindowWatch {
         Ok(())
     }
     fn control(&mut self, _t: f64) -> Control {
-        if self.stop {
-            Control::Stop
-        } else {
-            Control::Continue
-        }
+        Control::stop_if(self.stop)
     }
 }
 

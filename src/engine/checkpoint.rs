@@ -21,6 +21,17 @@ pub enum Control {
     Stop,
 }
 
+impl Control {
+    /// [`Control::Stop`] when `stop`, else [`Control::Continue`] (observers with a stop flag).
+    pub fn stop_if(stop: bool) -> Self {
+        if stop {
+            Control::Stop
+        } else {
+            Control::Continue
+        }
+    }
+}
+
 /// The state of either engine.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum EngineState {
