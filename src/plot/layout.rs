@@ -178,6 +178,16 @@ impl Layout {
     }
 }
 
+/// [`num_label`] of an axis tick on an axis spanning `span`: a tick within rounding of zero
+/// (|x| < 1e-9 · span, e.g. `-1.1e-16` from summing steps of 0.1) is labelled `0`.
+pub fn tick_label(x: f64, span: f64) -> String {
+    if x.abs() < 1e-9 * span.abs() {
+        "0".into()
+    } else {
+        num_label(x)
+    }
+}
+
 /// Compact number label: `0`, plain decimals for moderate magnitudes, else `1.5e-7`.
 pub fn num_label(x: f64) -> String {
     if x == 0.0 {
@@ -213,6 +223,8 @@ mod tests {
     fn labels() {
         assert_eq!(num_label(0.0), "0");
         assert_eq!(num_label(2.5), "2.5");
+        assert_eq!(tick_label(-1.11e-16, 1.0), "0");
+        assert_eq!(tick_label(4.96e-15, 1e-14), "4.96e-15");
         assert_eq!(num_label(1500.0), "1500");
         assert_eq!(num_label(12000.0), "12000");
         assert_eq!(num_label(2.0e5), "2e5");

@@ -10,7 +10,7 @@
 use super::colormap::sequential;
 use super::contour::{marching_squares, Segment};
 use super::csvtable::Table;
-use super::layout::{num_label, Layout};
+use super::layout::{num_label, tick_label, Layout};
 use super::{de, font::FAMILY, Figure, PlotError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -266,13 +266,16 @@ impl Figure for Map {
             Rectangle::new([(ex[i], ey[j]), (ex[i + 1], ey[j + 1])], c.filled())
         });
         chart.draw_series(cells).map_err(de)?;
+        let (xspan, yspan) = (x1 - x0, y1 - y0);
+        let xfmt = move |x: &f64| tick_label(*x, xspan);
+        let yfmt = move |y: &f64| tick_label(*y, yspan);
         let mut mesh = chart.configure_mesh();
         mesh.disable_mesh();
         if text {
             mesh.x_desc(self.names.0.as_str())
                 .y_desc(self.names.1.as_str())
-                .x_label_formatter(&|x| num_label(*x))
-                .y_label_formatter(&|y| num_label(*y))
+                .x_label_formatter(&xfmt)
+                .y_label_formatter(&yfmt)
                 .label_style((FAMILY, 14))
                 .axis_desc_style((FAMILY, 16));
         } else {
