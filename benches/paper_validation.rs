@@ -10,8 +10,8 @@
 
 use beadchain::analysis::least_squares;
 use beadchain::analysis::paper::{
-    collapse_point, disorder_gamma, impurity_ratio, interface_run, paper_gamma, periodic_gamma,
-    reflection_grid, PaperError, RunInfo,
+    collapse_point, collapse_residual, disorder_gamma, impurity_ratio, interface_run, paper_gamma,
+    periodic_gamma, reflection_grid, PaperError, RunInfo,
 };
 use std::time::Instant;
 
@@ -74,6 +74,11 @@ fn grid() -> Result<(), PaperError> {
         println!("| {n1} | {} |", row.join(" | "));
     }
     println!("grid wall time {:.1} s", t0.elapsed().as_secs_f64());
+    for p in [0.0, 0.4, 0.8, 1.2, 1.6, 1.65, 1.8, 2.0, 2.2, 2.4] {
+        if let Some(sd) = collapse_residual(&pts, p) {
+            println!("  p = {p:.2}: residual sd of E_refl(zeta) (cubic in ln zeta) = {sd:.3e}");
+        }
+    }
     if let Some((p, sd)) = collapse_point(&pts) {
         println!("collapse point p = {p:.2} (residual sd {sd:.2e}); paper 1.65");
     }

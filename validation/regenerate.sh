@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The full paper reproduction (validation/REPORT.md): runs every experiment of
 # benches/paper_validation.rs into validation/out_<name>.txt (data tables into validation/data/)
-# and prints each one's wall time. About 12 minutes on the 2-core development machine
-# (disorder N = 1000 is 4.5 of them). The reduced version is `beadchain validate --quick` (seconds).
+# and prints each one's wall time. 275 s on the idle 2-core development machine, plus the
+# build (disorder N = 1000 is 172 s of it). The reduced version is `beadchain validate --quick` (seconds).
 #   bash validation/regenerate.sh            # everything
 #   bash validation/regenerate.sh grid timings   # only these (names as below)
 set -euo pipefail
@@ -20,7 +20,7 @@ for name in "${want[@]}"; do
     *) args=("$name") ;;
   esac
   start=$(date +%s%N)
-  if ! cargo bench -q --bench paper_validation -- "${args[@]}" > "out_$name.txt.tmp"; then
+  if ! cargo bench -q --bench paper_validation -- "${args[@]}" > "out_$name.txt.tmp" 2>&1; then
     rm -f "out_$name.txt.tmp"
     echo "regenerate: experiment '$name' failed" >&2
     exit 1

@@ -342,28 +342,35 @@ pub fn reflection_grid(
 /// Fits the collapse point of the reflected-energy contours (see the function body for the
 /// criterion).
 pub fn collapse_point(points: &[(f64, f64, f64)]) -> Option<(f64, f64)> {
-    let neg: Vec<_> = points.iter().filter(|p| p.0 > p.1).collect();
-    if neg.len() < 5 {
-        return None;
-    }
-    let y: Vec<f64> = neg.iter().map(|q| q.2).collect();
     let mut best: Option<(f64, f64)> = None;
     for i in 0..=240 {
         let p = i as f64 * 0.01;
-        let rows: Vec<Vec<f64>> = neg
-            .iter()
-            .map(|q| {
-                let z = ((q.0 - p) / (q.1 - p)).ln();
-                vec![1.0, z, z * z, z * z * z]
-            })
-            .collect();
-        if let Ok(f) = least_squares(&rows, &y) {
-            if best.is_none_or(|b| f.residual_sd < b.1) {
-                best = Some((p, f.residual_sd));
+        if let Some(sd) = collapse_residual(points, p) {
+            if best.is_none_or(|b| sd < b.1) {
+                best = Some((p, sd));
             }
         }
     }
     best
+}
+
+/// Residual standard deviation of the cubic fit `E_refl = c0 + c1 ln ζ + c2 ln²ζ + c3 ln³ζ`,
+/// `ζ = (n1 − p)/(n2 − p)` (paper Fig. 7), over the points with Δn < 0 (`None` with fewer than 5
+/// such points or a singular fit). [`collapse_point`] minimises it over `p`.
+pub fn collapse_residual(points: &[(f64, f64, f64)], p: f64) -> Option<f64> {
+    let neg: Vec<_> = points.iter().filter(|q| q.0 > q.1).collect();
+    if neg.len() < 5 {
+        return None;
+    }
+    let y: Vec<f64> = neg.iter().map(|q| q.2).collect();
+    let rows: Vec<Vec<f64>> = neg
+        .iter()
+        .map(|q| {
+            let z = ((q.0 - p) / (q.1 - p)).ln();
+            vec![1.0, z, z * z, z * z * z]
+        })
+        .collect();
+    least_squares(&rows, &y).ok().map(|f| f.residual_sd)
 }
 
 #[cfg(test)]
@@ -385,6 +392,15 @@ mod tests {
         assert!((p - 1.7).abs() < 0.005, "{p}");
         assert!(sd < 1e-9, "{sd}");
         assert!(collapse_point(&pts[..3]).is_none());
+        // The residual away from 1.7 is clearly positive (abs 1e-4), and the scan's value at
+        // its minimum is collapse_residual's there (rel 1e-12).
+        let off = collapse_residual(&pts, 1.2).unwrap_or(0.0);
+        assert!(off > 1e-4, "{off}");
+        let at = collapse_residual(&pts, p).unwrap_or(f64::NAN);
+        assert!(
+            (at - sd).abs() <= 1e-12 * sd.max(1e-300) + 1e-15,
+            "{at} vs {sd}"
+        );
     }
 
     #[test]
