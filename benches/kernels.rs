@@ -86,6 +86,7 @@ fn radau_step(c: &mut Criterion) {
                 length: 0.1,
                 velocity: 1.0,
             },
+            v_frame: 0.0,
         };
         let mut r = Radau5::new(m, tol, SolverKind::Auto);
         r.reset(&sys, 0.0, &u, &v);

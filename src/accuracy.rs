@@ -67,7 +67,7 @@ impl Default for AccuracyOptions {
     fn default() -> Self {
         Self {
             engines: vec![Engine::Hybrid, Engine::Dense],
-            methods: vec![Method::Radau5, Method::Dop853, Method::Verlet],
+            methods: vec![Method::Auto, Method::Radau5, Method::Dop853, Method::Verlet],
             rtols: vec![1e-4, 1e-6, 1e-8, 1e-10],
             verlet_steps: vec![0.1, 0.03, 0.01, 0.003],
             atol_ratio: 0.01,

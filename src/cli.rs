@@ -73,12 +73,12 @@ struct AccuracyArgs {
         default_value = "hybrid,dense"
     )]
     engines: Vec<EngineArg>,
-    /// Methods, comma-separated (radau5, dop853, verlet).
+    /// Methods, comma-separated (auto, radau5, dop853, verlet).
     #[arg(
         long,
         value_enum,
         value_delimiter = ',',
-        default_value = "radau5,dop853,verlet"
+        default_value = "auto,radau5,dop853,verlet"
     )]
     methods: Vec<MethodArg>,
     /// Relative tolerances of the adaptive methods (atol = atol-ratio * rtol).
@@ -116,6 +116,19 @@ enum MethodArg {
     Dop853,
     /// Fixed-step velocity Verlet; its step is rtol·L/V.
     Verlet,
+    /// DOP853 while non-stiff, Radau IIA while stiff, per cluster.
+    Auto,
+}
+
+impl From<MethodArg> for Method {
+    fn from(m: MethodArg) -> Self {
+        match m {
+            MethodArg::Radau5 => Method::Radau5,
+            MethodArg::Dop853 => Method::Dop853,
+            MethodArg::Verlet => Method::Verlet,
+            MethodArg::Auto => Method::Auto,
+        }
+    }
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -250,11 +263,7 @@ fn load_scene(spec: &str) -> Result<Scene> {
 fn config(scene: &Scene, c: &Common) -> RunConfig {
     let mut cfg = RunConfig::from_scene(scene);
     if let Some(m) = c.method {
-        cfg.method = match m {
-            MethodArg::Radau5 => Method::Radau5,
-            MethodArg::Dop853 => Method::Dop853,
-            MethodArg::Verlet => Method::Verlet,
-        };
+        cfg.method = m.into();
     }
     if let Some(r) = c.rtol {
         cfg.rtol = r;
@@ -339,6 +348,13 @@ pub fn print_outcome(scene: &Scene, cfg: &RunConfig, out: &RunOutcome) {
         s.newton_failures,
         out.largest_cluster
     );
+    if cfg.method == Method::Auto {
+        println!(
+            "method auto: {} steps dop853, {} steps radau5",
+            s.steps - out.implicit_steps,
+            out.implicit_steps
+        );
+    }
     if !out.events_by_kind.is_empty() {
         let ev: Vec<String> = out
             .events_by_kind
@@ -463,15 +479,7 @@ fn cmd_accuracy(a: AccuracyArgs) -> Result<i32> {
                 EngineArg::Hybrid => Engine::Hybrid,
             })
             .collect(),
-        methods: a
-            .methods
-            .iter()
-            .map(|m| match m {
-                MethodArg::Radau5 => Method::Radau5,
-                MethodArg::Dop853 => Method::Dop853,
-                MethodArg::Verlet => Method::Verlet,
-            })
-            .collect(),
+        methods: a.methods.iter().map(|&m| m.into()).collect(),
         rtols: a.rtols,
         verlet_steps: a.verlet_steps,
         atol_ratio: a.atol_ratio,

@@ -58,6 +58,12 @@ fn probe(at: u64, stop: bool) -> Probe {
 fn scene_and_cfg(engine: Engine, method: Method) -> (Scene, RunConfig) {
     let mut s = striker(40, 2.5, 1.0, 1.0, 45.0);
     s.v0[39] = -0.5;
+    if method == Method::Auto {
+        // light beads between heavy ones: `auto` switches methods during the run
+        for m in s.chain.mass.iter_mut().skip(1).step_by(2) {
+            *m = 1e-6;
+        }
+    }
     let mut cfg = config(engine, method, 1e-8, 1e-10, 45.0);
     cfg.every = Some(1.5);
     (s, cfg)
@@ -79,10 +85,18 @@ fn resume_is_bit_identical() {
         (Engine::Dense, Method::Radau5),
         (Engine::Hybrid, Method::Radau5),
         (Engine::Hybrid, Method::Dop853),
+        (Engine::Hybrid, Method::Auto),
+        (Engine::Dense, Method::Auto),
     ] {
         let (s, cfg) = scene_and_cfg(engine, method);
         let mut full = probe(u64::MAX, false);
         let reference = engine::run(&s, &cfg, &mut full).expect("runs");
+        if method == Method::Auto {
+            assert!(
+                reference.implicit_steps > 0 && reference.implicit_steps < reference.stats.steps,
+                "{engine:?}: auto must switch methods in this scene"
+            );
+        }
         let total_polls = full.polls;
         for frac in [0.1, 0.5, 0.93] {
             let at = ((total_polls as f64) * frac) as u64 + 1;
@@ -102,6 +116,7 @@ fn resume_is_bit_identical() {
             assert_eq!(out.u, reference.u);
             assert_eq!(out.v, reference.v);
             assert_eq!(out.stats.steps, reference.stats.steps);
+            assert_eq!(out.implicit_steps, reference.implicit_steps);
             assert_eq!(out.events_by_kind, reference.events_by_kind);
         }
     }

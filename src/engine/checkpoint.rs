@@ -129,6 +129,8 @@ pub struct HybridState {
     pub steps_total: u64,
     /// Late merges so far.
     pub late_merges: u64,
+    /// Implicit steps of the clusters removed so far.
+    pub implicit_steps: u64,
     /// Last hard collision per contact / wall.
     pub last_hard: Vec<f64>,
     /// Wall pins.

@@ -4,6 +4,7 @@
 
 use super::checkpoint::{DenseState, EngineState};
 use super::{EngineError, Observer, RunConfig, RunOutcome};
+use crate::integrate::auto::Auto;
 use crate::integrate::dop853::Dop853;
 use crate::integrate::radau5::Radau5;
 use crate::integrate::verlet::Verlet;
@@ -18,6 +19,7 @@ pub fn make_integrator(cfg: &RunConfig, m: usize, tol: Tolerances) -> Box<dyn In
         Method::Dop853 => Box::new(Dop853::new(m, tol)),
         // Fixed step `rtol · L/V` (see `integrate::verlet`).
         Method::Verlet => Box::new(Verlet::new(m, tol)),
+        Method::Auto => Box::new(Auto::new(m, tol, cfg.solver, false)),
     }
 }
 
@@ -35,6 +37,7 @@ pub fn run_from(
         rtol: cfg.rtol,
         atol: cfg.atol,
         scales: chain.scales(&scene.u0, &scene.v0),
+        v_frame: 0.0,
     };
     let start = Instant::now();
     let mut integ = make_integrator(cfg, n, tol);
@@ -91,6 +94,7 @@ pub fn run_from(
         largest_cluster: n as u64,
         events: Vec::new(),
         late_merges: 0,
+        implicit_steps: integ.implicit_steps(),
         u,
         v,
     })

@@ -161,6 +161,9 @@ pub struct RunOutcome {
     /// Hybrid engine diagnostic: merges whose overlap at the merge was far above the contact
     /// threshold (a closing detected late). Expected 0.
     pub late_merges: u64,
+    /// Accepted steps taken by an implicit method (Radau IIA); `stats.steps` minus this is the
+    /// number of explicit steps.
+    pub implicit_steps: u64,
     /// Gap events (hybrid engine), in processing order.
     pub events: Vec<crate::snapshot::EventRecord>,
     /// Final displacements.

@@ -484,6 +484,7 @@ impl Integrator for Dop853 {
                 self.f.clone(),
             ],
             stats: self.stats.clone(),
+            auto: None,
         }
     }
 
@@ -516,6 +517,7 @@ mod tests {
             rtol,
             atol,
             scales: chain.scales(u, v),
+            v_frame: 0.0,
         }
     }
 

@@ -21,6 +21,7 @@
 //! displacements are 1 or 1e-7. Errors are measured in the max norm over components, so the
 //! meaning of a tolerance does not depend on how many beads are integrated together.
 
+pub mod auto;
 pub mod dop853;
 pub mod radau5;
 pub mod verlet;
@@ -92,13 +93,16 @@ impl System for ChainRange<'_> {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub enum Method {
     /// Radau IIA order 5 (implicit).
-    #[default]
     Radau5,
     /// Dormand–Prince 8(5,3) (explicit).
     Dop853,
     /// Fixed-step velocity Verlet (symplectic, order 2; the DEM baseline). Its step is
     /// `rtol · L/V` (see [`verlet`]).
     Verlet,
+    /// DOP853 while non-stiff, Radau IIA while stiff, chosen per cluster as it runs
+    /// (see [`auto`]). The default.
+    #[default]
+    Auto,
 }
 
 impl Method {
@@ -108,6 +112,7 @@ impl Method {
             Method::Radau5 => "radau5",
             Method::Dop853 => "dop853",
             Method::Verlet => "verlet",
+            Method::Auto => "auto",
         }
     }
 }
@@ -121,6 +126,10 @@ pub struct Tolerances {
     pub atol: f64,
     /// Characteristic scales of the run.
     pub scales: Scales,
+    /// Velocity of the frame the integrated velocities are measured in (a hybrid cluster's
+    /// co-moving frame; 0 otherwise): the relative part of a velocity weight is taken on the
+    /// velocity in the lab frame, `rtol·|v + v_frame|`.
+    pub v_frame: f64,
 }
 
 impl Tolerances {
@@ -132,7 +141,11 @@ impl Tolerances {
     /// Error weight of a velocity component.
     #[inline(always)]
     pub fn weight_v(&self, v_old: f64, v_new: f64) -> f64 {
-        self.atol * self.scales.velocity + self.rtol * v_old.abs().max(v_new.abs())
+        self.atol * self.scales.velocity
+            + self.rtol
+                * (v_old + self.v_frame)
+                    .abs()
+                    .max((v_new + self.v_frame).abs())
     }
 }
 
@@ -215,6 +228,8 @@ pub struct IntegratorState {
     pub vecs: Vec<Vec<f64>>,
     /// Counters.
     pub stats: Stats,
+    /// Switching state of the [`auto::Auto`] integrator (`None` for the others).
+    pub auto: Option<auto::AutoState>,
 }
 
 /// An adaptive one-step integrator with continuous output over the last accepted step.
@@ -239,6 +254,11 @@ pub trait Integrator {
     fn dense_at(&self, t: f64, j: usize) -> f64;
     /// Counters so far.
     fn stats(&self) -> &Stats;
+    /// Accepted steps taken by an implicit method so far (all of them for Radau IIA, none for
+    /// the explicit methods, those of its implicit phases for [`auto::Auto`]).
+    fn implicit_steps(&self) -> u64 {
+        0
+    }
     /// The state needed to continue exactly (see [`IntegratorState`]).
     fn save(&self) -> IntegratorState;
     /// Restores a state saved by the same method for the same number of beads.

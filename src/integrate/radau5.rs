@@ -660,6 +660,10 @@ impl Integrator for Radau5 {
         &self.stats
     }
 
+    fn implicit_steps(&self) -> u64 {
+        self.stats.steps
+    }
+
     fn save(&self) -> IntegratorState {
         IntegratorState {
             t: self.t,
@@ -678,6 +682,7 @@ impl Integrator for Radau5 {
                 self.q[2].clone(),
             ],
             stats: self.stats.clone(),
+            auto: None,
         }
     }
 

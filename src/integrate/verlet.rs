@@ -228,6 +228,7 @@ impl Integrator for Verlet {
                 vec![self.t_grid, self.k as f64],
             ],
             stats: self.stats.clone(),
+            auto: None,
         }
     }
 

@@ -622,10 +622,12 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
         None => None,
         Some("radau5") => Some(Method::Radau5),
         Some("dop853") => Some(Method::Dop853),
+        Some("verlet") => Some(Method::Verlet),
+        Some("auto") => Some(Method::Auto),
         Some(s) => {
             return Err(ctx.err(
                 "[run].method",
-                format!("expected \"radau5\" or \"dop853\", got \"{s}\""),
+                format!("expected \"auto\", \"radau5\", \"dop853\" or \"verlet\", got \"{s}\""),
             ))
         }
     };

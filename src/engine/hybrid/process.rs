@@ -6,6 +6,7 @@ use super::free::{first_upward_crossing, Free};
 use super::{prio, Hybrid, Key, FREE};
 use crate::engine::dense::make_integrator;
 use crate::engine::EngineError;
+use crate::integrate::Tolerances;
 use crate::snapshot::EventKind;
 
 impl Hybrid<'_> {
@@ -40,7 +41,7 @@ impl Hybrid<'_> {
             mass[m - 1] *= PIN_MASS_FACTOR;
             self.bv[m - 1] = 0.0;
         }
-        let mut integ = make_integrator(self.cfg, m, self.tol);
+        let mut integ = make_integrator(self.cfg, m, self.cluster_tol(fv));
         let sys = ClusterSys {
             chain,
             lo,
@@ -79,11 +80,22 @@ impl Hybrid<'_> {
             .push(Key::Cluster(slot), prio(t, 2, lo, Key::Cluster(slot)));
     }
 
+    /// The tolerances of a cluster integrated in a frame moving at `frame_v`: relative velocity
+    /// errors are measured on lab-frame velocities (see [`Tolerances::v_frame`]), so a bead the
+    /// wave has left at rest is held to `atol·V`, not to `rtol·|frame_v|`.
+    pub(super) fn cluster_tol(&self, frame_v: f64) -> Tolerances {
+        Tolerances {
+            v_frame: frame_v,
+            ..self.tol
+        }
+    }
+
     /// Removes a cluster (its counters go to the run totals).
     pub(super) fn remove_cluster(&mut self, slot: u32) -> Cluster {
         let cl = self.clusters[slot as usize].take().expect("live cluster");
         self.queue.remove(&Key::Cluster(slot));
         self.stats.add(cl.integ.stats());
+        self.implicit_steps += cl.integ.implicit_steps();
         self.spare_slots.push(slot);
         cl
     }

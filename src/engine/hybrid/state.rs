@@ -65,6 +65,7 @@ impl Hybrid<'_> {
             largest: self.largest as u64,
             steps_total: self.steps_total,
             late_merges: self.late_merges,
+            implicit_steps: self.implicit_steps,
             last_hard: self.last_hard.clone(),
             pinned: self.pinned,
             next_frame: self.next_frame,
@@ -84,7 +85,8 @@ impl Hybrid<'_> {
             .map(|c| {
                 c.as_ref().map(|c| {
                     let m = (c.hi - c.lo) as usize;
-                    let mut integ = make_integrator(self.cfg, m, self.tol);
+                    let tol = self.cluster_tol(c.frame.1);
+                    let mut integ = make_integrator(self.cfg, m, tol);
                     integ.load(&c.integ);
                     Cluster {
                         lo: c.lo as usize,
@@ -122,6 +124,7 @@ impl Hybrid<'_> {
         self.largest = s.largest as usize;
         self.steps_total = s.steps_total;
         self.late_merges = s.late_merges;
+        self.implicit_steps = s.implicit_steps;
         self.last_hard.clone_from(&s.last_hard);
         self.pinned = s.pinned;
         self.next_frame = s.next_frame;

@@ -57,6 +57,7 @@ fn unit_tol(rtol: f64, atol: f64) -> Tolerances {
             length: 1.0,
             velocity: 1.0,
         },
+        v_frame: 0.0,
     }
 }
 

@@ -1,0 +1,262 @@
+//! Per-cluster method choice ("auto"): the explicit DOP853 while the system is non-stiff, the
+//! implicit Radau IIA when it is stiff, switched as the integration runs.
+//!
+//! ## Stiffness test
+//! The linearised system `ẅ = −M⁻¹K w` (paper appendix, eq. A.3, `K` tridiagonal from the
+//! contact stiffnesses `k_c = n a δ^{n−2}(n−1)` and the walls) has the eigenvalues `±iω`. Its
+//! largest `ω² = λ_max(M^{-1/2} K M^{-1/2})` is bounded by Gershgorin's theorem:
+//! `ω²_max ≤ max_i [(k_{i−1} + k_i)/m_i + k_{i−1}/√(m_{i−1}m_i) + k_i/√(m_i m_{i+1})]`, exact within
+//! a factor 2 (for a uniform chain the bound is the band edge `4k/m` itself). DOP853 is stable
+//! on the imaginary axis up to `hω ≈ 5.9` (its stability function, Hairer & Wanner II, IV.2,
+//! evaluated numerically from the tableau: `|R(5.75i)| = 0.74`, `|R(6.0i)| = 1.08`); where its
+//! step is limited by that boundary rather than by its error estimate, the system is stiff for
+//! it and an implicit method takes far longer steps.
+//!
+//! ## Switching rule (deterministic, with hysteresis)
+//! After every accepted step of size `h` the bound `ρ = h·ω_max` is evaluated at the new state.
+//! - explicit: `ρ > RHO_STIFF` on [`STREAK`] consecutive steps → Radau IIA from the next step;
+//! - implicit: `ρ' = h_next·ω_max < RHO_NONSTIFF` on [`STREAK`] consecutive steps (the explicit
+//!   method would be stable with room to spare at the step Radau itself proposes) → DOP853.
+//!
+//! The switch happens at the start of the next step, so the continuous output of the last step
+//! stays valid for the caller's event location. The new method starts from the current state
+//! with the current step size. Everything the rule depends on (mode, streak, pending switch) is
+//! part of the saved state, so a resumed run switches at the same steps: same bytes out.
+
+use super::dop853::Dop853;
+use super::radau5::Radau5;
+use super::{IntegrationError, Integrator, IntegratorState, Stats, System, Tolerances};
+use crate::linalg::SolverKind;
+use serde::{Deserialize, Serialize};
+
+/// `ρ` above which an explicit step counts as stability-limited.
+pub const RHO_STIFF: f64 = 4.0;
+/// `ρ` below which an implicit step would be comfortably stable for the explicit method.
+pub const RHO_NONSTIFF: f64 = 1.5;
+/// Consecutive accepted steps that must agree before a switch.
+pub const STREAK: u32 = 15;
+
+/// The switching state of an [`Auto`] integrator (saved in checkpoints).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct AutoState {
+    /// Radau IIA is the active method.
+    pub implicit: bool,
+    /// Consecutive accepted steps voting for a switch.
+    pub streak: u32,
+    /// Switch at the start of the next step.
+    pub pending: bool,
+    /// Accepted steps taken by the implicit method so far.
+    pub implicit_steps: u64,
+}
+
+/// DOP853 and Radau IIA behind one [`Integrator`], switched by the rule of the module docs.
+pub struct Auto {
+    m: usize,
+    dop: Dop853,
+    radau: Radau5,
+    mode: AutoState,
+    stats: Stats,
+    /// Scratch: state copy at a switch (`2m`), accelerations (`m`), stiffnesses (`m + 1`).
+    zbuf: Vec<f64>,
+    acc: Vec<f64>,
+    k: Vec<f64>,
+}
+
+impl Auto {
+    /// An `m`-bead integrator, starting explicit (or implicit when `implicit`).
+    pub fn new(m: usize, tol: Tolerances, solver: SolverKind, implicit: bool) -> Self {
+        Self {
+            m,
+            dop: Dop853::new(m, tol),
+            radau: Radau5::new(m, tol, solver),
+            mode: AutoState {
+                implicit,
+                ..AutoState::default()
+            },
+            stats: Stats::default(),
+            zbuf: vec![0.0; 2 * m],
+            acc: vec![0.0; m],
+            k: vec![0.0; m + 1],
+        }
+    }
+
+    fn active(&self) -> &dyn Integrator {
+        if self.mode.implicit {
+            &self.radau
+        } else {
+            &self.dop
+        }
+    }
+
+    fn active_mut(&mut self) -> &mut dyn Integrator {
+        if self.mode.implicit {
+            &mut self.radau
+        } else {
+            &mut self.dop
+        }
+    }
+
+    /// Upper bound of the largest angular frequency at the current state (module docs).
+    fn omega_max(&mut self, sys: &dyn System) -> f64 {
+        let m = self.m;
+        let z = if self.mode.implicit {
+            self.radau.state()
+        } else {
+            self.dop.state()
+        };
+        sys.accel_stiffness(&z[..m], &mut self.acc, &mut self.k);
+        let mass = sys.mass();
+        let mut w2: f64 = 0.0;
+        for i in 0..m {
+            let (kl, cl) = if i > 0 {
+                (
+                    self.k[i - 1],
+                    self.k[i - 1] / (mass[i - 1] * mass[i]).sqrt(),
+                )
+            } else {
+                (self.k[m - 1], 0.0)
+            };
+            let (kr, cr) = if i + 1 < m {
+                (self.k[i], self.k[i] / (mass[i] * mass[i + 1]).sqrt())
+            } else {
+                (self.k[m], 0.0)
+            };
+            w2 = w2.max((kl + kr) / mass[i] + cl + cr);
+        }
+        w2.sqrt()
+    }
+
+    /// Applies a pending switch: the other method starts from the current state and step.
+    fn switch(&mut self, sys: &dyn System) {
+        let m = self.m;
+        let (t, h) = (self.active().t(), self.active().step_size());
+        let z = if self.mode.implicit {
+            self.radau.state()
+        } else {
+            self.dop.state()
+        };
+        self.zbuf.copy_from_slice(z);
+        self.mode.implicit = !self.mode.implicit;
+        self.mode.streak = 0;
+        self.mode.pending = false;
+        let (u, v) = self.zbuf.split_at(m);
+        let before = self.active().stats().clone();
+        let next: &mut dyn Integrator = if self.mode.implicit {
+            &mut self.radau
+        } else {
+            &mut self.dop
+        };
+        next.reset(sys, t, u, v);
+        next.set_step_size(h);
+        add_diff(&mut self.stats, next.stats(), &before);
+    }
+
+    /// Votes after an accepted step (module docs).
+    fn vote(&mut self, sys: &dyn System, h: f64) {
+        let w = self.omega_max(sys);
+        let agree = if self.mode.implicit {
+            self.active().step_size() * w < RHO_NONSTIFF
+        } else {
+            h * w > RHO_STIFF
+        };
+        self.mode.streak = if agree { self.mode.streak + 1 } else { 0 };
+        if self.mode.streak >= STREAK {
+            self.mode.pending = true;
+        }
+    }
+
+    /// Accepted steps taken by the implicit method.
+    pub fn implicit_steps(&self) -> u64 {
+        self.mode.implicit_steps
+    }
+}
+
+/// `acc += now − before`, field by field.
+fn add_diff(acc: &mut Stats, now: &Stats, before: &Stats) {
+    acc.steps += now.steps - before.steps;
+    acc.rejected += now.rejected - before.rejected;
+    acc.rhs_evals += now.rhs_evals - before.rhs_evals;
+    acc.jac_evals += now.jac_evals - before.jac_evals;
+    acc.factorizations += now.factorizations - before.factorizations;
+    acc.newton_iters += now.newton_iters - before.newton_iters;
+    acc.newton_failures += now.newton_failures - before.newton_failures;
+    acc.bead_steps += now.bead_steps - before.bead_steps;
+}
+
+impl Integrator for Auto {
+    fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]) {
+        let before = self.active().stats().clone();
+        self.active_mut().reset(sys, t, u, v);
+        self.mode.pending = false;
+        let now = self.active().stats().clone();
+        add_diff(&mut self.stats, &now, &before);
+    }
+
+    fn set_step_size(&mut self, h: f64) {
+        self.active_mut().set_step_size(h);
+    }
+
+    fn step_size(&self) -> f64 {
+        self.active().step_size()
+    }
+
+    fn step(&mut self, sys: &dyn System, t_bound: f64) -> Result<f64, IntegrationError> {
+        if self.mode.pending {
+            self.switch(sys);
+        }
+        let before = self.active().stats().clone();
+        let t0 = self.active().t();
+        let r = self.active_mut().step(sys, t_bound);
+        let now = self.active().stats().clone();
+        add_diff(&mut self.stats, &now, &before);
+        let t1 = r?;
+        if t1 > t0 {
+            if self.mode.implicit {
+                self.mode.implicit_steps += 1;
+            }
+            self.vote(sys, t1 - t0);
+        }
+        Ok(t1)
+    }
+
+    fn t(&self) -> f64 {
+        self.active().t()
+    }
+
+    fn t_prev(&self) -> f64 {
+        self.active().t_prev()
+    }
+
+    fn state(&self) -> &[f64] {
+        self.active().state()
+    }
+
+    fn dense(&self, t: f64, z: &mut [f64]) {
+        self.active().dense(t, z)
+    }
+
+    fn dense_at(&self, t: f64, j: usize) -> f64 {
+        self.active().dense_at(t, j)
+    }
+
+    fn stats(&self) -> &Stats {
+        &self.stats
+    }
+
+    fn implicit_steps(&self) -> u64 {
+        self.mode.implicit_steps
+    }
+
+    fn save(&self) -> IntegratorState {
+        let mut s = self.active().save();
+        s.stats = self.stats.clone();
+        s.auto = Some(self.mode);
+        s
+    }
+
+    fn load(&mut self, s: &IntegratorState) {
+        self.mode = s.auto.unwrap_or_default();
+        self.active_mut().load(s);
+        self.stats = s.stats.clone();
+    }
+}
