@@ -218,12 +218,12 @@ fn layout_matches_documentation() {
     let (_d, p, _) = sample();
     let bytes = std::fs::read(&p).unwrap();
     assert_eq!(&bytes[..8], b"BEADCHN\0");
-    assert_eq!(u32::from_le_bytes(bytes[8..12].try_into().unwrap()), 1);
+    assert_eq!(u32::from_le_bytes(bytes[8..12].try_into().unwrap()), 2);
     let secs = sections(&bytes);
     let tags: Vec<&[u8; 4]> = secs.iter().map(|(_, t, _)| t).collect();
     let mut want = vec![b"HEAD"];
     want.extend([b"FRAM"; 5]);
-    want.extend([b"EVNT", b"STAT", b"INDX", b"END\0"]);
+    want.extend([b"EVTB", b"EVIX", b"STAT", b"INDX", b"END\0"]);
     assert_eq!(tags, want);
     for (_, t, len) in &secs {
         if t == b"FRAM" {
