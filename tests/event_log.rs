@@ -151,6 +151,7 @@ fn event_log_memory_is_bounded_by_n_not_run_length() {
         peaks.push((peak, ev));
     }
     let ((p1, e1), (p4, e4)) = (peaks[0], peaks[1]);
+    println!("engine peak heap: {p1} B with {e1} events, {p4} B with {e4} events");
     // 4× the events within a bounded footprint: the peak may differ by allocator rounding and
     // queue/cluster sizes only (abs tol 16 KiB, rel tol 5% of the T peak); keeping the log costs
     // ≥ 40 bytes per event, i.e. ≥ 40·(e4 − e1) more.
@@ -208,6 +209,7 @@ fn streamed_events_read_back_equal_the_in_memory_log() {
         }
         peaks.push(peak);
     }
+    println!("streaming peak heap (engine + writer): {peaks:?} B at T, 4T");
     // abs tol 16 KiB, rel tol 5% (as above)
     let tol = 16_384.0 + 0.05 * peaks[0] as f64;
     assert!(

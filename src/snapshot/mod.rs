@@ -34,7 +34,7 @@
 //! |--------|---------|---------|
 //! | `HEAD` | HEADER  | bincode of [`Header`] (see *bincode* below). Exactly once, first. |
 //! | `FRAM` | FRAME   | frame number `k` u64 (0, 1, 2, … in file order), then `t` f64, then `u[0..N]` f64, then `v[0..N]` f64 (raw LE, no bincode); `L = 16 + 16 N` exactly, `N = Header::n_beads`. Zero or more, in time order. The number lets a reader reject frames that were moved, duplicated or dropped even where no INDEX survives. |
-//! | `EVTB` | EVENT BLOCK | bincode of `Vec<`[`EventRecord`]`>` (not empty): the next events of the log, in processing order. Zero or more, between the frames. |
+//! | `EVTB` | EVENT BLOCK | `first` u64 (the log index of the block's first event: the number of events in the blocks before it), then bincode of `Vec<`[`EventRecord`]`>` (not empty): the next events of the log, in processing order. Zero or more, between the frames. The number lets a reader reject blocks that were moved, duplicated or dropped. |
 //! | `EVIX` | EVENT INDEX | `count` u64, then `count` × u64 byte offsets of the EVENT BLOCK sections in file order. `L = 8 + 8 count`. |
 //! | `STAT` | STATS   | bincode of [`RunSummary`]. |
 //! | `INDX` | INDEX   | `count` u64, `events_offset` u64 (of the EVENT INDEX), `stats_offset` u64, then `count` × u64 byte offsets of the FRAME sections (offset of their tag), then `count` × f64 frame times. `L = 24 + 16 count`. An offset of 0 means "section absent". |

@@ -571,9 +571,7 @@ fn scan(
             TAG_EVENT_BLOCK => {
                 let name = format!("EVENT BLOCK #{}", c.event_blocks.len());
                 let p = raw.read_payload(&h, &name)?;
-                let mut block: Vec<EventRecord> =
-                    decode_exact(&p).map_err(|d| raw.corrupt(&name, pos, d))?;
-                c.events.append(&mut block);
+                events::read_block(raw, pos, &name, &p, &mut c.events)?;
                 c.event_blocks.push(pos);
             }
             TAG_STATS => {

@@ -35,6 +35,7 @@ pub struct SnapshotWriter {
     offsets: Vec<u64>,
     times: Vec<f64>,
     event_blocks: Vec<u64>,
+    events_written: u64,
     scratch: Box<[u8]>,
     ev_scratch: Vec<u8>,
 }
@@ -69,6 +70,7 @@ impl SnapshotWriter {
             offsets: Vec::new(),
             times: Vec::new(),
             event_blocks: Vec::new(),
+            events_written: 0,
             scratch: vec![0u8; CHUNK_VALUES * 8].into_boxed_slice(),
             ev_scratch: Vec::new(),
         };
@@ -150,6 +152,7 @@ impl SnapshotWriter {
         }
         let mut buf = std::mem::take(&mut self.ev_scratch);
         buf.clear();
+        buf.extend_from_slice(&self.events_written.to_le_bytes());
         let r = bincode::serde::encode_into_std_write(events, &mut buf, super::bincode_config());
         if let Err(e) = r {
             return Err(self.encode_err("EVENT BLOCK", e));
@@ -159,6 +162,7 @@ impl SnapshotWriter {
         self.ev_scratch = buf;
         w?;
         self.event_blocks.push(offset);
+        self.events_written += events.len() as u64;
         Ok(())
     }
 
@@ -323,6 +327,8 @@ pub struct WriterMark {
     pub times: Vec<f64>,
     /// Offsets of the event blocks written.
     pub event_blocks: Vec<u64>,
+    /// Events written (in those blocks).
+    pub events_written: u64,
 }
 
 impl SnapshotWriter {
@@ -347,6 +353,7 @@ impl SnapshotWriter {
             offsets: self.offsets.clone(),
             times: self.times.clone(),
             event_blocks: self.event_blocks.clone(),
+            events_written: self.events_written,
         })
     }
 
@@ -395,6 +402,7 @@ impl SnapshotWriter {
             offsets: mark.offsets.clone(),
             times: mark.times.clone(),
             event_blocks: mark.event_blocks.clone(),
+            events_written: mark.events_written,
             scratch: vec![0u8; CHUNK_VALUES * 8].into_boxed_slice(),
             ev_scratch: Vec::new(),
         })

@@ -50,7 +50,7 @@ pub fn first_crossing(g: impl Fn(f64) -> f64, ta: f64, tb: f64) -> Option<f64> {
 /// maximum `dd = 0`, so the located time's error enters the value only to second order.
 pub fn step_max(d: impl Fn(f64) -> f64, dd: impl Fn(f64) -> f64, ta: f64, tb: f64) -> f64 {
     let end = d(tb);
-    if !(tb > ta) {
+    if tb <= ta {
         return end;
     }
     let (sa, sb) = (dd(ta), dd(tb));

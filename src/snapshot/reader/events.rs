@@ -61,13 +61,18 @@ pub(super) fn event_log(
         let b = raw
             .read_head(o, &name)?
             .ok_or_else(|| raw.truncated(format!("file ends inside {name} at byte {o}")))?;
-        if b.tag != TAG_EVENT_BLOCK || b.len > at.saturating_sub(b.payload_start()) {
-            return bad(format!("block {i} at byte {o} is not an EVENT BLOCK before it"));
+        if b.tag != TAG_EVENT_BLOCK {
+            return bad(format!("block {i} at byte {o} is not an EVENT BLOCK"));
+        }
+        if b.len > at.saturating_sub(b.payload_start()) {
+            return Err(raw.absurd(
+                &name,
+                o,
+                format!("{} bytes declared, the block must end before byte {at}", b.len),
+            ));
         }
         let bp = raw.read_payload(&b, &name)?;
-        let mut block: Vec<EventRecord> =
-            decode_exact(&bp).map_err(|d| raw.corrupt(&name, o, d))?;
-        events.append(&mut block);
+        read_block(raw, o, &name, &bp, &mut events)?;
         prev_end = b.end();
     }
     Ok(events)
@@ -101,5 +106,34 @@ pub(super) fn check_scan_against_event_index(
             ),
         ));
     }
+    Ok(())
+}
+
+/// Decodes the payload of the EVENT BLOCK at `at` onto `events`, checking that it continues the
+/// log where `events` ends (its stored first index).
+pub(super) fn read_block(
+    raw: &Raw,
+    at: u64,
+    name: &str,
+    payload: &[u8],
+    events: &mut Vec<EventRecord>,
+) -> Result<(), SnapshotError> {
+    if payload.len() < 8 {
+        return Err(raw.corrupt(name, at, "payload shorter than its first index".into()));
+    }
+    let first = le_u64(payload, 0);
+    if first != events.len() as u64 {
+        return Err(raw.corrupt(
+            name,
+            at,
+            format!(
+                "holds events from #{first}, expected #{} (blocks moved, duplicated or dropped)",
+                events.len()
+            ),
+        ));
+    }
+    let mut block: Vec<EventRecord> =
+        decode_exact(&payload[8..]).map_err(|d| raw.corrupt(name, at, d))?;
+    events.append(&mut block);
     Ok(())
 }
