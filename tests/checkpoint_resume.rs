@@ -119,7 +119,10 @@ fn resume_is_bit_identical() {
             let mut events = first.events[..first.events_at_save].to_vec();
             events.extend(second.events);
             assert_eq!(events.len(), full.events.len());
-            assert!(events.iter().zip(&full.events).all(|(a, b)| event_bits(a) == event_bits(b)));
+            assert!(events
+                .iter()
+                .zip(&full.events)
+                .all(|(a, b)| event_bits(a) == event_bits(b)));
         }
     }
 }

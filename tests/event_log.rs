@@ -146,7 +146,10 @@ fn event_log_memory_is_bounded_by_n_not_run_length() {
         let (out, peak) = peak_of(|| engine::run(&s, &cfg, &mut obs).expect("runs"));
         let ev = total_events(&out);
         // enough events that the log, kept, would dominate: 4 blocks at T
-        assert!(ev as f64 >= 4.0 * engine::EVENT_BLOCK as f64 * until / t, "{ev} events");
+        assert!(
+            ev as f64 >= 4.0 * engine::EVENT_BLOCK as f64 * until / t,
+            "{ev} events"
+        );
         assert_eq!(obs.events, 0);
         peaks.push((peak, ev));
     }
@@ -173,7 +176,14 @@ fn streamed_events_read_back_equal_the_in_memory_log() {
     for until in [t, 4.0 * t] {
         let (s, cfg) = box_scene(until);
         let path = dir.path().join(format!("box{until}.snap"));
-        let header = Header::new(s.clone(), cfg.engine, cfg.method, cfg.rtol, cfg.atol, "t".into());
+        let header = Header::new(
+            s.clone(),
+            cfg.engine,
+            cfg.method,
+            cfg.rtol,
+            cfg.atol,
+            "t".into(),
+        );
         let (res, peak) = peak_of(|| {
             let mut sink = Sink {
                 w: SnapshotWriter::create(&path, &header).expect("create"),
@@ -181,9 +191,7 @@ fn streamed_events_read_back_equal_the_in_memory_log() {
             };
             let out = engine::run(&s, &cfg, &mut sink).expect("runs");
             let n = sink.events;
-            sink.w
-                .finish(&[], &Default::default())
-                .expect("finish");
+            sink.w.finish(&[], &Default::default()).expect("finish");
             (out, n)
         });
         let (out, streamed) = res;
@@ -319,7 +327,12 @@ fn wall_open_is_located_and_records_the_peak() {
         assert!((close.t - t_hit).abs() < 1e-12, "close at {}", close.t);
         // rel tol 1e-8 of the contact duration
         let err = (open.t - (t_hit + tc)).abs() / tc;
-        assert!(err < 1e-8, "{method:?}: open at {}, analytic {}, rel {err:e}", open.t, t_hit + tc);
+        assert!(
+            err < 1e-8,
+            "{method:?}: open at {}, analytic {}, rel {err:e}",
+            open.t,
+            t_hit + tc
+        );
         // peak: energy bound, rel tol 1e-9
         let p = open.peak_overlap;
         assert!(
@@ -327,7 +340,11 @@ fn wall_open_is_located_and_records_the_peak() {
             "{method:?}: wall peak {p:e}, energy bound {dmax:e}"
         );
         // leaving speed: elastic, rel tol 1e-8
-        assert!((open.rel_velocity - w).abs() < 1e-8, "{}", open.rel_velocity);
+        assert!(
+            (open.rel_velocity - w).abs() < 1e-8,
+            "{}",
+            open.rel_velocity
+        );
     }
 }
 
@@ -368,14 +385,25 @@ impl Observer for StopSink {
 fn resumed_event_stream_is_byte_identical() {
     let dir = tempfile::tempdir().expect("tempdir");
     let (s, cfg) = box_scene(700.0);
-    let header = Header::new(s.clone(), cfg.engine, cfg.method, cfg.rtol, cfg.atol, "t".into());
+    let header = Header::new(
+        s.clone(),
+        cfg.engine,
+        cfg.method,
+        cfg.rtol,
+        cfg.atol,
+        "t".into(),
+    );
     let full = dir.path().join("full.snap");
     let mut sink = Sink {
         w: SnapshotWriter::create(&full, &header).expect("create"),
         events: 0,
     };
     engine::run(&s, &cfg, &mut sink).expect("runs");
-    assert!(sink.events > 2 * engine::EVENT_BLOCK as u64, "{}", sink.events);
+    assert!(
+        sink.events > 2 * engine::EVENT_BLOCK as u64,
+        "{}",
+        sink.events
+    );
     sink.w.finish(&[], &Default::default()).expect("finish");
     let mut count = Recorder::default();
     engine::run(&s, &cfg, &mut count).expect("runs");

@@ -221,10 +221,15 @@ impl Observer for Window {
 
     fn events(&mut self, events: &[EventRecord]) -> Result<(), EngineError> {
         let (lo, hi) = self.contacts;
-        self.events.extend(events.iter().filter(|e| {
-            (lo as u64..hi as u64).contains(&e.contact)
-                && matches!(e.kind, EventKind::Close | EventKind::Open)
-        }).cloned());
+        self.events.extend(
+            events
+                .iter()
+                .filter(|e| {
+                    (lo as u64..hi as u64).contains(&e.contact)
+                        && matches!(e.kind, EventKind::Close | EventKind::Open)
+                })
+                .cloned(),
+        );
         Ok(())
     }
 }

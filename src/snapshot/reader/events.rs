@@ -68,7 +68,10 @@ pub(super) fn event_log(
             return Err(raw.absurd(
                 &name,
                 o,
-                format!("{} bytes declared, the block must end before byte {at}", b.len),
+                format!(
+                    "{} bytes declared, the block must end before byte {at}",
+                    b.len
+                ),
             ));
         }
         let bp = raw.read_payload(&b, &name)?;
@@ -90,8 +93,7 @@ pub(super) fn check_scan_against_event_index(
         && n % 8 == 0
         && le_u64(payload, 0) == c.event_blocks.len() as u64
         && (n - 8) / 8 == c.event_blocks.len()
-        && c
-            .event_blocks
+        && c.event_blocks
             .iter()
             .enumerate()
             .all(|(i, &o)| le_u64(payload, 8 + 8 * i) == o);
