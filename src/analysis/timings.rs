@@ -16,8 +16,8 @@
 //! Openings/closings come from two independent sources: (a) the overlaps `δ_c(t)` sampled every
 //! frame (frames `τ/50` apart, `τ` = time per bead of `n1`), a change of sign with hysteresis
 //! `θ = 10⁻⁶ · max δ_{k−1}` (a contact is closed above `θ`, open below `−θ`), the time by linear
-//! interpolation of the zero crossing; (b) the hybrid engine's event log
-//! (handed to [`Window`] through [`crate::engine::Observer::events`]), whose thresholds are `atol · L` (see
+//! interpolation of the zero crossing; (b) the hybrid engine's event log (handed to [`Window`]
+//! through [`crate::engine::Observer::events`]), whose thresholds are `atol · L` (see
 //! [`crate::engine::hybrid`]). Source (a) works for both engines (the dense cross-check).
 
 use super::paper::{physical_scene, run_watched, time_per_bead, PaperError};

@@ -3,10 +3,10 @@
 //! Frames and event blocks go straight to a buffered temporary file; only each frame's byte
 //! offset and time (16 bytes per frame) and each event block's offset (8 bytes per block of up
 //! to [`crate::engine::EVENT_BLOCK`] events) stay in memory for the INDEX and EVENT INDEX
-//! sections. Writing a frame or an event block allocates nothing once the scratch buffers have
-//! grown: the
-//! values are converted to little-endian bytes through a fixed scratch buffer, once to compute
-//! the CRC and once to write, so the section header can precede the payload without seeking.
+//! sections. Writing a frame allocates nothing: the values are converted to little-endian bytes
+//! through a fixed scratch buffer, once to compute the CRC and once to write, so the section
+//! header can precede the payload without seeking. An event block is encoded into a reused
+//! buffer (no allocation once it has grown to a block's size).
 
 use super::{
     encode, frame_payload_len, section_hasher, sync_parent_dir, temp_sibling, EventRecord, Header,
