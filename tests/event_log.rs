@@ -134,8 +134,9 @@ fn total_events(o: &engine::RunOutcome) -> u64 {
 }
 
 /// Regression (issue 10): the engine kept every event in memory for the whole run, so its peak
-/// heap grew with the run length. Measured before the fix (engine alone, events dropped by the
-/// observer): see the report.
+/// heap grew with the run length. Measured with this test before the fix (engine alone, events
+/// dropped by the observer): 1 317 096 B with 20 619 events, 5 249 256 B with 82 276 events;
+/// after: 170 232 B for both.
 #[test]
 fn event_log_memory_is_bounded_by_n_not_run_length() {
     let t = 1500.0;
@@ -272,8 +273,8 @@ fn tight(scene: &Scene, method: Method) -> Recorder {
 }
 
 /// Regression (issue 11 item 7): pair peak overlaps were the largest overlap at step ends
-/// (measured before the fix with this scene, rtol 1e-12: 5.0e-9 (Radau5) and 6.8e-4 (DOP853)
-/// relative low); now the maximum of the continuous output. Two-body collision of unit masses
+/// (measured with this test before the fix: 7.9e-8 (Radau5) and 1.1e-3 (DOP853) relative low);
+/// now the maximum of the continuous output. Two-body collision of unit masses
 /// at relative speed 1 with `a δⁿ`: `a δ_maxⁿ = ½ μ w²`, μ = 1/2.
 #[test]
 fn two_body_peak_overlap_matches_energy() {
@@ -299,8 +300,8 @@ fn two_body_peak_overlap_matches_energy() {
 }
 
 /// Regression (issue 11 item 7): `wall_open` was logged at the end of the step in which the
-/// bead left the wall, with peak overlap 0 (measured before the fix with this scene, rtol 1e-12:
-/// 1.8e-5 (Radau5) and 1.5e-5 (DOP853) of `T_c` late, peak 0). A
+/// bead left the wall, with peak overlap 0 (measured with this test before the fix: 1.8e-5
+/// (Radau5) and 1.5e-5 (DOP853) of `T_c` late, peak 0). A
 /// bead at speed 1 bouncing on a soft wall `a δⁿ`: contact from `t_hit = gap/w` for
 /// `T_c = 2 (δ_max/w) ∫₀¹ dx/√(1 − xⁿ)`, `a δ_maxⁿ = ½ m w²`.
 #[test]
