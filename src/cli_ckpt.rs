@@ -1,11 +1,13 @@
-//! The snapshot observer of `run`/`resume`: streams frames, writes checkpoints on schedule and
-//! on SIGINT/SIGTERM, and finishes or detaches the output.
+//! The snapshot observer of `run`/`resume`: streams frames and event blocks, writes checkpoints
+//! on schedule and on SIGINT/SIGTERM, and finishes or detaches the output. A checkpoint records
+//! the writer's mark (frames and event blocks already in the file) and the engine state (with
+//! the events not yet handed over), so memory never holds the whole event log.
 
 use anyhow::{Context, Result};
 use beadchain::engine::{self, Control, EngineError, EngineState, Observer, RunConfig, RunOutcome};
 use beadchain::scene::Scene;
 use beadchain::snapshot::ckpt::{read_checkpoint, write_checkpoint, CheckpointFile};
-use beadchain::snapshot::{RunSummary, SnapshotWriter};
+use beadchain::snapshot::{EventRecord, RunSummary, SnapshotWriter};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -60,6 +62,12 @@ impl Observer for SnapshotSink {
     fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
         self.writer
             .write_frame(t, u, v)
+            .map_err(|e| EngineError::Observer(e.to_string()))
+    }
+
+    fn events(&mut self, events: &[EventRecord]) -> Result<(), EngineError> {
+        self.writer
+            .write_events(events)
             .map_err(|e| EngineError::Observer(e.to_string()))
     }
 
@@ -138,7 +146,7 @@ pub fn drive(
         Ok(out) => {
             let timing = sink.timing;
             let ckpt = sink.ckpt_path.clone();
-            sink.writer.finish(&out.events, &summary(&out, timing))?;
+            sink.writer.finish(&[], &summary(&out, timing))?;
             if ckpt.exists() {
                 std::fs::remove_file(&ckpt)
                     .with_context(|| format!("removing the finished run's {}", ckpt.display()))?;

@@ -6,6 +6,7 @@ mod common;
 use beadchain::engine::{self, Control, EngineError, EngineState, Observer, RunConfig};
 use beadchain::integrate::Method;
 use beadchain::scene::{Engine, Scene};
+use beadchain::snapshot::EventRecord;
 use common::*;
 
 /// Records frames; checkpoints (and optionally stops) at the `k`-th poll.
@@ -14,12 +15,19 @@ struct Probe {
     at: u64,
     stop: bool,
     frames: Vec<(f64, Vec<f64>, Vec<f64>)>,
+    events: Vec<EventRecord>,
     saved: Option<(EngineState, usize)>,
+    /// Events handed over before the checkpoint.
+    events_at_save: usize,
 }
 
 impl Observer for Probe {
     fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
         self.frames.push((t, u.to_vec(), v.to_vec()));
+        Ok(())
+    }
+    fn events(&mut self, events: &[EventRecord]) -> Result<(), EngineError> {
+        self.events.extend_from_slice(events);
         Ok(())
     }
     fn control(&mut self, _t: f64) -> Control {
@@ -41,6 +49,7 @@ impl Observer for Probe {
         let (back, _): (EngineState, usize) =
             bincode::serde::decode_from_slice(&bytes, cfg).expect("decodes");
         self.saved = Some((back, self.frames.len()));
+        self.events_at_save = self.events.len();
         Ok(())
     }
 }
@@ -51,7 +60,9 @@ fn probe(at: u64, stop: bool) -> Probe {
         at,
         stop,
         frames: Vec::new(),
+        events: Vec::new(),
         saved: None,
+        events_at_save: 0,
     }
 }
 
@@ -118,8 +129,27 @@ fn resume_is_bit_identical() {
             assert_eq!(out.stats.steps, reference.stats.steps);
             assert_eq!(out.implicit_steps, reference.implicit_steps);
             assert_eq!(out.events_by_kind, reference.events_by_kind);
+            // the event log: handed over before the checkpoint, then by the resumed run
+            // (which starts with the checkpoint's unflushed events)
+            let mut events = first.events[..first.events_at_save].to_vec();
+            events.extend(second.events);
+            assert_eq!(events.len(), full.events.len());
+            assert!(events
+                .iter()
+                .zip(&full.events)
+                .all(|(a, b)| event_bits(a) == event_bits(b)));
         }
     }
+}
+
+fn event_bits(e: &EventRecord) -> (u64, u64, String, u64, u64) {
+    (
+        e.t.to_bits(),
+        e.contact,
+        e.kind.name().to_string(),
+        e.rel_velocity.to_bits(),
+        e.peak_overlap.to_bits(),
+    )
 }
 
 #[test]

@@ -409,10 +409,17 @@ fn truncated_snapshot_keeps_whole_frames() {
     let p = d.path();
     tiny_run(p);
     let snap = std::fs::read(p.join("run.snap")).unwrap();
-    // Header section: 12-byte preamble, 16-byte section header, payload.
-    let head_len = u64::from_le_bytes(snap[16..24].try_into().unwrap()) as usize;
-    let frame = 16 + 16 + 16 * TINY_BEADS; // section header + frame number + t + u + v
-    let cut = 12 + 16 + head_len + 2 * frame + 10; // two whole frames and a piece
+    // Walk the sections (12-byte preamble, then 16-byte headers): event blocks may sit between
+    // the frames; cut 10 bytes into the third frame.
+    let mut pos = 12;
+    let mut frames_seen = 0;
+    while frames_seen < 2 || &snap[pos..pos + 4] != b"FRAM" {
+        if &snap[pos..pos + 4] == b"FRAM" {
+            frames_seen += 1;
+        }
+        pos += 16 + u64::from_le_bytes(snap[pos + 4..pos + 12].try_into().unwrap()) as usize;
+    }
+    let cut = pos + 10; // two whole frames and a piece
     std::fs::write(p.join("cut.snap"), &snap[..cut]).unwrap();
     let o = beadchain(p, &["export", "cut.snap"]);
     let err = stderr(&o);

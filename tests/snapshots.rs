@@ -218,12 +218,12 @@ fn layout_matches_documentation() {
     let (_d, p, _) = sample();
     let bytes = std::fs::read(&p).unwrap();
     assert_eq!(&bytes[..8], b"BEADCHN\0");
-    assert_eq!(u32::from_le_bytes(bytes[8..12].try_into().unwrap()), 1);
+    assert_eq!(u32::from_le_bytes(bytes[8..12].try_into().unwrap()), 2);
     let secs = sections(&bytes);
     let tags: Vec<&[u8; 4]> = secs.iter().map(|(_, t, _)| t).collect();
     let mut want = vec![b"HEAD"];
     want.extend([b"FRAM"; 5]);
-    want.extend([b"EVNT", b"STAT", b"INDX", b"END\0"]);
+    want.extend([b"EVTB", b"EVIX", b"STAT", b"INDX", b"END\0"]);
     assert_eq!(tags, want);
     for (_, t, len) in &secs {
         if t == b"FRAM" {
@@ -234,6 +234,65 @@ fn layout_matches_documentation() {
     assert_eq!(end_at as usize + 24, bytes.len());
     let index_at = u64::from_le_bytes(bytes[end_at as usize + 16..].try_into().unwrap());
     assert_eq!(index_at, secs[secs.len() - 2].0);
+}
+
+/// Event blocks written between frames read back as one log, in order, both through the EVENT
+/// INDEX (finished file) and by a scan (END damaged); blocks swapped in place are an error in
+/// either path, never a reordered log.
+#[test]
+fn event_blocks_between_frames_read_back_in_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("blocks.snap");
+    let fr = frames(4, 3);
+    let ev = events();
+    let mut w = SnapshotWriter::create(&p, &header(4)).unwrap();
+    w.write_events(&ev[..1]).unwrap();
+    w.write_frame(fr[0].t, &fr[0].u, &fr[0].v).unwrap();
+    w.write_events(&[]).unwrap(); // nothing: no section
+    w.write_frame(fr[1].t, &fr[1].u, &fr[1].v).unwrap();
+    w.write_events(&ev[1..2]).unwrap();
+    w.write_frame(fr[2].t, &fr[2].u, &fr[2].v).unwrap();
+    assert_eq!(w.event_blocks_written(), 2);
+    w.finish(&ev[2..], &summary()).unwrap();
+    let bytes = std::fs::read(&p).unwrap();
+    let tags: Vec<[u8; 4]> = sections(&bytes).iter().map(|(_, t, _)| *t).collect();
+    let want: Vec<&[u8; 4]> = vec![
+        b"HEAD", b"EVTB", b"FRAM", b"FRAM", b"EVTB", b"FRAM", b"EVTB", b"EVIX", b"STAT", b"INDX",
+        b"END\0",
+    ];
+    assert_eq!(tags.iter().collect::<Vec<_>>(), want);
+    let s = Snapshot::open(&p).unwrap();
+    assert!(s.is_complete());
+    assert_eq!(s.events(), &ev[..]);
+    // scan path: damage END
+    let mut b = bytes.clone();
+    let last = b.len() - 1;
+    b[last] ^= 0xFF;
+    std::fs::write(&p, &b).unwrap();
+    let s = Snapshot::open(&p).unwrap();
+    assert!(!s.is_complete());
+    assert_eq!(s.events(), &ev[..]);
+    assert_eq!(s.frame_count(), 3);
+    // blocks 0 and 1 (same length) swapped: the EVENT INDEX no longer lists them in order
+    let secs = sections(&bytes);
+    let (b0, b1) = (secs[1], secs[4]);
+    let range = |x: (u64, [u8; 4], u64)| x.0 as usize..(x.0 + 16 + x.2) as usize;
+    assert_eq!(b0.2, b1.2);
+    let mut swapped = bytes.clone();
+    swapped[range(b0)].copy_from_slice(&bytes[range(b1)]);
+    swapped[range(b1)].copy_from_slice(&bytes[range(b0)]);
+    for damage_end in [false, true] {
+        let mut b = swapped.clone();
+        if damage_end {
+            let last = b.len() - 1;
+            b[last] ^= 0xFF;
+        }
+        std::fs::write(&p, &b).unwrap();
+        match Snapshot::open(&p) {
+            Ok(s) => panic!("swapped blocks read as {:?}", s.events()),
+            Err(e) => assert!(e.to_string().contains("EVENT"), "{e}"),
+        }
+    }
 }
 
 #[test]
@@ -263,7 +322,7 @@ fn newer_version_is_rejected() {
     std::fs::write(&p, &bytes).unwrap();
     let e = Snapshot::open(&p).unwrap_err();
     assert!(
-        matches!(e, SnapshotError::UnsupportedVersion { found: 2, .. }),
+        matches!(e, SnapshotError::UnsupportedVersion { found, .. } if found == FORMAT_VERSION + 1),
         "{e}"
     );
     assert!(e.to_string().contains("newer"), "{e}");
@@ -412,14 +471,19 @@ fn corrupted_length_is_an_error_not_an_allocation() {
         "{e}"
     );
     // Same in a file without INDEX/END (scan path): open fails.
-    let cut = secs[6].0 as usize; // start of EVENTS
+    let cut = secs[6].0 as usize; // start of the EVENT BLOCK
     std::fs::write(&q, &b[..cut]).unwrap();
     assert!(matches!(
         Snapshot::open(&q),
         Err(SnapshotError::AbsurdLength { .. })
     ));
-    // HEADER and EVENTS lengths.
-    for (sec, name) in [(0usize, "HEADER"), (6, "EVENTS"), (7, "STATS")] {
+    // HEADER, event and STATS lengths.
+    for (sec, name) in [
+        (0usize, "HEADER"),
+        (6, "EVENT BLOCK #0"),
+        (7, "EVENT INDEX"),
+        (8, "STATS"),
+    ] {
         let mut b = bytes.clone();
         set_len(&mut b, secs[sec].0, u64::MAX);
         std::fs::write(&q, &b).unwrap();

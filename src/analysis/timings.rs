@@ -16,8 +16,8 @@
 //! Openings/closings come from two independent sources: (a) the overlaps `δ_c(t)` sampled every
 //! frame (frames `τ/50` apart, `τ` = time per bead of `n1`), a change of sign with hysteresis
 //! `θ = 10⁻⁶ · max δ_{k−1}` (a contact is closed above `θ`, open below `−θ`), the time by linear
-//! interpolation of the zero crossing; (b) the hybrid engine's event log
-//! ([`crate::engine::RunOutcome::events`]), whose thresholds are `atol · L` (see
+//! interpolation of the zero crossing; (b) the hybrid engine's event log (handed to [`Window`]
+//! through [`crate::engine::Observer::events`]), whose thresholds are `atol · L` (see
 //! [`crate::engine::hybrid`]). Source (a) works for both engines (the dense cross-check).
 
 use super::paper::{physical_scene, run_watched, time_per_bead, PaperError};
@@ -178,6 +178,8 @@ pub struct Window {
     pub v_in: f64,
     /// Last frame `(t, u, v)`.
     pub last: (f64, Vec<f64>, Vec<f64>),
+    /// Events of the window's contacts (hybrid engine), in processing order.
+    pub events: Vec<EventRecord>,
 }
 
 impl Window {
@@ -198,6 +200,7 @@ impl Window {
             vel: vec![Vec::new(); b.1 - b.0],
             v_in: 0.0,
             last: (0.0, vec![], vec![]),
+            events: Vec::new(),
         }
     }
 }
@@ -213,6 +216,20 @@ impl Observer for Window {
         }
         self.v_in = self.v_in.max(v[self.probe]);
         self.last = (t, u.to_vec(), v.to_vec());
+        Ok(())
+    }
+
+    fn events(&mut self, events: &[EventRecord]) -> Result<(), EngineError> {
+        let (lo, hi) = self.contacts;
+        self.events.extend(
+            events
+                .iter()
+                .filter(|e| {
+                    (lo as u64..hi as u64).contains(&e.contact)
+                        && matches!(e.kind, EventKind::Close | EventKind::Open)
+                })
+                .cloned(),
+        );
         Ok(())
     }
 }
@@ -295,7 +312,7 @@ pub fn timing_run(
     let dmax = win.delta[2].iter().cloned().fold(0.0, f64::max);
     let tr = transitions_from_frames(&win.t, &contacts, &win.delta, 1e-6 * dmax);
     let frames = interface_timings(&tr, k);
-    let etr = transitions_from_events(&outcome.events, &contacts);
+    let etr = transitions_from_events(&win.events, &contacts);
     let events = (engine == Engine::Hybrid).then(|| interface_timings(&etr, k));
     let between = |a: Option<f64>, b: Option<f64>, j: usize| {
         let (Some(a), Some(b)) = (a, b) else {

@@ -115,11 +115,12 @@ pub struct HybridState {
     pub spare_slots: Vec<u32>,
     /// Queue contents (order irrelevant: priorities are unique).
     pub queue: Vec<QueueEntry>,
-    /// Peak overlap per contact.
+    /// Peak overlap per contact (`N − 1`), then of the left and right wall contacts.
     pub peak: Vec<f64>,
     /// Counters of removed clusters.
     pub stats: crate::integrate::Stats,
-    /// Event log so far.
+    /// Events logged but not yet handed to the observer (at most about one block: the rest
+    /// of the log is already in the output, up to the checkpoint's writer mark).
     pub events: Vec<EventRecord>,
     /// Event counts by kind.
     pub counts: [u64; 5],

@@ -92,7 +92,6 @@ pub fn run_from(
         momentum_final: chain.momentum(&v),
         events_by_kind: Vec::new(),
         largest_cluster: n as u64,
-        events: Vec::new(),
         late_merges: 0,
         implicit_steps: integ.implicit_steps(),
         u,

@@ -5,7 +5,10 @@
 //! - [`hybrid`]: event-driven; free beads fly analytically, contact clusters are integrated on
 //!   their own.
 //!
-//! An engine owns the loop; an [`Observer`] watches it (frames at the requested output times).
+//! An engine owns the loop; an [`Observer`] watches it (frames at the requested output times,
+//! and the hybrid engine's event log in blocks, see [`Observer::events`]). Engines keep no
+//! history: what a run produces goes to the observer, so a run's memory grows with `N`, not with
+//! its length.
 
 pub mod checkpoint;
 pub mod dense;
@@ -91,6 +94,12 @@ pub enum EngineError {
 pub trait Observer {
     /// A frame at output time `t`.
     fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError>;
+    /// A block of the event log, in processing order (hybrid engine). Blocks are handed over
+    /// when the engine's buffer holds [`EVENT_BLOCK`] events and before every frame; the
+    /// engine keeps no other copy. The default drops them.
+    fn events(&mut self, _events: &[crate::snapshot::EventRecord]) -> Result<(), EngineError> {
+        Ok(())
+    }
     /// Asked between steps (engine clock `t`): continue, checkpoint, or checkpoint and stop.
     fn control(&mut self, _t: f64) -> Control {
         Control::Continue
@@ -117,7 +126,10 @@ pub(crate) fn poll(
     }
 }
 
-/// Collects frames in memory (tests, small runs).
+/// Events the hybrid engine buffers before handing them to [`Observer::events`].
+pub const EVENT_BLOCK: usize = 4096;
+
+/// Collects frames and the event log in memory (tests, small runs).
 #[derive(Default, Debug, Clone)]
 pub struct Recorder {
     /// Frame times.
@@ -126,6 +138,8 @@ pub struct Recorder {
     pub u: Vec<Vec<f64>>,
     /// Velocities per frame.
     pub v: Vec<Vec<f64>>,
+    /// The event log (hybrid engine), in processing order.
+    pub events: Vec<crate::snapshot::EventRecord>,
 }
 
 impl Observer for Recorder {
@@ -133,6 +147,11 @@ impl Observer for Recorder {
         self.t.push(t);
         self.u.push(u.to_vec());
         self.v.push(v.to_vec());
+        Ok(())
+    }
+
+    fn events(&mut self, events: &[crate::snapshot::EventRecord]) -> Result<(), EngineError> {
+        self.events.extend_from_slice(events);
         Ok(())
     }
 }
@@ -164,8 +183,6 @@ pub struct RunOutcome {
     /// Accepted steps taken by an implicit method (Radau IIA); `stats.steps` minus this is the
     /// number of explicit steps.
     pub implicit_steps: u64,
-    /// Gap events (hybrid engine), in processing order.
-    pub events: Vec<crate::snapshot::EventRecord>,
     /// Final displacements.
     pub u: Vec<f64>,
     /// Final velocities.

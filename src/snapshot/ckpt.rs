@@ -15,7 +15,9 @@ use std::path::Path;
 
 /// Magic bytes of a checkpoint file.
 pub const CKPT_MAGIC: [u8; 8] = *b"BEADCKPT";
-/// Checkpoint format version.
+/// Checkpoint format version (2: the engine state holds only the unflushed events, the writer
+/// mark the event blocks already written, the clusters' integrators their method-switching
+/// state).
 pub const CKPT_VERSION: u32 = 2;
 
 /// Everything a resumed run needs.

@@ -6,7 +6,7 @@
 //! [`SnapshotWriter`] streams frames to disk as a run produces them; [`Snapshot`] opens a file
 //! and reads any frame by seeking, without loading the others.
 //!
-//! # Byte layout (format version 1)
+//! # Byte layout (format version 2; version 1 differences below)
 //!
 //! All integers are fixed-width little-endian (never `usize` on disk); all floats are IEEE-754
 //! binary64 little-endian.
@@ -14,7 +14,7 @@
 //! ```text
 //! offset  size  field
 //! 0       8     magic  b"BEADCHN\0"
-//! 8       4     format version, u32 (= 1)
+//! 8       4     format version, u32 (= 2)
 //! 12      ...   sections, back to back
 //! ```
 //!
@@ -34,12 +34,21 @@
 //! |--------|---------|---------|
 //! | `HEAD` | HEADER  | bincode of [`Header`] (see *bincode* below). Exactly once, first. |
 //! | `FRAM` | FRAME   | frame number `k` u64 (0, 1, 2, … in file order), then `t` f64, then `u[0..N]` f64, then `v[0..N]` f64 (raw LE, no bincode); `L = 16 + 16 N` exactly, `N = Header::n_beads`. Zero or more, in time order. The number lets a reader reject frames that were moved, duplicated or dropped even where no INDEX survives. |
-//! | `EVNT` | EVENTS  | bincode of `Vec<`[`EventRecord`]`>` (possibly empty). |
+//! | `EVTB` | EVENT BLOCK | `first` u64 (the log index of the block's first event: the number of events in the blocks before it), then bincode of `Vec<`[`EventRecord`]`>` (not empty): the next events of the log, in processing order. Zero or more, between the frames. The number lets a reader reject blocks that were moved, duplicated or dropped. |
+//! | `EVIX` | EVENT INDEX | `count` u64, then `count` × u64 byte offsets of the EVENT BLOCK sections in file order. `L = 8 + 8 count`. |
 //! | `STAT` | STATS   | bincode of [`RunSummary`]. |
-//! | `INDX` | INDEX   | `count` u64, `events_offset` u64, `stats_offset` u64, then `count` × u64 byte offsets of the FRAME sections (offset of their tag), then `count` × f64 frame times. `L = 24 + 16 count`. An offset of 0 means "section absent". |
+//! | `INDX` | INDEX   | `count` u64, `events_offset` u64 (of the EVENT INDEX), `stats_offset` u64, then `count` × u64 byte offsets of the FRAME sections (offset of their tag), then `count` × f64 frame times. `L = 24 + 16 count`. An offset of 0 means "section absent". |
 //! | `END\0`| END     | `index_offset` u64: byte offset of the INDEX section. Always the last 24 bytes of a finished file. |
 //!
-//! The writer emits `HEADER FRAME* EVENTS STATS INDEX END`.
+//! The writer emits `HEADER (FRAME | EVENT BLOCK)* EVENT INDEX STATS INDEX END`. The event log
+//! is the concatenation of the EVENT BLOCKs in file order. The engine hands its events over in
+//! blocks of at most [`crate::engine::EVENT_BLOCK`] and before every frame, and the writer
+//! appends each block at once, so neither holds the whole log: a run's memory does not grow
+//! with its number of events, and an unfinished file holds the events up to its last block.
+//!
+//! *Version 1* (still read): no EVENT BLOCK or EVENT INDEX sections; the whole log is one
+//! `EVNT` (EVENTS) section, bincode of `Vec<`[`EventRecord`]`>` (possibly empty), written after
+//! the last frame, and `events_offset` of the INDEX points to it.
 //!
 //! *bincode*: `bincode` 2.0.1 through serde with
 //! `config::standard().with_fixed_int_encoding().with_little_endian()`: integers fixed width LE,
@@ -54,7 +63,8 @@
 //!
 //! - Wrong magic (or a file shorter than the magic) → [`SnapshotError::NotSnapshot`]; a version
 //!   of 0 or above [`FORMAT_VERSION`] → [`SnapshotError::UnsupportedVersion`].
-//! - A finished file is opened from its tail: END (last 24 bytes) → INDEX → EVENTS and STATS.
+//! - A finished file is opened from its tail: END (last 24 bytes) → INDEX → EVENT INDEX and its
+//!   EVENT BLOCKs (version 1: EVENTS) and STATS.
 //!   Frames are not read at open; [`Snapshot::frame`] seeks to one frame and verifies its
 //!   section header, length, checksum and (against the INDEX) its time.
 //! - If END or INDEX is missing or damaged (a run that never finished, a truncated copy), the
@@ -64,7 +74,12 @@
 //!   file, a FRAME must be exactly `16 + 16 N` bytes, an INDEX exactly `24 + 16 count`, and
 //!   bincode decoding runs under a byte limit proportional to the payload size. A corrupted
 //!   length is an error ([`SnapshotError::AbsurdLength`]), never a huge allocation.
-//! - Checksum mismatches in HEADER, FRAME, EVENTS or STATS are errors naming the section
+//! - A finished version-2 file reads its event log through the EVENT INDEX: every block it lists
+//!   must be an EVENT BLOCK section, in file order, before the EVENT INDEX; during a scan the
+//!   blocks are read as met, and a whole EVENT INDEX must list exactly the blocks scanned before
+//!   it, or the file is an error ([`SnapshotError::Corrupt`]).
+//! - Checksum mismatches in HEADER, FRAME, EVENTS, EVENT BLOCK or STATS (and in an EVENT INDEX
+//!   the INDEX points to) are errors naming the section
 //!   ([`SnapshotError::ChecksumMismatch`]); INDEX and END only hold derived data, so damage there
 //!   is a warning and the file is rescanned. During a scan, an INDEX, END or unknown-tag section
 //!   that fails its checksum ends the scan with a warning (it may be a frame whose tag was
@@ -100,8 +115,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The 8 magic bytes every snapshot starts with.
 pub const MAGIC: [u8; 8] = *b"BEADCHN\0";
-/// Format version written by this build (and the newest it reads).
-pub const FORMAT_VERSION: u32 = 1;
+/// Format version written by this build (and the newest it reads; version 1 is still read).
+pub const FORMAT_VERSION: u32 = 2;
 /// Bytes before the first section: magic + version.
 pub const PREAMBLE_LEN: u64 = 12;
 /// Bytes of a section header: tag + length + CRC.
@@ -113,8 +128,12 @@ pub const END_SECTION_LEN: u64 = SECTION_HEADER_LEN + 8;
 pub const TAG_HEADER: u32 = u32::from_le_bytes(*b"HEAD");
 /// Section tag of a FRAME section (`"FRAM"`).
 pub const TAG_FRAME: u32 = u32::from_le_bytes(*b"FRAM");
-/// Section tag of the EVENTS section (`"EVNT"`).
+/// Section tag of the EVENTS section of format version 1 (`"EVNT"`).
 pub const TAG_EVENTS: u32 = u32::from_le_bytes(*b"EVNT");
+/// Section tag of an EVENT BLOCK section (`"EVTB"`, format version 2).
+pub const TAG_EVENT_BLOCK: u32 = u32::from_le_bytes(*b"EVTB");
+/// Section tag of the EVENT INDEX section (`"EVIX"`, format version 2).
+pub const TAG_EVENT_INDEX: u32 = u32::from_le_bytes(*b"EVIX");
 /// Section tag of the STATS section (`"STAT"`).
 pub const TAG_STATS: u32 = u32::from_le_bytes(*b"STAT");
 /// Section tag of the INDEX section (`"INDX"`).
@@ -128,6 +147,8 @@ pub fn section_name(tag: u32) -> &'static str {
         TAG_HEADER => "HEADER",
         TAG_FRAME => "FRAME",
         TAG_EVENTS => "EVENTS",
+        TAG_EVENT_BLOCK => "EVENT BLOCK",
+        TAG_EVENT_INDEX => "EVENT INDEX",
         TAG_STATS => "STATS",
         TAG_INDEX => "INDEX",
         TAG_END => "END",

@@ -4,10 +4,14 @@
 use super::{
     decode_exact, frame_payload_len, section_hasher, section_name, EventRecord, Frame, Header,
     RunSummary, SnapshotError, END_SECTION_LEN, FORMAT_VERSION, MAGIC, PREAMBLE_LEN,
-    SECTION_HEADER_LEN, TAG_END, TAG_EVENTS, TAG_FRAME, TAG_HEADER, TAG_INDEX, TAG_STATS,
+    SECTION_HEADER_LEN, TAG_END, TAG_EVENTS, TAG_EVENT_BLOCK, TAG_EVENT_INDEX, TAG_FRAME,
+    TAG_HEADER, TAG_INDEX, TAG_STATS,
 };
+use events::{check_scan_against_event_index, event_log};
 use std::fs::File;
 use std::io::{Read, Seek, SeekFrom};
+
+mod events;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
@@ -65,6 +69,8 @@ struct Contents {
     times: Vec<f64>,
     events: Vec<EventRecord>,
     summary: Option<RunSummary>,
+    /// Offsets of the EVENT BLOCK sections met during a scan.
+    event_blocks: Vec<u64>,
 }
 
 impl Snapshot {
@@ -138,7 +144,7 @@ impl Snapshot {
             })?;
         let first = head.end();
         let mut warnings = Vec::new();
-        let (contents, complete) = match from_tail(&raw, first, frame_len) {
+        let (contents, complete) = match from_tail(&raw, first, frame_len, version) {
             Ok(Ok(c)) => (c, true),
             Ok(Err(why)) => {
                 warnings.push(format!(
@@ -354,6 +360,7 @@ fn from_tail(
     raw: &Raw,
     first: u64,
     frame_len: u64,
+    version: u32,
 ) -> Result<Result<Contents, String>, SnapshotError> {
     let no_end = || {
         Ok(Err(
@@ -416,7 +423,8 @@ fn from_tail(
         .collect();
     let events = match events_at {
         0 => Vec::new(),
-        o => indexed_section(raw, o, TAG_EVENTS, "EVENTS", index_at)?,
+        o if version == 1 => indexed_section(raw, o, TAG_EVENTS, "EVENTS", index_at)?,
+        o => event_log(raw, o, first, index_at)?,
     };
     let summary = match stats_at {
         0 => None,
@@ -427,6 +435,7 @@ fn from_tail(
         times,
         events,
         summary,
+        event_blocks: Vec::new(),
     }))
 }
 
@@ -559,6 +568,12 @@ fn scan(
                 let p = raw.read_payload(&h, "EVENTS")?;
                 c.events = decode_exact(&p).map_err(|d| raw.corrupt("EVENTS", pos, d))?;
             }
+            TAG_EVENT_BLOCK => {
+                let name = format!("EVENT BLOCK #{}", c.event_blocks.len());
+                let p = raw.read_payload(&h, &name)?;
+                events::read_block(raw, pos, &name, &p, &mut c.events)?;
+                c.event_blocks.push(pos);
+            }
             TAG_STATS => {
                 let p = raw.read_payload(&h, "STATS")?;
                 c.summary = Some(decode_exact(&p).map_err(|d| raw.corrupt("STATS", pos, d))?);
@@ -578,6 +593,7 @@ fn scan(
                 };
                 match tag {
                     TAG_INDEX => check_scan_against_index(raw, pos, &p, &c.times)?,
+                    TAG_EVENT_INDEX => check_scan_against_event_index(raw, pos, &p, &c)?,
                     TAG_END => {
                         if h.end() != raw.len {
                             warn(format!(

@@ -1,14 +1,17 @@
 //! Streaming snapshot writer (layout in the [parent module](super)).
 //!
-//! Frames go straight to a buffered temporary file; only each frame's byte offset and time (16
-//! bytes per frame) stay in memory for the INDEX section. Writing a frame allocates nothing: the
-//! values are converted to little-endian bytes through a fixed scratch buffer, once to compute
-//! the CRC and once to write, so the section header can precede the payload without seeking.
+//! Frames and event blocks go straight to a buffered temporary file; only each frame's byte
+//! offset and time (16 bytes per frame) and each event block's offset (8 bytes per block of up
+//! to [`crate::engine::EVENT_BLOCK`] events) stay in memory for the INDEX and EVENT INDEX
+//! sections. Writing a frame allocates nothing: the values are converted to little-endian bytes
+//! through a fixed scratch buffer, once to compute the CRC and once to write, so the section
+//! header can precede the payload without seeking. An event block is encoded into a reused
+//! buffer (no allocation once it has grown to a block's size).
 
 use super::{
     encode, frame_payload_len, section_hasher, sync_parent_dir, temp_sibling, EventRecord, Header,
-    RunSummary, SnapshotError, FORMAT_VERSION, MAGIC, TAG_END, TAG_EVENTS, TAG_FRAME, TAG_HEADER,
-    TAG_INDEX, TAG_STATS,
+    RunSummary, SnapshotError, FORMAT_VERSION, MAGIC, TAG_END, TAG_EVENT_BLOCK, TAG_EVENT_INDEX,
+    TAG_FRAME, TAG_HEADER, TAG_INDEX, TAG_STATS,
 };
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Write};
@@ -31,7 +34,10 @@ pub struct SnapshotWriter {
     frame_len: u64,
     offsets: Vec<u64>,
     times: Vec<f64>,
+    event_blocks: Vec<u64>,
+    events_written: u64,
     scratch: Box<[u8]>,
+    ev_scratch: Vec<u8>,
 }
 
 impl SnapshotWriter {
@@ -63,7 +69,10 @@ impl SnapshotWriter {
             frame_len,
             offsets: Vec::new(),
             times: Vec::new(),
+            event_blocks: Vec::new(),
+            events_written: 0,
             scratch: vec![0u8; CHUNK_VALUES * 8].into_boxed_slice(),
+            ev_scratch: Vec::new(),
         };
         let mut h = header.clone();
         h.format_version = FORMAT_VERSION;
@@ -130,17 +139,50 @@ impl SnapshotWriter {
         Ok(())
     }
 
-    /// Writes EVENTS, STATS, INDEX and END, flushes, fsyncs and renames the temporary file
-    /// onto the final path (then syncs the directory, best effort).
+    /// Event blocks written so far.
+    pub fn event_blocks_written(&self) -> u64 {
+        self.event_blocks.len() as u64
+    }
+
+    /// Appends one EVENT BLOCK section holding `events` (nothing when empty). The payload is
+    /// encoded into a reused buffer: no allocation once it has grown to a block's size.
+    pub fn write_events(&mut self, events: &[EventRecord]) -> Result<(), SnapshotError> {
+        if events.is_empty() {
+            return Ok(());
+        }
+        let mut buf = std::mem::take(&mut self.ev_scratch);
+        buf.clear();
+        buf.extend_from_slice(&self.events_written.to_le_bytes());
+        let r = bincode::serde::encode_into_std_write(events, &mut buf, super::bincode_config());
+        if let Err(e) = r {
+            return Err(self.encode_err("EVENT BLOCK", e));
+        }
+        let offset = self.pos;
+        let w = self.write_section(TAG_EVENT_BLOCK, &buf);
+        self.ev_scratch = buf;
+        w?;
+        self.event_blocks.push(offset);
+        self.events_written += events.len() as u64;
+        Ok(())
+    }
+
+    /// Writes `events` as a last EVENT BLOCK (if any), then EVENT INDEX, STATS, INDEX and END,
+    /// flushes, fsyncs and renames the temporary file onto the final path (then syncs the
+    /// directory, best effort).
     pub fn finish(
         mut self,
         events: &[EventRecord],
         summary: &RunSummary,
     ) -> Result<(), SnapshotError> {
-        let ev = encode(&events).map_err(|e| self.encode_err("EVENTS", e))?;
+        self.write_events(events)?;
         let st = encode(summary).map_err(|e| self.encode_err("STATS", e))?;
+        let mut evix = Vec::with_capacity(8 + 8 * self.event_blocks.len());
+        evix.extend_from_slice(&(self.event_blocks.len() as u64).to_le_bytes());
+        for o in &self.event_blocks {
+            evix.extend_from_slice(&o.to_le_bytes());
+        }
         let events_offset = self.pos;
-        self.write_section(TAG_EVENTS, &ev)?;
+        self.write_section(TAG_EVENT_INDEX, &evix)?;
         let stats_offset = self.pos;
         self.write_section(TAG_STATS, &st)?;
 
@@ -283,6 +325,10 @@ pub struct WriterMark {
     pub offsets: Vec<u64>,
     /// Times of the frames written.
     pub times: Vec<f64>,
+    /// Offsets of the event blocks written.
+    pub event_blocks: Vec<u64>,
+    /// Events written (in those blocks).
+    pub events_written: u64,
 }
 
 impl SnapshotWriter {
@@ -306,11 +352,13 @@ impl SnapshotWriter {
             n_beads: self.n_beads,
             offsets: self.offsets.clone(),
             times: self.times.clone(),
+            event_blocks: self.event_blocks.clone(),
+            events_written: self.events_written,
         })
     }
 
-    /// Reopens the temporary file of an interrupted run, cut back to `mark.len` (frames written
-    /// after the mark are dropped), to continue writing.
+    /// Reopens the temporary file of an interrupted run, cut back to `mark.len` (frames and event
+    /// blocks written after the mark are dropped), to continue writing.
     pub fn reopen(mark: &WriterMark) -> Result<Self, SnapshotError> {
         let io = |action: &str, e: std::io::Error| SnapshotError::Io {
             path: mark.path.clone(),
@@ -353,7 +401,10 @@ impl SnapshotWriter {
             frame_len,
             offsets: mark.offsets.clone(),
             times: mark.times.clone(),
+            event_blocks: mark.event_blocks.clone(),
+            events_written: mark.events_written,
             scratch: vec![0u8; CHUNK_VALUES * 8].into_boxed_slice(),
+            ev_scratch: Vec::new(),
         })
     }
 

@@ -37,6 +37,7 @@
 
 pub mod cluster;
 pub mod detect;
+mod eventlog;
 pub mod free;
 mod hard;
 mod opening;
@@ -48,7 +49,7 @@ use crate::engine::checkpoint::HybridState;
 use crate::integrate::{IntegrationError, Stats, Tolerances};
 use crate::model::Chain;
 use crate::scene::Scene;
-use crate::snapshot::{EventKind, EventRecord};
+use crate::snapshot::EventRecord;
 use cluster::Cluster;
 use free::Free;
 use ordered_float::OrderedFloat;
@@ -138,8 +139,11 @@ pub struct Hybrid<'a> {
     spare_slots: Vec<u32>,
     queue: PriorityQueue<Key, Prio>,
     g: Vec<f64>,
+    /// Largest overlap per contact since it closed (`N − 1` contacts, then the left and right
+    /// walls at `N − 1 + side`).
     peak: Vec<f64>,
     stats: Stats,
+    /// Events not yet handed to the observer (at most about one block).
     events: Vec<EventRecord>,
     counts: [u64; 5],
     largest: usize,
@@ -194,7 +198,6 @@ pub fn run_from(
         largest_cluster: h.largest as u64,
         late_merges: h.late_merges,
         implicit_steps,
-        events: std::mem::take(&mut h.events),
         u,
         v,
     })
@@ -228,7 +231,7 @@ impl<'a> Hybrid<'a> {
             spare_slots: Vec::new(),
             queue: PriorityQueue::new(),
             g,
-            peak: vec![0.0; n.saturating_sub(1)],
+            peak: vec![0.0; n + 1],
             stats: Stats::default(),
             events: Vec::new(),
             counts: [0; 5],
@@ -389,6 +392,9 @@ impl<'a> Hybrid<'a> {
             super::poll(obs, self.clock, || {
                 super::EngineState::Hybrid(Box::new(self.save()))
             })?;
+            if self.events.len() >= super::EVENT_BLOCK {
+                self.flush_events(obs)?;
+            }
             let Some((key, Reverse((t, _, _, _)))) = self.queue.pop() else {
                 break;
             };
@@ -401,6 +407,7 @@ impl<'a> Hybrid<'a> {
                         self.bu[i] = u;
                         self.bv[i] = v;
                     }
+                    self.flush_events(obs)?;
                     obs.frame(t, &self.bu, &self.bv)?;
                     if t >= self.cfg.until {
                         return Ok((self.bu.clone(), self.bv.clone()));
@@ -527,6 +534,7 @@ impl<'a> Hybrid<'a> {
         }
         if let Some((tw, side)) = wall_hit {
             if earliest.is_none_or(|(te, _)| tw < te) {
+                self.update_peaks(slot, tw);
                 let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
                 cl.pending = Some(cluster::Pending::HardWall { side, t: tw });
                 cl.t_now = tw;
@@ -541,7 +549,7 @@ impl<'a> Hybrid<'a> {
             }
         }
         let split = earliest.is_none() && self.needs_split(cl);
-        self.update_peaks(slot);
+        self.update_peaks(slot, earliest.map_or(t1, |(t, _)| t));
         let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
         if let Some((t, c)) = earliest {
             cl.pending = Some(cluster::Pending::Close {
@@ -599,36 +607,5 @@ impl<'a> Hybrid<'a> {
             return Some(1);
         }
         None
-    }
-
-    fn update_peaks(&mut self, slot: u32) {
-        let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
-        let z = cl.integ.state();
-        for k in 0..cl.m() - 1 {
-            let c = cl.lo + k;
-            let d = self.pre(c) + z[k] - z[k + 1];
-            if d > self.peak[c] {
-                self.peak[c] = d;
-            }
-        }
-    }
-
-    fn log(&mut self, t: f64, contact: usize, kind: EventKind, rel_velocity: f64, peak: f64) {
-        let k = match kind {
-            EventKind::Close => 0,
-            EventKind::Open => 1,
-            EventKind::HardCollision => 2,
-            EventKind::WallClose => 3,
-            EventKind::WallOpen => 4,
-        };
-        self.counts[k] += 1;
-
-        self.events.push(EventRecord {
-            t,
-            contact: contact as u64,
-            kind,
-            rel_velocity,
-            peak_overlap: peak,
-        });
     }
 }

@@ -67,7 +67,7 @@ impl Hybrid<'_> {
     /// split rule holds in the landed state (module docs), or continues it from `t` otherwise.
     pub(super) fn open_at(&mut self, slot: u32, t: f64) -> Result<(), EngineError> {
         self.settle_at(slot, t)?;
-        self.update_peaks(slot);
+        self.update_peaks(slot, t);
         let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
         let (lo, split) = (cl.lo, self.needs_split(cl));
         let cl = self.clusters[slot as usize].as_mut().expect("live cluster");

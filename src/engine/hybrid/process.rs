@@ -354,6 +354,7 @@ impl Hybrid<'_> {
         let i = if side == 0 { 0 } else { self.n - 1 };
         let (u, v) = self.pos(i, t);
         self.drop_predictions(i, i + 1);
+        self.peak[self.n - 1 + side as usize] = 0.0;
         self.log(t, i, EventKind::WallClose, v, 0.0);
         self.make_cluster(i, i + 1, t, &[u], &[v]);
     }
@@ -406,7 +407,11 @@ impl Hybrid<'_> {
                 let (a, b) = (start - lo, i + 1 - lo);
                 if i + 1 - start == 1 && !self.wall_holds(start, u[a], v[a]) {
                     if m == 1 {
-                        self.log(t, start, EventKind::WallOpen, v[a], 0.0);
+                        let (t_open, side) = self.wall_open_at(&cl, start, t);
+                        let k = self.n - 1 + side as usize;
+                        let rel = cl.v_at(t_open, start);
+                        self.log(t_open, start, EventKind::WallOpen, rel, self.peak[k]);
+                        self.peak[k] = 0.0;
                     }
                     self.set_free(start, t, u[a], v[a]);
                 } else {
