@@ -640,7 +640,7 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
             ))
         }
     };
-    let hard = super::hard::parse_hard(ctx, root, nc, until)?;
+    let hard = super::hard::parse_hard(ctx, root, nc)?;
     let run = RunSettings {
         until,
         every,
@@ -667,7 +667,7 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
             sc.time, sc.mass, sc.mu, sc.n0
         ));
     }
-    Ok(Scene {
+    let mut scene = Scene {
         name,
         description,
         chain: Chain {
@@ -684,5 +684,7 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
         v0,
         run,
         seed,
-    })
+    };
+    super::hard::default_collapse_interval(&mut scene);
+    Ok(scene)
 }

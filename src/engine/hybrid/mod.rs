@@ -34,6 +34,7 @@ pub mod free;
 mod hard;
 mod process;
 mod state;
+mod stick;
 
 use super::{EngineError, Observer, RunConfig, RunOutcome};
 use crate::engine::checkpoint::HybridState;
@@ -124,6 +125,10 @@ pub struct Hybrid<'a> {
     clock: f64,
     last_hard: Vec<f64>,
     pinned: [bool; 2],
+    /// Per contact: a resting (sticking) hard contact joining two free beads ([`stick`]).
+    stuck: Vec<bool>,
+    /// Scratch of [`Hybrid::form_group`].
+    pools: Vec<stick::Pool>,
     next_frame: u64,
     bu: Vec<f64>,
     bv: Vec<f64>,
@@ -208,6 +213,8 @@ impl<'a> Hybrid<'a> {
             clock: 0.0,
             last_hard: vec![f64::NEG_INFINITY; n + 1],
             pinned: [false; 2],
+            stuck: vec![false; n.saturating_sub(1)],
+            pools: Vec::with_capacity(n + 2),
             next_frame: 0,
             bu: vec![0.0; n],
             bv: vec![0.0; n],

@@ -77,6 +77,7 @@ impl Hybrid<'_> {
         self.largest = self.largest.max(m);
         self.queue
             .push(Key::Cluster(slot), prio(t, 2, lo, Key::Cluster(slot)));
+        self.unstick_around(lo, hi, t);
     }
 
     /// Removes a cluster (its counters go to the run totals).
@@ -416,6 +417,12 @@ impl Hybrid<'_> {
         }
         if hi == self.n {
             self.schedule_wall(1);
+        }
+        // an end bead left alone against the hard wall that holds it stays held, as a group
+        for (side, i) in [(0, 0), (1, self.n - 1)] {
+            if self.pinned[side] && self.owner[i] == FREE && (lo..hi).contains(&i) {
+                self.regroup(i, t);
+            }
         }
     }
 }

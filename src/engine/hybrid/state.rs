@@ -67,6 +67,7 @@ impl Hybrid<'_> {
             late_merges: self.late_merges,
             last_hard: self.last_hard.clone(),
             pinned: self.pinned,
+            stuck: self.stuck.clone(),
             next_frame: self.next_frame,
         }
     }
@@ -124,6 +125,7 @@ impl Hybrid<'_> {
         self.late_merges = s.late_merges;
         self.last_hard.clone_from(&s.last_hard);
         self.pinned = s.pinned;
+        self.stuck.clone_from(&s.stuck);
         self.next_frame = s.next_frame;
         for c in 0..self.n.saturating_sub(1) {
             self.schedule_free_pair(c);
