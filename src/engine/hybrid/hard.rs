@@ -47,21 +47,15 @@ impl Hybrid<'_> {
         }
     }
 
-    /// Replaces bead `i`'s velocity at `t` (its owner settled at `t`): a free bead restarts its
-    /// flight, a cluster restarts from its state with the new velocity.
-    fn replace_velocity(&mut self, i: usize, t: f64, u: f64, v: f64) {
-        match self.owner[i] {
-            FREE => self.set_free(i, t, u, v),
-            s => {
-                let cl = self.remove_cluster(s);
-                let (lo, hi) = (cl.lo, cl.hi);
-                let mut us: Vec<f64> = (lo..hi).map(|k| cl.u_at(t, k)).collect();
-                let mut vs: Vec<f64> = (lo..hi).map(|k| cl.v_at(t, k)).collect();
-                us[i - lo] = u;
-                vs[i - lo] = v;
-                self.make_cluster(lo, hi, t, &us, &vs);
-            }
-        }
+    /// Gives beads `a..b` of one cluster the velocity `v` at `t` (the cluster settled at `t`):
+    /// the cluster restarts from its state with the new velocities.
+    fn replace_velocity(&mut self, a: usize, b: usize, t: f64, v: f64) {
+        let cl = self.remove_cluster(self.owner[a]);
+        let (lo, hi) = (cl.lo, cl.hi);
+        let us: Vec<f64> = (lo..hi).map(|k| cl.u_at(t, k)).collect();
+        let mut vs: Vec<f64> = (lo..hi).map(|k| cl.v_at(t, k)).collect();
+        vs[a - lo..b - lo].fill(v);
+        self.make_cluster(lo, hi, t, &us, &vs);
     }
 
     /// The TC-model interval `t_c`.
@@ -91,26 +85,17 @@ impl Hybrid<'_> {
             || (e0 < 1.0 && t - self.last_hard[k] < tc)
     }
 
-    /// Gives bead `i` (state `u`) the velocity `v` at `t`: its whole group if free (nothing
-    /// when the group is held by a wall), else the bead in its cluster.
-    fn set_velocity(&mut self, i: usize, t: f64, u: f64, v: f64) {
-        if self.owner[i] == FREE {
-            let g = self.group_of(i);
-            if !g.held[0] && !g.held[1] {
-                self.set_group_velocity(&g, t, v);
-            }
-        } else {
-            self.replace_velocity(i, t, u, v);
+    /// Gives the body of bead `i` (its rigid group: free beads, or a run inside a cluster
+    /// joined by resting contacts) the velocity `v` at `t`; nothing when a wall holds it.
+    fn set_velocity(&mut self, i: usize, t: f64, v: f64) {
+        let g = self.group_of(i);
+        if g.held[0] || g.held[1] {
+            return;
         }
-    }
-
-    /// Beads whose motion a collision of bead `i` changes: its group if free, else itself.
-    fn moved_range(&self, i: usize) -> (usize, usize) {
         if self.owner[i] == FREE {
-            let g = self.group_of(i);
-            (g.lo, g.hi)
+            self.set_group_velocity(&g, t, v);
         } else {
-            (i, i + 1)
+            self.replace_velocity(g.lo, g.hi, t, v);
         }
     }
 
@@ -126,19 +111,27 @@ impl Hybrid<'_> {
             self.collide_free(c, t, e0);
             return Ok(());
         }
-        let (ua, va) = self.pos(c, t);
-        let (ub, vb) = self.pos(c + 1, t);
+        let (va, vb) = (self.pos(c, t).1, self.pos(c + 1, t).1);
         let w = va - vb;
         let push = self.accel_of(c) - self.accel_of(c + 1);
+        let (ga, gb) = (self.group_of(c), self.group_of(c + 1));
+        let (ma, mb) = (self.group_mass(&ga), self.group_mass(&gb));
+        self.log(t, c, EventKind::HardCollision, w, 0.0);
+        if self.sticks(c, t, e0, w, push) {
+            // a resting contact: the two bodies join one cluster and move as one there
+            self.last_hard[c] = t;
+            let v = collide(ma, va, mb, vb, 0.0).0;
+            self.set_velocity(c, t, v);
+            self.set_velocity(c + 1, t, v);
+            self.stuck[c] = true;
+            return self.merge_at(c, t);
+        }
         let (e, floor) = self.tc_model(c, t, e0, push);
         let sep = (e * w.max(0.0)).max(floor);
-        self.log(t, c, EventKind::HardCollision, w, 0.0);
-        let (ma, mb) = (self.body_mass(c), self.body_mass(c + 1));
         let (va2, vb2) = collide(ma, va, mb, vb, sep);
-        let (lo, hi) = (self.moved_range(c).0, self.moved_range(c + 1).1);
-        self.set_velocity(c, t, ua, va2);
-        self.set_velocity(c + 1, t, ub, vb2);
-        self.after_velocity_change(lo, hi, t);
+        self.set_velocity(c, t, va2);
+        self.set_velocity(c + 1, t, vb2);
+        self.after_velocity_change(ga.lo, gb.hi, t);
         Ok(())
     }
 
@@ -178,7 +171,8 @@ impl Hybrid<'_> {
             return Ok(());
         }
         self.settle_at(self.owner[i], t)?;
-        let (u, v) = self.pos(i, t);
+        let v = self.pos(i, t).1;
+        let g = self.group_of(i);
         let (w, push) = if side == 0 {
             (-v, -self.accel_of(i))
         } else {
@@ -192,12 +186,12 @@ impl Hybrid<'_> {
             // Pressed into the wall by its cluster at (almost) no speed: the rigid-wall limit
             // is a bead held at the wall (pinned) until the net force pulls it away.
             self.pinned[side as usize] = true;
-            self.replace_velocity(i, t, u, 0.0);
+            self.replace_velocity(g.lo, g.hi, t, 0.0);
         } else {
             let sep = (e * w.max(0.0)).max(floor);
-            self.replace_velocity(i, t, u, if side == 0 { sep } else { -sep });
+            self.replace_velocity(g.lo, g.hi, t, if side == 0 { sep } else { -sep });
         }
-        self.after_velocity_change(i, i + 1, t);
+        self.after_velocity_change(g.lo, g.hi, t);
         Ok(())
     }
 

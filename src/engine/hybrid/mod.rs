@@ -426,6 +426,7 @@ impl<'a> Hybrid<'a> {
                 lo: cl.lo,
                 mass: &cl.mass,
                 pinned: cl.pinned,
+                rigid: cl.rigid.then(|| &self.stuck[cl.lo..cl.hi - 1]),
             };
             let t0 = cl.t_now;
             let t1 = cl.integ.step(&sys, until)?;
@@ -542,9 +543,12 @@ impl<'a> Hybrid<'a> {
             let c = cl.lo + k;
             let d = self.pre(c) + z[k] - z[k + 1];
             let dd = z[m + k] - z[m + k + 1];
-            if d < self.theta && dd < 0.0 {
+            if d < self.theta && dd < 0.0 && !self.stuck[c] {
                 return true;
             }
+        }
+        if cl.rigid && self.tension(cl).is_some() {
+            return true;
         }
         if m == 1 {
             let (u, v) = (cl.frame_at(cl.t_now) + z[0], cl.frame_v + z[1]);
@@ -563,6 +567,10 @@ impl<'a> Hybrid<'a> {
         let m = cl.m();
         let mut acc = vec![0.0; m];
         self.chain.accel(cl.lo, &z[..m], &mut acc);
+        if cl.rigid {
+            let (mass, stuck) = (&self.chain.mass[cl.lo..], &self.stuck[cl.lo..cl.hi - 1]);
+            cluster::rigid_accel(mass, stuck, [false; 2], &mut acc);
+        }
         if cl.pinned[0] && acc[0] > 0.0 {
             return Some(0);
         }

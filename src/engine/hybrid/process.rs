@@ -41,11 +41,13 @@ impl Hybrid<'_> {
             self.bv[m - 1] = 0.0;
         }
         let mut integ = make_integrator(self.cfg, m, self.tol);
+        let rigid = self.stuck[lo..hi - 1].contains(&true);
         let sys = ClusterSys {
             chain,
             lo,
             mass: &mass,
             pinned,
+            rigid: rigid.then(|| &self.stuck[lo..hi - 1]),
         };
         integ.reset(&sys, t, &self.bu[..m], &self.bv[..m]);
         let cl = Cluster {
@@ -59,6 +61,7 @@ impl Hybrid<'_> {
             pending: None,
             mass,
             pinned,
+            rigid,
         };
         let slot = match self.spare_slots.pop() {
             Some(s) => {
@@ -248,6 +251,7 @@ impl Hybrid<'_> {
             lo: cl.lo,
             mass: &cl.mass,
             pinned: cl.pinned,
+            rigid: cl.rigid.then(|| &self.stuck[cl.lo..cl.hi - 1]),
         };
         if t - t0 <= 64.0 * f64::EPSILON * t.abs().max(f64::MIN_POSITIVE) {
             // A few ulps after the step start: too short to integrate (the stage times would
@@ -268,18 +272,19 @@ impl Hybrid<'_> {
     }
 
     /// Merges everything on both sides of contact `c` into one cluster at `t`.
-    fn merge_at(&mut self, c: usize, t: f64) -> Result<(), EngineError> {
+    pub(super) fn merge_at(&mut self, c: usize, t: f64) -> Result<(), EngineError> {
         for side in [self.owner[c], self.owner[c + 1]] {
             if side != FREE {
                 self.settle_at(side, t)?;
             }
         }
+        // a free bead joins with its whole rigid group
         let lo = match self.owner[c] {
-            FREE => c,
+            FREE => self.group_of(c).lo,
             s => self.clusters[s as usize].as_ref().expect("live").lo,
         };
         let hi = match self.owner[c + 1] {
-            FREE => c + 2,
+            FREE => self.group_of(c + 1).hi,
             s => self.clusters[s as usize].as_ref().expect("live").hi,
         };
         let mut u = vec![0.0; hi - lo];
@@ -303,7 +308,9 @@ impl Hybrid<'_> {
             self.late_merges += 1;
         }
         self.peak[c] = 0.0;
-        self.log(t, c, EventKind::Close, rel, 0.0);
+        if !self.stuck[c] {
+            self.log(t, c, EventKind::Close, rel, 0.0);
+        }
         self.make_cluster(lo, hi, t, &u, &v);
         Ok(())
     }
@@ -366,6 +373,16 @@ impl Hybrid<'_> {
                 0.0,
             );
         }
+        if let Some(c) = {
+            let cl = self.clusters[slot as usize].as_ref().expect("live");
+            if cl.rigid {
+                self.tension(cl)
+            } else {
+                None
+            }
+        } {
+            self.stuck[c] = false;
+        }
         let cl = self.remove_cluster(slot);
         let m = hi - lo;
         let z = cl.integ.state();
@@ -378,7 +395,11 @@ impl Hybrid<'_> {
             let opens = !last && {
                 let k = i - lo;
                 let d = self.pre(i) + z[k] - z[k + 1];
-                d < self.theta && z[m + k] - z[m + k + 1] < 0.0
+                if self.chain.hard_restitution(i).is_some() {
+                    !self.stuck[i]
+                } else {
+                    d < self.theta && z[m + k] - z[m + k + 1] < 0.0
+                }
             };
             if opens {
                 // The split happens at the step end (the dynamics inside the cluster were exact
@@ -398,6 +419,8 @@ impl Hybrid<'_> {
                         self.log(t, start, EventKind::WallOpen, v[a], 0.0);
                     }
                     self.set_free(start, t, u[a], v[a]);
+                } else if i > start && (start..i).all(|k| self.stuck[k]) {
+                    self.free_rigid_piece(start, i + 1, t, &u[a..b], &v[a..b]);
                 } else {
                     self.make_cluster(start, i + 1, t, &u[a..b], &v[a..b]);
                 }

@@ -98,6 +98,7 @@ impl Hybrid<'_> {
                         pending: c.pending,
                         mass: c.mass.clone(),
                         pinned: c.pinned,
+                        rigid: s.stuck[c.lo as usize..c.hi as usize - 1].contains(&true),
                     }
                 })
             })

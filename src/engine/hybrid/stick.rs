@@ -24,8 +24,9 @@
 //! to rounding); a group that touches a cluster is dissolved where it does (a bead in a cluster
 //! is integrated; see [`Hybrid::unstick_around`]).
 
+use super::cluster::Cluster;
 use super::free::Free;
-use super::{Hybrid, FREE};
+use super::Hybrid;
 
 /// A rigid group of free beads `lo..hi`, held at rest by the walls in `held`.
 #[derive(Clone, Copy, Debug)]
@@ -76,7 +77,8 @@ pub(super) fn collide(ma: f64, va: f64, mb: f64, vb: f64, sep: f64) -> (f64, f64
 }
 
 impl Hybrid<'_> {
-    /// The group of free bead `i`.
+    /// The rigid group of bead `i`: the beads joined to it by resting contacts (free beads, or
+    /// a run inside its cluster: a cluster's boundary contacts are never stuck).
     pub(super) fn group_of(&self, i: usize) -> Group {
         let mut lo = i;
         while lo > 0 && self.stuck[lo - 1] {
@@ -99,17 +101,6 @@ impl Hybrid<'_> {
             f64::INFINITY
         } else {
             self.chain.mass[g.lo..g.hi].iter().sum()
-        }
-    }
-
-    /// Mass of the body bead `i` collides as: its group if free, the bead alone in a cluster
-    /// (whose contacts are soft, so an impulse acts on the bead only).
-    pub(super) fn body_mass(&self, i: usize) -> f64 {
-        if self.owner[i] == FREE {
-            let g = self.group_of(i);
-            self.group_mass(&g)
-        } else {
-            self.chain.mass[i]
         }
     }
 
@@ -226,5 +217,66 @@ impl Hybrid<'_> {
         let v = self.free[i].at(t).1;
         self.form_group(g.lo, g.hi, g.held, t, v);
         self.after_velocity_change(g.lo, g.hi, t);
+    }
+
+    /// A resting contact inside cluster `cl` whose force would be tensile at the cluster's
+    /// current state (global contact index). For a run `a..=b` with acceleration `A`, contact
+    /// `c` carries `F_c = Σ_{i=a..c} m_i (a_i − A)` (`a_i`: the bead's own acceleration); a run
+    /// held by a wall has `A = 0` and is summed from its free end.
+    pub(super) fn tension(&self, cl: &Cluster) -> Option<usize> {
+        let m = cl.m();
+        let z = cl.integ.state();
+        let mut acc = vec![0.0; m];
+        self.chain.accel(cl.lo, &z[..m], &mut acc);
+        let mass = &self.chain.mass[cl.lo..cl.hi];
+        let stuck = &self.stuck[cl.lo..cl.hi - 1];
+        let mut a = 0;
+        while a < m {
+            let mut b = a;
+            while b + 1 < m && stuck[b] {
+                b += 1;
+            }
+            let scale: f64 = (a..=b).map(|i| (mass[i] * acc[i]).abs()).sum();
+            let tol = 1e-12 * scale;
+            let f = |i: usize| mass[i] * acc[i];
+            if a == 0 && cl.pinned[0] {
+                let mut s = 0.0;
+                for c in (a..b).rev() {
+                    s += f(c + 1);
+                    if s > tol {
+                        return Some(cl.lo + c);
+                    }
+                }
+            } else {
+                let held_right = b == m - 1 && cl.pinned[1];
+                let mean = if held_right {
+                    0.0
+                } else {
+                    (a..=b).map(f).sum::<f64>() / mass[a..=b].iter().sum::<f64>()
+                };
+                let mut p = 0.0;
+                for c in a..b {
+                    p += f(c) - mass[c] * mean;
+                    if p < -tol {
+                        return Some(cl.lo + c);
+                    }
+                }
+            }
+            a = b + 1;
+        }
+        None
+    }
+
+    /// A piece of a split cluster made only of beads joined by resting contacts becomes a free
+    /// rigid group (states `u`, `v` at `t`; common velocity: the mass-weighted mean).
+    pub(super) fn free_rigid_piece(&mut self, lo: usize, hi: usize, t: f64, u: &[f64], v: &[f64]) {
+        let mass = &self.chain.mass[lo..hi];
+        let p: f64 = mass.iter().zip(v).map(|(m, x)| m * x).sum();
+        let vm = p / mass.iter().sum::<f64>();
+        for i in lo..hi {
+            self.set_free(i, t, u[i - lo], vm);
+        }
+        let held = [lo == 0 && self.pinned[0], hi == self.n && self.pinned[1]];
+        self.form_group(lo, hi, held, t, vm);
     }
 }
