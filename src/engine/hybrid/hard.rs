@@ -14,16 +14,18 @@
 //! **Inelastic collapse** (infinitely many collisions in finite time, e.g. `e < 1` under a
 //! field, or a sequence at one instant) is prevented with the collapse interval `t_c` of the
 //! minimum-collision-interval ("TC") model of Luding & McNamara (Granular Matter 1, 1998):
-//! - between free beads (and a free bead and a hard wall) the contact becomes a **resting
-//!   contact** (the two sides join as one rigid group) when the collision is plastic, when the
-//!   separating speed `e·w` is at most `p⁺·t_c` (`p`: the relative acceleration pressing the
-//!   pair together, so the next collision would come within `2 t_c`), or when `e < 1` and the
-//!   contact collided less than `t_c` before (collapse). It opens when the field would pull
-//!   the group apart ([`super::stick`]). Energy is only lost.
-//! - a collision with a bead in a cluster is elastic within `t_c` of the previous one of the
-//!   same contact, and separates at least at `p⁺·t_c`, so its collisions are at least about
-//!   `2 t_c` apart; a cluster's end bead pressed into a hard wall at (almost) no speed is held
-//!   there (pinned) until the net force on it points away from the wall.
+//! - a collision **sticks** (the contact becomes a resting contact) when it is plastic, when
+//!   the separating speed `e·w` is at most `p⁺·t_c` (`p`: the relative acceleration pressing
+//!   the pair together, so the next collision would come within `2 t_c`), or when `e < 1` and
+//!   the contact collided less than `t_c` before (collapse). Free bodies join one rigid group
+//!   ([`super::stick`]); with a bead in a cluster the two bodies join one cluster, where beads
+//!   joined by resting contacts move as one rigid run ([`super::cluster::rigid_accel`]) until a
+//!   resting contact would carry tension. A cluster's end bead pressed into a hard wall is held
+//!   there (pinned) when its collision sticks, until the net force on it points away from the
+//!   wall. Sticking only loses energy.
+//! - a collision with a bead in a cluster that does not stick is elastic within `t_c` of the
+//!   previous one of the same contact and separates at least at `p⁺·t_c` (the TC model), so
+//!   its collisions are at least about `2 t_c` apart.
 
 use super::stick::collide;
 use super::{Hybrid, FREE};
@@ -179,12 +181,12 @@ impl Hybrid<'_> {
             (v, self.accel_of(i))
         };
         let k = self.n - 1 + side as usize;
-        let chatter = t - self.last_hard[k] < self.collapse_interval();
+        let stick = push > 0.0 && self.sticks(k, t, e0, w, push);
         let (e, floor) = self.tc_model(k, t, e0, push);
         self.log(t, i, EventKind::HardCollision, w, 0.0);
-        if push > 0.0 && (chatter || w <= floor) {
-            // Pressed into the wall by its cluster at (almost) no speed: the rigid-wall limit
-            // is a bead held at the wall (pinned) until the net force pulls it away.
+        if stick {
+            // Pressed into the wall by its cluster, and the collision sticks: the rigid-wall
+            // limit is a bead held at the wall (pinned) until the net force pulls it away.
             self.pinned[side as usize] = true;
             self.replace_velocity(g.lo, g.hi, t, 0.0);
         } else {
