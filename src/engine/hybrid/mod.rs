@@ -557,29 +557,6 @@ impl<'a> Hybrid<'a> {
         self.release_pin(cl).is_some()
     }
 
-    /// A pinned end bead whose net force (contacts + field, real mass) points away from its
-    /// wall is released: returns the side.
-    fn release_pin(&self, cl: &Cluster) -> Option<u8> {
-        if !cl.pinned[0] && !cl.pinned[1] {
-            return None;
-        }
-        let z = cl.integ.state();
-        let m = cl.m();
-        let mut acc = vec![0.0; m];
-        self.chain.accel(cl.lo, &z[..m], &mut acc);
-        if cl.rigid {
-            let (mass, stuck) = (&self.chain.mass[cl.lo..], &self.stuck[cl.lo..cl.hi - 1]);
-            cluster::rigid_accel(mass, stuck, [false; 2], &mut acc);
-        }
-        if cl.pinned[0] && acc[0] > 0.0 {
-            return Some(0);
-        }
-        if cl.pinned[1] && acc[m - 1] < 0.0 {
-            return Some(1);
-        }
-        None
-    }
-
     fn update_peaks(&mut self, slot: u32) {
         let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
         let z = cl.integ.state();

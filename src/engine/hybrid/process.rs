@@ -360,29 +360,7 @@ impl Hybrid<'_> {
             let cl = self.clusters[slot as usize].as_ref().expect("live");
             (cl.lo, cl.hi, cl.t_now)
         };
-        if let Some(side) = {
-            let cl = self.clusters[slot as usize].as_ref().expect("live");
-            self.release_pin(cl)
-        } {
-            self.pinned[side as usize] = false;
-            self.log(
-                t,
-                if side == 0 { 0 } else { self.n - 1 },
-                EventKind::WallOpen,
-                0.0,
-                0.0,
-            );
-        }
-        if let Some(c) = {
-            let cl = self.clusters[slot as usize].as_ref().expect("live");
-            if cl.rigid {
-                self.tension(cl)
-            } else {
-                None
-            }
-        } {
-            self.stuck[c] = false;
-        }
+        self.release_and_unstick(slot, t);
         let cl = self.remove_cluster(slot);
         let m = hi - lo;
         let z = cl.integ.state();

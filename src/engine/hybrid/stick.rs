@@ -21,12 +21,21 @@
 //! accelerating at least as fast as its right neighbour stays joined).
 //!
 //! Collisions between groups use the two-body formula with the groups' masses (momentum exact
-//! to rounding); a group that touches a cluster is dissolved where it does (a bead in a cluster
-//! is integrated; see [`Hybrid::unstick_around`]).
+//! to rounding).
+//!
+//! **Inside a cluster.** A group that closes a soft contact joins the cluster whole, and a
+//! sticking collision with a bead in a cluster joins the two bodies into one cluster. There the
+//! beads joined by resting contacts form a *rigid run*: each gets the run's mean acceleration
+//! `Σ m_i a_i / Σ m_i` (internal contact forces cancel; [`super::cluster::rigid_accel`]), so
+//! they keep their common velocity. At each step end the force the run's contacts carry is
+//! checked ([`Hybrid::tension`]); a resting contact that would be tensile opens, and the
+//! cluster splits there. A piece of a split made only of rigid beads becomes a free group again.
+//! A cluster's boundary contacts are never stuck ([`Hybrid::unstick_around`]).
 
 use super::cluster::Cluster;
 use super::free::Free;
 use super::Hybrid;
+use crate::snapshot::EventKind;
 
 /// A rigid group of free beads `lo..hi`, held at rest by the walls in `held`.
 #[derive(Clone, Copy, Debug)]
@@ -278,5 +287,46 @@ impl Hybrid<'_> {
         }
         let held = [lo == 0 && self.pinned[0], hi == self.n && self.pinned[1]];
         self.form_group(lo, hi, held, t, vm);
+    }
+
+    /// Before a split of cluster `slot` at `t`: releases a pin whose net force points away from
+    /// its wall, and opens a resting contact that would carry tension.
+    pub(super) fn release_and_unstick(&mut self, slot: u32, t: f64) {
+        let cl = self.clusters[slot as usize].as_ref().expect("live");
+        let (side, tense) = (
+            self.release_pin(cl),
+            cl.rigid.then(|| self.tension(cl)).flatten(),
+        );
+        if let Some(side) = side {
+            self.pinned[side as usize] = false;
+            let i = if side == 0 { 0 } else { self.n - 1 };
+            self.log(t, i, EventKind::WallOpen, 0.0, 0.0);
+        }
+        if let Some(c) = tense {
+            self.stuck[c] = false;
+        }
+    }
+
+    /// A pinned end bead whose net force (contacts + field, real mass) points away from its
+    /// wall is released: returns the side.
+    pub(super) fn release_pin(&self, cl: &Cluster) -> Option<u8> {
+        if !cl.pinned[0] && !cl.pinned[1] {
+            return None;
+        }
+        let z = cl.integ.state();
+        let m = cl.m();
+        let mut acc = vec![0.0; m];
+        self.chain.accel(cl.lo, &z[..m], &mut acc);
+        if cl.rigid {
+            let (mass, stuck) = (&self.chain.mass[cl.lo..], &self.stuck[cl.lo..cl.hi - 1]);
+            super::cluster::rigid_accel(mass, stuck, [false; 2], &mut acc);
+        }
+        if cl.pinned[0] && acc[0] > 0.0 {
+            return Some(0);
+        }
+        if cl.pinned[1] && acc[m - 1] < 0.0 {
+            return Some(1);
+        }
+        None
     }
 }
