@@ -15,8 +15,8 @@ use std::path::Path;
 
 /// Magic bytes of a checkpoint file.
 pub const CKPT_MAGIC: [u8; 8] = *b"BEADCKPT";
-/// Checkpoint format version.
-pub const CKPT_VERSION: u32 = 1;
+/// Checkpoint format version (2: the hybrid state holds the resting hard contacts).
+pub const CKPT_VERSION: u32 = 2;
 
 /// Everything a resumed run needs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
