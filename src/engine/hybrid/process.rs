@@ -32,13 +32,21 @@ impl Hybrid<'_> {
         }
         let mut mass = chain.mass[lo..hi].to_vec();
         let pinned = [lo == 0 && self.pinned[0], hi == self.n && self.pinned[1]];
+        // a pinned bead, and the rigid run of resting contacts holding it, are held at rest
+        let stuck = &self.stuck[lo..hi - 1];
+        let left_run = stuck.iter().take_while(|s| **s).count();
+        let right_run = stuck.iter().rev().take_while(|s| **s).count();
         if pinned[0] {
-            mass[0] *= PIN_MASS_FACTOR;
-            self.bv[0] = 0.0;
+            for k in 0..=left_run {
+                mass[k] *= PIN_MASS_FACTOR;
+                self.bv[k] = 0.0;
+            }
         }
         if pinned[1] {
-            mass[m - 1] *= PIN_MASS_FACTOR;
-            self.bv[m - 1] = 0.0;
+            for k in m - 1 - right_run..m {
+                mass[k] *= PIN_MASS_FACTOR;
+                self.bv[k] = 0.0;
+            }
         }
         let mut integ = make_integrator(self.cfg, m, self.tol);
         let rigid = self.stuck[lo..hi - 1].contains(&true);
