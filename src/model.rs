@@ -41,9 +41,11 @@ pub struct HardContacts {
     /// Per contact (`N−1`): `Some(e)` for a hard contact with restitution `e ∈ [0, 1]`, `None`
     /// for a soft (power-law) contact.
     pub restitution: Vec<Option<f64>>,
-    /// Minimum-collision-interval model (Luding & McNamara's "TC model"): a collision of a
-    /// contact less than this time after its previous one is elastic, and the separating speed
-    /// after a collision is at least `|δ̈|·t_c`, so inelastic collapse cannot stall the run.
+    /// Collapse interval `t_c` (Luding & McNamara's "TC model"): between free beads, an
+    /// inelastic collision less than `t_c` after the previous one of the same contact, or one
+    /// whose separating speed is below `|δ̈|·t_c`, makes the contact a resting (sticking) one;
+    /// a collision with a bead in a cluster is elastic within `t_c` and separates at least at
+    /// `|δ̈|·t_c`. Default: [`Scales::collapse_interval`].
     pub collapse_interval: f64,
 }
 
@@ -364,10 +366,19 @@ pub struct Scales {
     pub velocity: f64,
 }
 
+/// Default collapse interval of hard contacts, as a fraction of the characteristic time `L/V`.
+pub const COLLAPSE_FRACTION: f64 = 1e-6;
+
 impl Scales {
     /// Characteristic time `L / V`.
     pub fn time(&self) -> f64 {
         self.length / self.velocity
+    }
+
+    /// Default collapse interval `t_c` of hard contacts and hard walls:
+    /// [`COLLAPSE_FRACTION`]` · L/V` of the scene's initial state (not of its end time).
+    pub fn collapse_interval(&self) -> f64 {
+        COLLAPSE_FRACTION * self.time()
     }
 }
 

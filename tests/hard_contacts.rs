@@ -79,9 +79,8 @@ fn pure_hard_gas_conserves_energy() {
 }
 
 /// Inelastic collapse: beads with restitution 0.5 falling onto a hard floor under gravity
-/// would collide infinitely often in finite time. The TC model keeps the run finite: it ends
-/// with a bounded number of events, no NaN, and energy only lost (never gained beyond the
-/// floor-speed injection, bounded by m (g t_c)²).
+/// would collide infinitely often in finite time. Resting contacts keep the run finite: it
+/// ends with a bounded number of events, no NaN, and energy only lost.
 #[test]
 fn inelastic_collapse_is_handled() {
     let n = 5;
@@ -95,8 +94,9 @@ fn inelastic_collapse_is_handled() {
     let o = hybrid(&s);
     assert!(o.u.iter().chain(&o.v).all(|x| x.is_finite()));
     let events = o.events_by_kind[2].1;
-    // TC chatter of a resting stack: measured 3.1e6 collisions in 30 time units at t_c = 1e-4
-    assert!(events > 50 && events < 10_000_000, "{events} collisions");
+    // the stack comes to rest (resting contacts): measured 77 collisions at t_c = 1e-4 (was
+    // 3.1e6 of TC chatter before resting contacts)
+    assert!(events > 50 && events < 1_000, "{events} collisions");
     assert!(o.energy_final < o.energy_initial + 1e-6, "energy gained");
     // the stack has settled near the floor: every bead within 1e-2 of its resting height
     for (i, u) in o.u.iter().enumerate() {

@@ -136,6 +136,8 @@ pub struct HybridState {
     pub last_hard: Vec<f64>,
     /// Wall pins.
     pub pinned: [bool; 2],
+    /// Resting (sticking) hard contacts.
+    pub stuck: Vec<bool>,
     /// Next frame index.
     pub next_frame: u64,
 }

@@ -4,24 +4,36 @@
 //! [hard]
 //! contacts = "all"          # "all" | [k, ...] contact indices | { from = a, to = b } (inclusive)
 //! restitution = 1.0         # e in [0, 1]: a number, or one value per listed contact; default 1
-//! collapse_interval = 1e-9  # TC model interval t_c (computer time); default 1e-9 * [run].until
+//! collapse_interval = 1e-6  # collapse interval t_c; default 1e-6 * L/V of the initial state
 //!
 //! [walls]
 //! left = { hard = true, restitution = 0.9 }   # a hard wall (no force law)
 //! ```
+//!
+//! **Default collapse interval.** `t_c = 10⁻⁶ · L/V` with the characteristic length `L` and
+//! velocity `V` of the initial state ([`crate::model::Chain::scales`], the scales that make the
+//! tolerances unit-free), so it scales with the scene and does not depend on `[run].until`.
+//! Between free beads `t_c` only decides when an inelastic collision becomes a resting contact
+//! (a bouncing ball sticks after about `log(v₀ / (g t_c)) / log(1/e)` bounces); for a hard
+//! contact with a bead in a soft cluster it is the TC-model interval of the chatter.
+//!
+//! **Start state.** A hard contact may not start overlapping (`Δ + u_c − u_{c+1} > 0`) and a
+//! bead may not start inside a hard wall: there is no force law that could push them apart, so
+//! the run would start from an impossible state (energy rose ×36 in such a run).
 
 use super::error::SceneError;
 use super::keys::{get, kp, opt_num, table};
 use super::values::{number, type_name, Ctx};
+use super::Scene;
 use crate::model::HardContacts;
 use toml::{Table, Value};
 
-/// Parses `[hard]` for a chain of `nc` contacts; `until` sets the default collapse interval.
+/// Parses `[hard]` for a chain of `nc` contacts. Without `collapse_interval` the interval is
+/// NaN here, and [`default_collapse_interval`] sets it once the initial state is known.
 pub(crate) fn parse_hard(
     ctx: &Ctx,
     root: &Table,
     nc: usize,
-    until: f64,
 ) -> Result<Option<HardContacts>, SceneError> {
     let t = table(
         ctx,
@@ -112,9 +124,9 @@ pub(crate) fn parse_hard(
     for (c, e) in list.iter().zip(values) {
         restitution[*c] = Some(e);
     }
-    let collapse_interval =
-        opt_num(ctx, Some(t), "hard", "collapse_interval")?.unwrap_or(1e-9 * until);
-    if !(collapse_interval > 0.0 && collapse_interval.is_finite()) {
+    let given = opt_num(ctx, Some(t), "hard", "collapse_interval")?;
+    let collapse_interval = given.unwrap_or(f64::NAN);
+    if given.is_some() && !(collapse_interval > 0.0 && collapse_interval.is_finite()) {
         return Err(ctx.err(
             &kp("hard", "collapse_interval"),
             format!("must be positive and finite, got {collapse_interval}"),
@@ -124,6 +136,59 @@ pub(crate) fn parse_hard(
         restitution,
         collapse_interval,
     }))
+}
+
+/// Sets the default collapse interval (module docs) where `[hard]` did not give one.
+pub(crate) fn default_collapse_interval(scene: &mut Scene) {
+    let scales = scene.chain.scales(&scene.u0, &scene.v0);
+    if let Some(h) = scene.chain.hard.as_mut() {
+        if h.collapse_interval.is_nan() {
+            h.collapse_interval = scales.collapse_interval();
+        }
+    }
+}
+
+/// Rejects a start state with a hard contact overlapping or a bead inside a hard wall.
+pub(crate) fn check_start(ctx: &Ctx, scene: &Scene) -> Result<(), SceneError> {
+    let (c, u) = (&scene.chain, &scene.u0);
+    let n = c.len();
+    for k in (0..n - 1).filter(|&k| c.hard_restitution(k).is_some()) {
+        let d = c.overlap(k, u[k], u[k + 1]);
+        if d > 0.0 {
+            return Err(ctx.err(
+                &kp("hard", "contacts"),
+                format!(
+                    "contact {k} (beads {k}–{}) starts overlapping by {d}",
+                    k + 1
+                ),
+            ));
+        }
+    }
+    for (side, wall, i, d) in [
+        (
+            "left",
+            &c.left_wall,
+            0,
+            c.left_wall.as_ref().map(|w| w.precompression - u[0]),
+        ),
+        (
+            "right",
+            &c.right_wall,
+            n - 1,
+            c.right_wall.as_ref().map(|w| w.precompression + u[n - 1]),
+        ),
+    ] {
+        match (wall.as_ref().and_then(|w| w.restitution), d) {
+            (Some(_), Some(d)) if d > 0.0 => {
+                return Err(ctx.err(
+                    &format!("[walls].{side}"),
+                    format!("bead {i} starts inside the hard wall by {d}"),
+                ))
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 /// A wall's `hard`/`restitution` keys: `Some(e)` for a hard wall.

@@ -642,7 +642,7 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
             ))
         }
     };
-    let hard = super::hard::parse_hard(ctx, root, nc, until)?;
+    let hard = super::hard::parse_hard(ctx, root, nc)?;
     let run = RunSettings {
         until,
         every,
@@ -669,7 +669,7 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
             sc.time, sc.mass, sc.mu, sc.n0
         ));
     }
-    Ok(Scene {
+    let mut scene = Scene {
         name,
         description,
         chain: Chain {
@@ -686,5 +686,7 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
         v0,
         run,
         seed,
-    })
+    };
+    super::hard::default_collapse_interval(&mut scene);
+    Ok(scene)
 }

@@ -93,6 +93,7 @@ pub(crate) fn validate_in(scene: &Scene, file: &str) -> Result<Vec<String>, Scen
     }
     check("[initial].displacement", Per::Bead, &scene.u0, &any, "")?;
     check("[initial].velocity", Per::Bead, &scene.v0, &any, "")?;
+    super::hard::check_start(&ctx, scene)?;
 
     let mut warnings = Vec::new();
     for (side, wall) in [("left", &c.left_wall), ("right", &c.right_wall)] {

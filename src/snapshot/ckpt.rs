@@ -17,7 +17,7 @@ use std::path::Path;
 pub const CKPT_MAGIC: [u8; 8] = *b"BEADCKPT";
 /// Checkpoint format version (2: the engine state holds only the unflushed events, the writer
 /// mark the event blocks already written, the clusters' integrators their method-switching
-/// state).
+/// state, the hybrid state the resting hard contacts).
 pub const CKPT_VERSION: u32 = 2;
 
 /// Everything a resumed run needs.

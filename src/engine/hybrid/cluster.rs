@@ -24,6 +24,9 @@ pub struct ClusterSys<'a> {
     pub mass: &'a [f64],
     /// First / last bead pinned against its hard wall.
     pub pinned: [bool; 2],
+    /// Resting hard contacts inside the cluster (local contact `k` joins beads `k`, `k + 1`),
+    /// when it has any: the beads they join move as one rigid body ([`super::stick`]).
+    pub rigid: Option<&'a [bool]>,
 }
 
 impl System for ClusterSys<'_> {
@@ -46,6 +49,9 @@ impl System for ClusterSys<'_> {
 impl ClusterSys<'_> {
     #[inline]
     fn pin(&self, acc: &mut [f64]) {
+        if let Some(stuck) = self.rigid {
+            rigid_accel(&self.chain.mass[self.lo..], stuck, self.pinned, acc);
+        }
         if self.pinned[0] {
             acc[0] = 0.0;
         }
@@ -53,6 +59,33 @@ impl ClusterSys<'_> {
             let m = acc.len();
             acc[m - 1] = 0.0;
         }
+    }
+}
+
+/// Gives every run of beads joined by resting contacts (`stuck[k]` joins `k`, `k + 1`) the
+/// run's acceleration `Σ m_i a_i / Σ m_i` (internal contact forces cancel), 0 when the run
+/// holds a pinned end bead.
+pub fn rigid_accel(mass: &[f64], stuck: &[bool], pinned: [bool; 2], acc: &mut [f64]) {
+    let m = acc.len();
+    let mut a = 0;
+    while a < m {
+        let mut b = a;
+        while b + 1 < m && stuck[b] {
+            b += 1;
+        }
+        if b > a {
+            let held = (a == 0 && pinned[0]) || (b == m - 1 && pinned[1]);
+            let mean = if held {
+                0.0
+            } else {
+                let (p, mt) = (a..=b).fold((0.0, 0.0), |(p, mt), i| {
+                    (p + mass[i] * acc[i], mt + mass[i])
+                });
+                p / mt
+            };
+            acc[a..=b].fill(mean);
+        }
+        a = b + 1;
     }
 }
 
@@ -102,6 +135,8 @@ pub struct Cluster {
     pub mass: Vec<f64>,
     /// First / last bead pinned against its hard wall.
     pub pinned: [bool; 2],
+    /// Holds a resting hard contact (derived from the engine's `stuck` flags).
+    pub rigid: bool,
 }
 
 impl Cluster {
@@ -134,13 +169,14 @@ impl Cluster {
         self.frame_v + self.integ.dense_at(t, self.m() + i - self.lo)
     }
 
-    /// The system this cluster integrates.
-    pub fn sys<'a>(&'a self, chain: &'a Chain) -> ClusterSys<'a> {
+    /// The system this cluster integrates (`stuck`: the engine's flags, one per contact).
+    pub fn sys<'a>(&'a self, chain: &'a Chain, stuck: &'a [bool]) -> ClusterSys<'a> {
         ClusterSys {
             chain,
             lo: self.lo,
             mass: &self.mass,
             pinned: self.pinned,
+            rigid: self.rigid.then(|| &stuck[self.lo..self.hi - 1]),
         }
     }
 

@@ -1,21 +1,33 @@
 //! Hard contacts and hard walls: instantaneous collisions (the `n → ∞` limit of the power law).
 //!
-//! A hard contact never joins a cluster. When its gap closes (threshold 0) the two beads
-//! exchange the impulse of a collision with restitution `e`:
+//! A hard contact never joins a cluster. When its gap closes (threshold 0) the bodies on its
+//! two sides exchange the impulse of a collision with restitution `e`:
 //! `v_a' = v_cm − s·m_b/M`, `v_b' = v_cm + s·m_a/M`, with separating speed `s = e·w` for the
-//! approach speed `w` (momentum exact; kinetic energy loses `(1 − e²)` of the relative part).
+//! approach speed `w` (momentum conserved to rounding; kinetic energy loses `(1 − e²)` of the
+//! relative part). A body is a free bead's rigid group ([`super::stick`], infinite mass when a
+//! wall holds it), or a bead alone when it is in a (soft) cluster.
 //!
 //! **Simultaneous collisions** are resolved sequentially in the queue order (time, then lowest
 //! bead index): a Newton's cradle of equal beads with `e = 1` passes the striker's velocity to
-//! the last bead exactly.
+//! the last bead exactly; with `e = 0` every collision sticks and all beads leave together.
 //!
 //! **Inelastic collapse** (infinitely many collisions in finite time, e.g. `e < 1` under a
-//! field, or a sequence at one instant) is prevented by the minimum-collision-interval ("TC")
-//! model of Luding & McNamara (Granular Matter 1, 1998): a collision of a contact less than
-//! `t_c` after its previous one is elastic, and the separating speed is at least `|δ̈|·t_c` (the
-//! relative acceleration pushing the pair together), so collisions of one contact are at least
-//! about `2 t_c` apart.
+//! field, or a sequence at one instant) is prevented with the collapse interval `t_c` of the
+//! minimum-collision-interval ("TC") model of Luding & McNamara (Granular Matter 1, 1998):
+//! - a collision **sticks** (the contact becomes a resting contact) when it is plastic, when
+//!   the separating speed `e·w` is at most `p⁺·t_c` (`p`: the relative acceleration pressing
+//!   the pair together, so the next collision would come within `2 t_c`), or when `e < 1` and
+//!   the contact collided less than `t_c` before (collapse). Free bodies join one rigid group
+//!   ([`super::stick`]); with a bead in a cluster the two bodies join one cluster, where beads
+//!   joined by resting contacts move as one rigid run ([`super::cluster::rigid_accel`]) until a
+//!   resting contact would carry tension. A cluster's end bead pressed into a hard wall is held
+//!   there (pinned) when its collision sticks, until the net force on it points away from the
+//!   wall. Sticking only loses energy.
+//! - a collision with a bead in a cluster that does not stick is elastic within `t_c` of the
+//!   previous one of the same contact and separates at least at `p⁺·t_c` (the TC model), so
+//!   its collisions are at least about `2 t_c` apart.
 
+use super::stick::collide;
 use super::{Hybrid, FREE};
 use crate::engine::EngineError;
 use crate::snapshot::EventKind;
@@ -24,7 +36,7 @@ impl Hybrid<'_> {
     /// Acceleration of bead `i` at the current event time (its owner settled there).
     fn accel_of(&self, i: usize) -> f64 {
         match self.owner[i] {
-            FREE => self.g[i],
+            FREE => self.free[i].g,
             s => {
                 let cl = self.clusters[s as usize].as_ref().expect("live cluster");
                 let m = cl.m();
@@ -37,21 +49,15 @@ impl Hybrid<'_> {
         }
     }
 
-    /// Replaces bead `i`'s velocity at `t` (its owner settled at `t`): a free bead restarts its
-    /// flight, a cluster restarts from its state with the new velocity.
-    fn replace_velocity(&mut self, i: usize, t: f64, u: f64, v: f64) {
-        match self.owner[i] {
-            FREE => self.set_free(i, t, u, v),
-            s => {
-                let cl = self.remove_cluster(s);
-                let (lo, hi) = (cl.lo, cl.hi);
-                let mut us: Vec<f64> = (lo..hi).map(|k| cl.u_at(t, k)).collect();
-                let mut vs: Vec<f64> = (lo..hi).map(|k| cl.v_at(t, k)).collect();
-                us[i - lo] = u;
-                vs[i - lo] = v;
-                self.make_cluster(lo, hi, t, &us, &vs);
-            }
-        }
+    /// Gives beads `a..b` of one cluster the velocity `v` at `t` (the cluster settled at `t`):
+    /// the cluster restarts from its state with the new velocities.
+    fn replace_velocity(&mut self, a: usize, b: usize, t: f64, v: f64) {
+        let cl = self.remove_cluster(self.owner[a]);
+        let (lo, hi) = (cl.lo, cl.hi);
+        let us: Vec<f64> = (lo..hi).map(|k| cl.u_at(t, k)).collect();
+        let mut vs: Vec<f64> = (lo..hi).map(|k| cl.v_at(t, k)).collect();
+        vs[a - lo..b - lo].fill(v);
+        self.make_cluster(lo, hi, t, &us, &vs);
     }
 
     /// The TC-model interval `t_c`.
@@ -59,7 +65,7 @@ impl Hybrid<'_> {
         self.chain
             .hard
             .as_ref()
-            .map_or(1e-9 * self.cfg.until, |h| h.collapse_interval)
+            .map_or(self.tol.scales.collapse_interval(), |h| h.collapse_interval)
     }
 
     /// Effective restitution and separating-speed floor for collision slot `k` at `t`.
@@ -70,6 +76,31 @@ impl Hybrid<'_> {
         (e, push.max(0.0) * tc)
     }
 
+    /// Does a collision of slot `k` at `t` (restitution `e0`, approach speed `w`, relative
+    /// acceleration `push` pressing it together) stick, i.e. become a resting contact
+    /// ([`super::stick`])? Plastic, or a separating speed below what the push undoes within
+    /// `t_c`, or inelastic and again within `t_c` of the previous collision (collapse).
+    fn sticks(&self, k: usize, t: f64, e0: f64, w: f64, push: f64) -> bool {
+        let tc = self.collapse_interval();
+        e0 == 0.0
+            || e0 * w.max(0.0) <= push.max(0.0) * tc
+            || (e0 < 1.0 && t - self.last_hard[k] < tc)
+    }
+
+    /// Gives the body of bead `i` (its rigid group: free beads, or a run inside a cluster
+    /// joined by resting contacts) the velocity `v` at `t`; nothing when a wall holds it.
+    fn set_velocity(&mut self, i: usize, t: f64, v: f64) {
+        let g = self.group_of(i);
+        if g.held[0] || g.held[1] {
+            return;
+        }
+        if self.owner[i] == FREE {
+            self.set_group_velocity(&g, t, v);
+        } else {
+            self.replace_velocity(g.lo, g.hi, t, v);
+        }
+    }
+
     /// A hard contact `c` closes at `t`.
     pub(super) fn process_hard(&mut self, c: usize, t: f64) -> Result<(), EngineError> {
         let e0 = self.chain.hard_restitution(c).unwrap_or(1.0);
@@ -78,54 +109,118 @@ impl Hybrid<'_> {
                 self.settle_at(side, t)?;
             }
         }
-        let (ua, va) = self.pos(c, t);
-        let (ub, vb) = self.pos(c + 1, t);
+        if self.owner[c] == FREE && self.owner[c + 1] == FREE {
+            self.collide_free(c, t, e0);
+            return Ok(());
+        }
+        let (va, vb) = (self.pos(c, t).1, self.pos(c + 1, t).1);
         let w = va - vb;
         let push = self.accel_of(c) - self.accel_of(c + 1);
-        let (e, floor) = self.tc_model(c, t, e0, push);
-        let (ma, mb) = (self.chain.mass[c], self.chain.mass[c + 1]);
-        let mt = ma + mb;
-        let vcm = (ma * va + mb * vb) / mt;
-        let sep = (e * w.max(0.0)).max(floor);
+        let (ga, gb) = (self.group_of(c), self.group_of(c + 1));
+        let (ma, mb) = (self.group_mass(&ga), self.group_mass(&gb));
         self.log(t, c, EventKind::HardCollision, w, 0.0);
-        self.replace_velocity(c, t, ua, vcm - sep * mb / mt);
-        self.replace_velocity(c + 1, t, ub, vcm + sep * ma / mt);
-        self.after_velocity_change(c, c + 2, t);
+        if self.sticks(c, t, e0, w, push) {
+            // a resting contact: the two bodies join one cluster and move as one there
+            self.last_hard[c] = t;
+            let v = collide(ma, va, mb, vb, 0.0).0;
+            self.set_velocity(c, t, v);
+            self.set_velocity(c + 1, t, v);
+            self.stuck[c] = true;
+            return self.merge_at(c, t);
+        }
+        let (e, floor) = self.tc_model(c, t, e0, push);
+        let sep = (e * w.max(0.0)).max(floor);
+        let (va2, vb2) = collide(ma, va, mb, vb, sep);
+        self.set_velocity(c, t, va2);
+        self.set_velocity(c + 1, t, vb2);
+        self.after_velocity_change(ga.lo, gb.hi, t);
         Ok(())
+    }
+
+    /// Hard contact `c` between two free groups closes at `t`: a two-body collision of the
+    /// groups, or they stick and form one group ([`super::stick`]).
+    fn collide_free(&mut self, c: usize, t: f64, e0: f64) {
+        let (ga, gb) = (self.group_of(c), self.group_of(c + 1));
+        let (fa, fb) = (self.free[c], self.free[c + 1]);
+        let (va, vb) = (fa.at(t).1, fb.at(t).1);
+        let w = va - vb;
+        let stick = self.sticks(c, t, e0, w, fa.g - fb.g);
+        self.last_hard[c] = t;
+        self.log(t, c, EventKind::HardCollision, w, 0.0);
+        let (ma, mb) = (self.group_mass(&ga), self.group_mass(&gb));
+        if stick {
+            let v = collide(ma, va, mb, vb, 0.0).0;
+            self.stuck[c] = true;
+            self.form_group(ga.lo, gb.hi, [ga.held[0], gb.held[1]], t, v);
+        } else {
+            let (va2, vb2) = collide(ma, va, mb, vb, e0 * w.max(0.0));
+            if ma.is_finite() {
+                self.set_group_velocity(&ga, t, va2);
+            }
+            if mb.is_finite() {
+                self.set_group_velocity(&gb, t, vb2);
+            }
+        }
+        self.after_velocity_change(ga.lo, gb.hi, t);
     }
 
     /// The end bead at `side` reaches its hard wall at `t`.
     pub(super) fn process_hard_wall(&mut self, side: u8, t: f64) -> Result<(), EngineError> {
         let i = if side == 0 { 0 } else { self.n - 1 };
         let e0 = self.hard_wall(side).unwrap_or(1.0);
-        if self.owner[i] != FREE {
-            self.settle_at(self.owner[i], t)?;
+        if self.owner[i] == FREE {
+            self.wall_free(side, i, t, e0);
+            return Ok(());
         }
-        let (u, v) = self.pos(i, t);
+        self.settle_at(self.owner[i], t)?;
+        let v = self.pos(i, t).1;
+        let g = self.group_of(i);
         let (w, push) = if side == 0 {
             (-v, -self.accel_of(i))
         } else {
             (v, self.accel_of(i))
         };
         let k = self.n - 1 + side as usize;
-        let chatter = t - self.last_hard[k] < self.collapse_interval();
+        let stick = push > 0.0 && self.sticks(k, t, e0, w, push);
         let (e, floor) = self.tc_model(k, t, e0, push);
         self.log(t, i, EventKind::HardCollision, w, 0.0);
-        if self.owner[i] != FREE && push > 0.0 && (chatter || w <= floor) {
-            // Pressed into the wall by its cluster at (almost) no speed: the rigid-wall limit
-            // is a bead held at the wall (pinned) until the net force pulls it away.
+        if stick {
+            // Pressed into the wall by its cluster, and the collision sticks: the rigid-wall
+            // limit is a bead held at the wall (pinned) until the net force pulls it away.
             self.pinned[side as usize] = true;
-            self.replace_velocity(i, t, u, 0.0);
+            self.replace_velocity(g.lo, g.hi, t, 0.0);
         } else {
             let sep = (e * w.max(0.0)).max(floor);
-            self.replace_velocity(i, t, u, if side == 0 { sep } else { -sep });
+            self.replace_velocity(g.lo, g.hi, t, if side == 0 { sep } else { -sep });
         }
-        self.after_velocity_change(i, i + 1, t);
+        self.after_velocity_change(g.lo, g.hi, t);
         Ok(())
     }
 
+    /// The free group of end bead `i` reaches the hard wall at `side` at `t`: it bounces, or
+    /// it sticks and is held at rest by the wall ([`super::stick`]).
+    fn wall_free(&mut self, side: u8, i: usize, t: f64, e0: f64) {
+        let g = self.group_of(i);
+        let f = self.free[i];
+        let v = f.at(t).1;
+        let (w, push) = if side == 0 { (-v, -f.g) } else { (v, f.g) };
+        let k = self.n - 1 + side as usize;
+        let stick = self.sticks(k, t, e0, w, push);
+        self.last_hard[k] = t;
+        self.log(t, i, EventKind::HardCollision, w, 0.0);
+        if stick {
+            let mut held = g.held;
+            held[side as usize] = true;
+            self.form_group(g.lo, g.hi, held, t, 0.0);
+        } else if !g.held[0] && !g.held[1] {
+            let sep = e0 * w.max(0.0);
+            self.set_group_velocity(&g, t, if side == 0 { sep } else { -sep });
+        }
+        self.after_velocity_change(g.lo, g.hi, t);
+    }
+
     /// Re-predicts everything around beads `lo..hi` whose motion just changed at `t`.
-    fn after_velocity_change(&mut self, lo: usize, hi: usize, t: f64) {
+    pub(super) fn after_velocity_change(&mut self, lo: usize, hi: usize, t: f64) {
         self.drop_predictions(lo, hi);
         for c in lo.saturating_sub(1)..hi.min(self.n - 1) {
             self.schedule_free_pair(c);

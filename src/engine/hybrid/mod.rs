@@ -43,6 +43,7 @@ mod hard;
 mod opening;
 mod process;
 mod state;
+mod stick;
 
 use super::{EngineError, Observer, RunConfig, RunOutcome};
 use crate::engine::checkpoint::HybridState;
@@ -154,6 +155,10 @@ pub struct Hybrid<'a> {
     clock: f64,
     last_hard: Vec<f64>,
     pinned: [bool; 2],
+    /// Per contact: a resting (sticking) hard contact joining two free beads ([`stick`]).
+    stuck: Vec<bool>,
+    /// Scratch of [`Hybrid::form_group`].
+    pools: Vec<stick::Pool>,
     next_frame: u64,
     bu: Vec<f64>,
     bv: Vec<f64>,
@@ -242,6 +247,8 @@ impl<'a> Hybrid<'a> {
             clock: 0.0,
             last_hard: vec![f64::NEG_INFINITY; n + 1],
             pinned: [false; 2],
+            stuck: vec![false; n.saturating_sub(1)],
+            pools: Vec::with_capacity(n + 2),
             next_frame: 0,
             bu: vec![0.0; n],
             bv: vec![0.0; n],
@@ -457,6 +464,7 @@ impl<'a> Hybrid<'a> {
                 lo: cl.lo,
                 mass: &cl.mass,
                 pinned: cl.pinned,
+                rigid: cl.rigid.then(|| &self.stuck[cl.lo..cl.hi - 1]),
             };
             let t0 = cl.t_now;
             let t1 = cl.integ.step(&sys, until)?;
@@ -579,33 +587,17 @@ impl<'a> Hybrid<'a> {
             let c = cl.lo + k;
             let d = self.pre(c) + z[k] - z[k + 1];
             let dd = z[m + k] - z[m + k + 1];
-            if d < self.theta && dd < 0.0 {
+            if d < self.theta && dd < 0.0 && !self.stuck[c] {
                 return true;
             }
+        }
+        if cl.rigid && self.tension(cl).is_some() {
+            return true;
         }
         if m == 1 {
             let (u, v) = (cl.frame_at(cl.t_now) + z[0], cl.frame_v + z[1]);
             return !self.wall_holds(cl.lo, u, v);
         }
         self.release_pin(cl).is_some()
-    }
-
-    /// A pinned end bead whose net force (contacts + field, real mass) points away from its
-    /// wall is released: returns the side.
-    fn release_pin(&self, cl: &Cluster) -> Option<u8> {
-        if !cl.pinned[0] && !cl.pinned[1] {
-            return None;
-        }
-        let z = cl.integ.state();
-        let m = cl.m();
-        let mut acc = vec![0.0; m];
-        self.chain.accel(cl.lo, &z[..m], &mut acc);
-        if cl.pinned[0] && acc[0] > 0.0 {
-            return Some(0);
-        }
-        if cl.pinned[1] && acc[m - 1] < 0.0 {
-            return Some(1);
-        }
-        None
     }
 }

@@ -33,20 +33,30 @@ impl Hybrid<'_> {
         }
         let mut mass = chain.mass[lo..hi].to_vec();
         let pinned = [lo == 0 && self.pinned[0], hi == self.n && self.pinned[1]];
+        // a pinned bead, and the rigid run of resting contacts holding it, are held at rest
+        let stuck = &self.stuck[lo..hi - 1];
+        let left_run = stuck.iter().take_while(|s| **s).count();
+        let right_run = stuck.iter().rev().take_while(|s| **s).count();
         if pinned[0] {
-            mass[0] *= PIN_MASS_FACTOR;
-            self.bv[0] = 0.0;
+            for k in 0..=left_run {
+                mass[k] *= PIN_MASS_FACTOR;
+                self.bv[k] = 0.0;
+            }
         }
         if pinned[1] {
-            mass[m - 1] *= PIN_MASS_FACTOR;
-            self.bv[m - 1] = 0.0;
+            for k in m - 1 - right_run..m {
+                mass[k] *= PIN_MASS_FACTOR;
+                self.bv[k] = 0.0;
+            }
         }
         let mut integ = make_integrator(self.cfg, m, self.cluster_tol(fv));
+        let rigid = self.stuck[lo..hi - 1].contains(&true);
         let sys = ClusterSys {
             chain,
             lo,
             mass: &mass,
             pinned,
+            rigid: rigid.then(|| &self.stuck[lo..hi - 1]),
         };
         integ.reset(&sys, t, &self.bu[..m], &self.bv[..m]);
         let cl = Cluster {
@@ -60,6 +70,7 @@ impl Hybrid<'_> {
             pending: None,
             mass,
             pinned,
+            rigid,
         };
         let slot = match self.spare_slots.pop() {
             Some(s) => {
@@ -78,6 +89,7 @@ impl Hybrid<'_> {
         self.largest = self.largest.max(m);
         self.queue
             .push(Key::Cluster(slot), prio(t, 2, lo, Key::Cluster(slot)));
+        self.unstick_around(lo, hi, t);
     }
 
     /// The tolerances of a cluster integrated in a frame moving at `frame_v`: relative velocity
@@ -259,6 +271,7 @@ impl Hybrid<'_> {
             lo: cl.lo,
             mass: &cl.mass,
             pinned: cl.pinned,
+            rigid: cl.rigid.then(|| &self.stuck[cl.lo..cl.hi - 1]),
         };
         if t - t0 <= 64.0 * f64::EPSILON * t.abs().max(f64::MIN_POSITIVE) {
             // A few ulps after the step start: too short to integrate (the stage times would
@@ -279,18 +292,19 @@ impl Hybrid<'_> {
     }
 
     /// Merges everything on both sides of contact `c` into one cluster at `t`.
-    fn merge_at(&mut self, c: usize, t: f64) -> Result<(), EngineError> {
+    pub(super) fn merge_at(&mut self, c: usize, t: f64) -> Result<(), EngineError> {
         for side in [self.owner[c], self.owner[c + 1]] {
             if side != FREE {
                 self.settle_at(side, t)?;
             }
         }
+        // a free bead joins with its whole rigid group
         let lo = match self.owner[c] {
-            FREE => c,
+            FREE => self.group_of(c).lo,
             s => self.clusters[s as usize].as_ref().expect("live").lo,
         };
         let hi = match self.owner[c + 1] {
-            FREE => c + 2,
+            FREE => self.group_of(c + 1).hi,
             s => self.clusters[s as usize].as_ref().expect("live").hi,
         };
         let mut u = vec![0.0; hi - lo];
@@ -314,7 +328,9 @@ impl Hybrid<'_> {
             self.late_merges += 1;
         }
         self.peak[c] = 0.0;
-        self.log(t, c, EventKind::Close, rel, 0.0);
+        if !self.stuck[c] {
+            self.log(t, c, EventKind::Close, rel, 0.0);
+        }
         self.make_cluster(lo, hi, t, &u, &v);
         Ok(())
     }
@@ -365,19 +381,7 @@ impl Hybrid<'_> {
             let cl = self.clusters[slot as usize].as_ref().expect("live");
             (cl.lo, cl.hi, cl.t_now)
         };
-        if let Some(side) = {
-            let cl = self.clusters[slot as usize].as_ref().expect("live");
-            self.release_pin(cl)
-        } {
-            self.pinned[side as usize] = false;
-            self.log(
-                t,
-                if side == 0 { 0 } else { self.n - 1 },
-                EventKind::WallOpen,
-                0.0,
-                0.0,
-            );
-        }
+        self.release_and_unstick(slot, t);
         let cl = self.remove_cluster(slot);
         let m = hi - lo;
         let z = cl.integ.state();
@@ -390,7 +394,11 @@ impl Hybrid<'_> {
             let opens = !last && {
                 let k = i - lo;
                 let d = self.pre(i) + z[k] - z[k + 1];
-                d < self.theta && z[m + k] - z[m + k + 1] < 0.0
+                if self.chain.hard_restitution(i).is_some() {
+                    !self.stuck[i]
+                } else {
+                    d < self.theta && z[m + k] - z[m + k + 1] < 0.0
+                }
             };
             if opens {
                 // The split happens at the step end (the dynamics inside the cluster were exact
@@ -414,6 +422,8 @@ impl Hybrid<'_> {
                         self.peak[k] = 0.0;
                     }
                     self.set_free(start, t, u[a], v[a]);
+                } else if i > start && (start..i).all(|k| self.stuck[k]) {
+                    self.free_rigid_piece(start, i + 1, t, &u[a..b], &v[a..b]);
                 } else {
                     self.make_cluster(start, i + 1, t, &u[a..b], &v[a..b]);
                 }
@@ -433,6 +443,12 @@ impl Hybrid<'_> {
         }
         if hi == self.n {
             self.schedule_wall(1);
+        }
+        // an end bead left alone against the hard wall that holds it stays held, as a group
+        for (side, i) in [(0, 0), (1, self.n - 1)] {
+            if self.pinned[side] && self.owner[i] == FREE && (lo..hi).contains(&i) {
+                self.regroup(i, t);
+            }
         }
     }
 }

@@ -68,6 +68,7 @@ impl Hybrid<'_> {
             implicit_steps: self.implicit_steps,
             last_hard: self.last_hard.clone(),
             pinned: self.pinned,
+            stuck: self.stuck.clone(),
             next_frame: self.next_frame,
         }
     }
@@ -99,6 +100,7 @@ impl Hybrid<'_> {
                         pending: c.pending,
                         mass: c.mass.clone(),
                         pinned: c.pinned,
+                        rigid: s.stuck[c.lo as usize..c.hi as usize - 1].contains(&true),
                     }
                 })
             })
@@ -127,6 +129,7 @@ impl Hybrid<'_> {
         self.implicit_steps = s.implicit_steps;
         self.last_hard.clone_from(&s.last_hard);
         self.pinned = s.pinned;
+        self.stuck.clone_from(&s.stuck);
         self.next_frame = s.next_frame;
         for c in 0..self.n.saturating_sub(1) {
             self.schedule_free_pair(c);
