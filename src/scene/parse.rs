@@ -29,7 +29,7 @@ pub const DEFAULT_PREFACTOR: f64 = 1.0;
 pub fn load(spec: &str) -> Result<Scene, SceneError> {
     let path = Path::new(spec);
     if path.exists() {
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+        let text = crate::files::read_text(path).map_err(|e| SceneError::Io {
             file: one_line(spec),
             reason: one_line(&e.to_string()),
         })?;
@@ -74,12 +74,44 @@ fn syntax_error(file: &str, text: &str, e: &toml::de::Error) -> SceneError {
         }
         None => (0, 0),
     };
+    let mut message = one_line(&e.message().trim().replace('\n', "; "));
+    if let Some(key) = key_at_line(text, line) {
+        message = format!("{key}: {message}");
+    }
     SceneError::Syntax {
         file: file.to_string(),
         line,
         column,
-        message: one_line(&e.message().trim().replace('\n', "; ")),
+        message,
     }
+}
+
+/// The key path (`[scene].seed`) of a `key = value` line, for syntax errors inside a value (an
+/// integer too large for 64 bits names its key this way); `None` for other lines.
+fn key_at_line(text: &str, line: usize) -> Option<String> {
+    let lines: Vec<&str> = text.lines().collect();
+    let this = lines.get(line.checked_sub(1)?)?;
+    let (key, _) = this.split_once('=')?;
+    let key = key.trim();
+    let plain = |s: &str| {
+        !s.is_empty()
+            && s.chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.' | '"'))
+    };
+    if !plain(key) {
+        return None;
+    }
+    let table = lines[..line - 1]
+        .iter()
+        .rev()
+        .map(|l| l.trim())
+        .find(|l| l.starts_with('[') && l.ends_with(']'))
+        .map_or(String::new(), |l| l.trim_matches(|c| c == '[' || c == ']').to_string());
+    Some(if table.is_empty() {
+        key.to_string()
+    } else {
+        format!("[{table}].{key}")
+    })
 }
 
 /// The `[units]` material data of a physical scene, resolved.

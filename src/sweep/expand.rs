@@ -210,6 +210,24 @@ impl SweepSpec {
                 "the frame-based measures and stops need frames: the scene has no [run] every (add \"run.every\" to [set])".into(),
             ));
         }
+        use crate::snapshot::size::{
+            count_text, frame_count_estimate, human_bytes, output_bytes_estimate,
+        };
+        let frames = frame_count_estimate(0.0, s.run.until, s.run.every);
+        let bytes = output_bytes_estimate(n, frames);
+        if bytes > self.max_output_bytes as f64 {
+            return Err(err(
+                "run.every",
+                format!(
+                    "{} frames of {n} beads (run.until = {}, run.every = {}), about {} of frame data, above the limit of {} per run: raise run.every or lower run.until (or pass --max-output-bytes N or --force)",
+                    count_text(frames),
+                    s.run.until,
+                    s.run.every.unwrap_or(s.run.until),
+                    human_bytes(bytes),
+                    human_bytes(self.max_output_bytes as f64)
+                ),
+            ));
+        }
         Ok(())
     }
 }

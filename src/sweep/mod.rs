@@ -212,7 +212,14 @@ pub struct SweepSpec {
     pub stop: Stop,
     /// FNV-1a hash of the sweep file and base scene (as parsed TOML).
     pub hash: u64,
+    /// Limit of one run's estimated frame data (as the snapshot `run` would write; checked for
+    /// every run before any runs): [`crate::snapshot::size::DEFAULT_MAX_OUTPUT_BYTES`] unless
+    /// the caller (`--max-output-bytes`, `--force`) changes it.
+    pub max_output_bytes: u64,
 }
+
+/// Most runs a sweep may expand to (every run's scene is built before any run starts).
+pub const MAX_RUNS: u64 = 100_000;
 
 /// 64-bit FNV-1a (stable across platforms and Rust versions).
 pub fn fnv1a(bytes: &[u8]) -> u64 {
@@ -240,7 +247,7 @@ impl SweepSpec {
     /// Reads and checks a sweep file (the base scene is resolved relative to it).
     pub fn load(path: &Path) -> Result<SweepSpec, SweepError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SweepError::Io {
+        let text = crate::files::read_text(path).map_err(|e| SweepError::Io {
             file: file.clone(),
             action: "cannot read sweep file".into(),
             reason: e.to_string(),
@@ -377,6 +384,18 @@ impl SweepSpec {
         if let Some((k, _)) = &seeds {
             check_key("[seeds].key", k)?;
         }
+        let dims = grid.iter().map(|(_, v)| v.len()).chain([
+            points.len().max(1),
+            seeds.as_ref().map_or(1, |(_, v)| v.len()),
+        ]);
+        let total = dims.fold(Some(1u64), |acc, n| acc?.checked_mul(n as u64));
+        if total.is_none_or(|t| t > MAX_RUNS) {
+            let shown = total.map_or("more than 2^64".into(), |t| t.to_string());
+            return Err(key_err(
+                "[grid]",
+                format!("the sweep expands to {shown} runs ([[point]] x [grid] x [seeds]), above the limit of {MAX_RUNS} runs per sweep file: split it into several sweep files"),
+            ));
+        }
         // A key may be set by only one of [set], [grid], [[point]], [seeds].
         let mut claims: Vec<(&str, &str)> = Vec::new();
         claims.extend(set.iter().map(|(k, _)| (k.as_str(), "[set]")));
@@ -420,6 +439,7 @@ impl SweepSpec {
             measure,
             stop,
             hash: fnv1a(canon.as_bytes()),
+            max_output_bytes: crate::snapshot::size::DEFAULT_MAX_OUTPUT_BYTES,
         })
     }
 }
@@ -428,7 +448,7 @@ impl SweepSpec {
 fn base_scene(spec: &str, dir: &Path) -> Result<(String, PathBuf), String> {
     let path = dir.join(spec);
     if path.is_file() {
-        let text = std::fs::read_to_string(&path)
+        let text = crate::files::read_text(&path)
             .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
         let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
         return Ok((text, base));
