@@ -56,14 +56,24 @@ impl SizeLimit {
         let limit = self.bytes();
         if bytes > limit as f64 {
             bail!(
-                "{what}: [run].every: the output would be about {} ({} frames of {n_beads} beads: {until_key} = {until}, every = {}), above the limit of {}: raise [run].every (or --every), lower {until_key}, or pass --max-output-bytes N or --force",
+                "{what}: [run].every: the output would be about {} ({} frames of {n_beads} beads: {until_key} = {}, every = {}), above the limit of {}: raise [run].every (or --every), lower {until_key}, or pass --max-output-bytes N or --force",
                 human_bytes(bytes),
                 count_text(frames),
-                every.map_or("none (first and last frame)".into(), |e| e.to_string()),
+                short(until),
+                every.map_or("none (first and last frame)".into(), short),
                 human_bytes(limit as f64),
             );
         }
         Ok(())
+    }
+}
+
+/// A number as `{}` in `1e-5 ≤ |x| < 1e16`, else as `{:e}` (`1e300`, not 301 digits).
+fn short(x: f64) -> String {
+    if x == 0.0 || (1e-5..1e16).contains(&x.abs()) {
+        x.to_string()
+    } else {
+        format!("{x:e}")
     }
 }
 

@@ -49,11 +49,11 @@ pub fn human_bytes(b: f64) -> String {
     }
 }
 
-/// A frame count for messages: an integer below 10^15, else `1e300` form.
+/// A frame count for messages: an integer below 10^15, else `2.000e300` form.
 pub fn count_text(x: f64) -> String {
     if x.is_finite() && x < 1e15 {
         format!("{x:.0}")
     } else {
-        format!("{x:e}")
+        format!("{x:.3e}")
     }
 }

@@ -219,7 +219,7 @@ impl SweepSpec {
             return Err(err(
                 "run.every",
                 format!(
-                    "{} frames of {n} beads (run.until = {}, run.every = {}), about {} of frame data, above the limit of {} per run: raise run.every or lower run.until (or pass --max-output-bytes N or --force)",
+                    "{} frames of {n} beads (run.until = {:e}, run.every = {:e}), about {} of frame data, above the limit of {} per run: raise run.every or lower run.until (or pass --max-output-bytes N or --force)",
                     count_text(frames),
                     s.run.until,
                     s.run.every.unwrap_or(s.run.until),
