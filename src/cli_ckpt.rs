@@ -246,7 +246,11 @@ pub fn cmd_resume(
         ck.scene.chain.len(),
         (ck.engine.time(), cfg.until, cfg.every),
         ck.writer.offsets.len(),
-        if until.is_some() { "--until" } else { "[run].until" },
+        if until.is_some() {
+            "--until"
+        } else {
+            "[run].until"
+        },
     )?;
     let writer = SnapshotWriter::reopen(&ck.writer)?;
     let out_path = ck.writer.path.clone();

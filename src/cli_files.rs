@@ -14,8 +14,7 @@
 use anyhow::{bail, Result};
 use beadchain::files::same_file;
 use beadchain::snapshot::size::{
-    count_text, frame_count_estimate, human_bytes, output_bytes_estimate,
-    DEFAULT_MAX_OUTPUT_BYTES,
+    count_text, frame_count_estimate, human_bytes, output_bytes_estimate, DEFAULT_MAX_OUTPUT_BYTES,
 };
 use std::path::{Path, PathBuf};
 

@@ -248,10 +248,12 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             };
             let fig = energy::energy(&snap, &opts)?;
             match &fig.fit {
-                Ok(f) => outln!(
+                Ok(f) => {
+                    outln!(
                     "fit over peak beads {}..{}: gamma = {:.6e} +- {:.3e} ({} points, R^2 = {:.4})",
                     fig.range.0, fig.range.1, f.gamma, f.gamma_stderr, f.n, f.r2
-                ),
+                )
+                }
                 Err(e) => eprintln!(
                     "beadchain: warning: no exponential fit over peak beads {}..{}: {e}",
                     fig.range.0, fig.range.1

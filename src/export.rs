@@ -171,8 +171,12 @@ pub fn export_events_csv(snap: &Snapshot, out: &mut dyn Write) -> Result<(), Sna
 /// that fail, with the reason. One frame buffer is reused.
 pub fn damaged_frames(snap: &Snapshot) -> Vec<(usize, String)> {
     let mut f = Frame::default();
+    let prefix = format!("{}: ", snap.path().display());
     (0..snap.frame_count())
-        .filter_map(|k| snap.read_frame_into(k, &mut f).err().map(|e| (k, e.to_string())))
+        .filter_map(|k| {
+            let e = snap.read_frame_into(k, &mut f).err()?.to_string();
+            Some((k, e.strip_prefix(&prefix).unwrap_or(&e).to_string()))
+        })
         .collect()
 }
 
@@ -195,7 +199,11 @@ pub fn inspect_with(snap: &Snapshot, chain: &Chain, damaged: &[(usize, String)])
         (false, 0) => "INCOMPLETE (no valid END/INDEX)".to_string(),
         (c, d) => format!(
             "{}DAMAGED: {d} of {} frames fail their checks",
-            if c { "" } else { "INCOMPLETE (no valid END/INDEX), " },
+            if c {
+                ""
+            } else {
+                "INCOMPLETE (no valid END/INDEX), "
+            },
             snap.frame_count()
         ),
     };

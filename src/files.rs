@@ -153,8 +153,7 @@ pub fn remove_stale_temps(path: &Path) -> Vec<PathBuf> {
             continue;
         }
         let is_file = e.file_type().is_ok_and(|t| t.is_file());
-        if is_file && process_alive(pid) == Some(false) && std::fs::remove_file(e.path()).is_ok()
-        {
+        if is_file && process_alive(pid) == Some(false) && std::fs::remove_file(e.path()).is_ok() {
             removed.push(e.path());
         }
     }
@@ -185,7 +184,10 @@ pub fn read_text_limited(path: &Path, limit: u64) -> std::io::Result<String> {
     if bytes.len() as u64 > limit {
         return Err(std::io::Error::new(
             std::io::ErrorKind::InvalidData,
-            format!("larger than the limit of {} MiB for a text input", limit >> 20),
+            format!(
+                "larger than the limit of {} MiB for a text input",
+                limit >> 20
+            ),
         ));
     }
     let mut text = String::from_utf8(bytes).map_err(|e| {

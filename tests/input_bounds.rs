@@ -42,7 +42,11 @@ fn refused(class: &str, dir: &Path, args: &[&str], needles: &[&str], secs: f64) 
     let e = String::from_utf8_lossy(&o.stderr).to_string();
     assert!(!e.contains("panicked"), "{class}: {e}");
     assert_eq!(o.status.code(), Some(2), "{class}: stderr {e}");
-    assert_eq!(e.trim_end().lines().count(), 1, "{class}: not one line: {e}");
+    assert_eq!(
+        e.trim_end().lines().count(),
+        1,
+        "{class}: not one line: {e}"
+    );
     assert!(e.starts_with("beadchain: error: "), "{class}: {e}");
     for n in needles {
         assert!(e.contains(n), "{class}: message lacks {n:?}: {e}");
@@ -65,22 +69,39 @@ fn dir_with(files: &[(&str, &str)]) -> tempfile::TempDir {
 #[test]
 fn oversized_output_is_refused_before_running() {
     let tiny_every = TINY.replace("every = 0.5", "every = 1e-300");
-    let far = TINY.replace("until = 2.0", "until = 1e300").replace("every = 0.5", "every = 1.0");
-    let d = dir_with(&[("s.toml", TINY), ("fine.toml", &tiny_every), ("far.toml", &far)]);
+    let far = TINY
+        .replace("until = 2.0", "until = 1e300")
+        .replace("every = 0.5", "every = 1.0");
+    let d = dir_with(&[
+        ("s.toml", TINY),
+        ("fine.toml", &tiny_every),
+        ("far.toml", &far),
+    ]);
     let p = d.path();
     // Before: these wrote ~400 MB/s until killed (every = 1e-300, until = 1e300).
     refused(
         "every = 1e-300",
         p,
         &["run", "fine.toml"],
-        &["fine.toml", "[run].every", "2.000e300 frames", "above the limit of 10.0 GiB", "--force"],
+        &[
+            "fine.toml",
+            "[run].every",
+            "2.000e300 frames",
+            "above the limit of 10.0 GiB",
+            "--force",
+        ],
         10.0,
     );
     refused(
         "until = 1e300, every = 1",
         p,
         &["run", "far.toml"],
-        &["far.toml", "1.000e300 frames", "[run].until = 1e300", "--max-output-bytes"],
+        &[
+            "far.toml",
+            "1.000e300 frames",
+            "[run].until = 1e300",
+            "--max-output-bytes",
+        ],
         10.0,
     );
     refused(
@@ -95,15 +116,50 @@ fn oversized_output_is_refused_before_running() {
         "--max-output-bytes below the estimate",
         p,
         &["run", "s.toml", "--max-output-bytes", "1000"],
-        &["s.toml", "6 frames of 4 beads", "above the limit of 1000 bytes"],
+        &[
+            "s.toml",
+            "6 frames of 4 beads",
+            "above the limit of 1000 bytes",
+        ],
         10.0,
     );
-    let o = bc(p, &["run", "s.toml", "--max-output-bytes", "100000", "--out", "a.snap"]);
-    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = bc(
+        p,
+        &[
+            "run",
+            "s.toml",
+            "--max-output-bytes",
+            "100000",
+            "--out",
+            "a.snap",
+        ],
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let size = std::fs::metadata(p.join("a.snap")).unwrap().len();
     assert!(size < 100_000, "estimate is an upper bound: {size} bytes");
-    let o = bc(p, &["run", "s.toml", "--max-output-bytes", "1000", "--force", "--out", "b.snap"]);
-    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = bc(
+        p,
+        &[
+            "run",
+            "s.toml",
+            "--max-output-bytes",
+            "1000",
+            "--force",
+            "--out",
+            "b.snap",
+        ],
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     // sweeps: checked per run before any run starts
     std::fs::write(
         p.join("sw.toml"),
@@ -134,7 +190,9 @@ fn run_of_dev_zero_fails_fast() {
 
 #[test]
 fn huge_sweep_grid_is_refused_before_expansion() {
-    let values: Vec<String> = (0..2000).map(|i| format!("{}", 2.0 + i as f64 * 1e-4)).collect();
+    let values: Vec<String> = (0..2000)
+        .map(|i| format!("{}", 2.0 + i as f64 * 1e-4))
+        .collect();
     let list = values.join(", ");
     let sweep = format!(
         "scene = \"s.toml\"\n[grid]\n\"chain.exponent\" = [{list}]\n\"initial.striker\" = [{list}]\n"
@@ -221,7 +279,12 @@ fn plot_of_extreme_values_finishes() {
             Some(2) => assert_eq!(e.trim_end().lines().count(), 1, "{kind}: {e}"),
             c => panic!("plot {kind}: exit {c:?}: {e}"),
         }
-        println!("plot {kind} of ±1e308: exit {:?} in {:.2} s {}", status.code(), t0.elapsed().as_secs_f64(), e.trim_end());
+        println!(
+            "plot {kind} of ±1e308: exit {:?} in {:.2} s {}",
+            status.code(),
+            t0.elapsed().as_secs_f64(),
+            e.trim_end()
+        );
     }
 }
 
@@ -262,7 +325,11 @@ fn invalid_scene_inputs_are_refused() {
             &format!("--checkpoint-every {dt}"),
             d.path(),
             &["run", "s.toml", &format!("--checkpoint-every={dt}")],
-            &["s.toml", "--checkpoint-every", "must be a finite number > 0"],
+            &[
+                "s.toml",
+                "--checkpoint-every",
+                "must be a finite number > 0",
+            ],
             10.0,
         );
     }
@@ -274,7 +341,12 @@ fn csv_with_a_byte_order_mark_is_read() {
     let d = dir_with(&[("s.toml", &scene), ("m.csv", "\u{feff}2\n1\n1\n1\n")]);
     // Before: `m.csv:1: expected one number per line, got `\u{feff}2``.
     let o = bc(d.path(), &["run", "s.toml", "--out", "o.snap"]);
-    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let snap = beadchain::snapshot::Snapshot::open(&d.path().join("o.snap")).expect("open");
     assert_eq!(snap.header().scene.chain.mass, vec![2.0, 1.0, 1.0, 1.0]);
 }
@@ -314,9 +386,15 @@ fn inspect_reports_a_corrupt_frame() {
     assert!(out.contains("damaged:     frame 2: "), "{out}");
     assert!(!out.contains(", complete"), "{out}");
     assert_eq!(e.trim_end().lines().count(), 1, "{e}");
-    assert!(e.contains("bad.snap: 1 of 5 frames damaged (first: frame 2: "), "{e}");
+    assert!(
+        e.contains("bad.snap: 1 of 5 frames damaged (first: frame 2: "),
+        "{e}"
+    );
     assert!(e.contains("checksum mismatch"), "{e}");
-    println!("inspect: corrupt frame | `beadchain inspect bad.snap` | {}", e.trim_end());
+    println!(
+        "inspect: corrupt frame | `beadchain inspect bad.snap` | {}",
+        e.trim_end()
+    );
     let o = bc(d.path(), &["inspect", "run.snap"]);
     assert_eq!(o.status.code(), Some(0));
     assert!(String::from_utf8_lossy(&o.stdout).contains(", complete"));
@@ -329,15 +407,26 @@ fn analyze_of_a_truncated_snapshot_warns() {
     std::fs::write(d.path().join("cut.snap"), &bytes[..at as usize]).unwrap();
     let ex = bc(d.path(), &["export", "cut.snap"]);
     let an = bc(d.path(), &["analyze", "cut.snap"]);
-    assert_eq!(an.status.code(), Some(0), "{}", String::from_utf8_lossy(&an.stderr));
+    assert_eq!(
+        an.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&an.stderr)
+    );
     let (ee, ae) = (
         String::from_utf8_lossy(&ex.stderr),
         String::from_utf8_lossy(&an.stderr),
     );
     // Before: analyze printed nothing on stderr.
-    assert!(ee.contains("beadchain: warning: cut.snap: truncated"), "{ee}");
+    assert!(
+        ee.contains("beadchain: warning: cut.snap: truncated"),
+        "{ee}"
+    );
     let warnings = |s: &str| -> Vec<String> {
-        s.lines().filter(|l| l.starts_with("beadchain: warning: ")).map(String::from).collect()
+        s.lines()
+            .filter(|l| l.starts_with("beadchain: warning: "))
+            .map(String::from)
+            .collect()
     };
     assert_eq!(warnings(&ae), warnings(&ee), "analyze: {ae}");
     assert_eq!(warnings(&ae).len(), 2, "{ae}");

@@ -106,7 +106,9 @@ fn key_at_line(text: &str, line: usize) -> Option<String> {
         .rev()
         .map(|l| l.trim())
         .find(|l| l.starts_with('[') && l.ends_with(']'))
-        .map_or(String::new(), |l| l.trim_matches(|c| c == '[' || c == ']').to_string());
+        .map_or(String::new(), |l| {
+            l.trim_matches(|c| c == '[' || c == ']').to_string()
+        });
     Some(if table.is_empty() {
         key.to_string()
     } else {

@@ -191,10 +191,7 @@ pub(crate) fn validate_in(scene: &Scene, file: &str) -> Result<Vec<String>, Scen
 /// `[scene].name` names the default output `<name>.snap` in the working directory, so it must be
 /// a plain file stem: not empty, not `.`/`..`, no `/`, `\` or NUL.
 fn check_name(ctx: &Ctx, name: &str) -> Result<(), SceneError> {
-    let bad = name.is_empty()
-        || name == "."
-        || name == ".."
-        || name.contains(['/', '\\', '\0']);
+    let bad = name.is_empty() || name == "." || name == ".." || name.contains(['/', '\\', '\0']);
     if bad {
         return Err(ctx.err(
             "[scene].name",

@@ -384,11 +384,11 @@ impl SweepSpec {
         if let Some((k, _)) = &seeds {
             check_key("[seeds].key", k)?;
         }
-        let dims = grid.iter().map(|(_, v)| v.len()).chain([
+        let mut dims = grid.iter().map(|(_, v)| v.len()).chain([
             points.len().max(1),
             seeds.as_ref().map_or(1, |(_, v)| v.len()),
         ]);
-        let total = dims.fold(Some(1u64), |acc, n| acc?.checked_mul(n as u64));
+        let total = dims.try_fold(1u64, |acc, n| acc.checked_mul(n as u64));
         if total.is_none_or(|t| t > MAX_RUNS) {
             let shown = total.map_or("more than 2^64".into(), |t| t.to_string());
             return Err(key_err(
