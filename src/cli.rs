@@ -326,8 +326,14 @@ fn cmd_run(a: RunArgs) -> Result<i32> {
         cli_ckpt::SnapshotSink::new(writer, ckpt, a.checkpoint_every, &scene, &cfg, a.timing)?;
     match cli_ckpt::drive(sink, &a.common.scene, |s| engine::run(&scene, &cfg, s))? {
         Ok(out) => {
-            print_outcome(&scene, &cfg, &out)?;
-            outln!("wrote {}", out_path.display());
+            // A snapshot written to a stream (`--out /dev/stdout`) must not get the text too.
+            let to_stream = beadchain::files::classify_output(&out_path)
+                .is_ok_and(|k| k == beadchain::files::OutputKind::Stream);
+            let (mut so, mut se) = (std::io::stdout().lock(), std::io::stderr().lock());
+            let w: &mut dyn Write = if to_stream { &mut se } else { &mut so };
+            print_outcome(w, &scene, &cfg, &out)?;
+            writeln!(w, "wrote {}", out_path.display())?;
+            w.flush()?;
             Ok(0)
         }
         Err(code) => Ok(code),
@@ -368,9 +374,17 @@ fn check_run_files(
     )
 }
 
-pub fn print_outcome(scene: &Scene, cfg: &RunConfig, out: &RunOutcome) -> Result<()> {
+/// The run summary, on `w` (standard output, or standard error when the snapshot itself goes
+/// to a stream such as `/dev/stdout`).
+pub fn print_outcome(
+    w: &mut dyn Write,
+    scene: &Scene,
+    cfg: &RunConfig,
+    out: &RunOutcome,
+) -> Result<()> {
     let s = &out.stats;
-    outln!(
+    writeln!(
+        w,
         "{}: {} beads, engine {}, method {}, rtol {:e}, atol {:e}",
         scene.name,
         scene.chain.len(),
@@ -378,8 +392,9 @@ pub fn print_outcome(scene: &Scene, cfg: &RunConfig, out: &RunOutcome) -> Result
         cfg.method.name(),
         cfg.rtol,
         cfg.atol
-    );
-    outln!(
+    )?;
+    writeln!(
+        w,
         "t = {} in {:.3} s: {} steps ({} rejected), {} active bead-steps, {} RHS evaluations, {} factorizations, {} Newton iterations ({} failures), largest cluster {}",
         out.t_end,
         out.wall_seconds,
@@ -391,7 +406,7 @@ pub fn print_outcome(scene: &Scene, cfg: &RunConfig, out: &RunOutcome) -> Result
         s.newton_iters,
         s.newton_failures,
         out.largest_cluster
-    );
+    )?;
     if !out.events_by_kind.is_empty() {
         let ev: Vec<String> = out
             .events_by_kind
@@ -399,23 +414,25 @@ pub fn print_outcome(scene: &Scene, cfg: &RunConfig, out: &RunOutcome) -> Result
             .filter(|(_, c)| *c > 0)
             .map(|(k, c)| format!("{k} {c}"))
             .collect();
-        outln!(
+        writeln!(
+            w,
             "events: {}",
             if ev.is_empty() {
                 "none".into()
             } else {
                 ev.join(", ")
             }
-        );
+        )?;
     }
-    outln!(
+    writeln!(
+        w,
         "energy {:.12e} -> {:.12e} (relative change {:.3e}); momentum {:.12e} -> {:.12e}",
         out.energy_initial,
         out.energy_final,
         out.relative_energy_error(),
         out.momentum_initial,
         out.momentum_final
-    );
+    )?;
     Ok(())
 }
 

@@ -267,7 +267,7 @@ pub fn cmd_resume(
         engine::resume(&ck.scene, &cfg, &ck.engine, s)
     })? {
         Ok(out) => {
-            crate::cli::print_outcome(&ck.scene, &cfg, &out)?;
+            crate::cli::print_outcome(&mut std::io::stdout().lock(), &ck.scene, &cfg, &out)?;
             outln!(
                 "resumed from {}; wrote {}",
                 file.display(),

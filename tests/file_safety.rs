@@ -237,6 +237,14 @@ fn out_character_device_is_written_through() {
         ],
     );
     assert_refused(&o, &["--checkpoint-every", "stream"]);
+    // A snapshot to /dev/stdout (a pipe here) is the whole file; the summary goes to stderr.
+    let o = bc(p, &["run", "s.toml", "--out", "/dev/stdout"]);
+    assert_eq!(o.status.code(), Some(0), "{}", err(&o));
+    assert!(err(&o).contains("wrote /dev/stdout"), "{}", err(&o));
+    std::fs::write(p.join("piped.snap"), &o.stdout).unwrap();
+    let snap = beadchain::snapshot::Snapshot::open(&p.join("piped.snap")).expect("valid");
+    assert!(snap.is_complete() && snap.warnings().is_empty());
+    assert_eq!(snap.frame_count(), 5);
     // `export --out -` and a pipe behind /dev/stdout are the stream.
     let o = bc(p, &["run", "s.toml", "--out", "o.snap"]);
     assert_eq!(o.status.code(), Some(0), "{}", err(&o));

@@ -291,3 +291,27 @@ fn step<'a>(
         )),
     }
 }
+
+/// Most runs a sweep may expand to (every run's scene is built before any run starts).
+pub const MAX_RUNS: u64 = 100_000;
+
+/// The message when a sweep expands to more than [`MAX_RUNS`] runs
+/// (`max(points, 1) × Π grid lengths × max(seeds, 1)`, computed before anything is expanded).
+pub(crate) fn too_many_runs(
+    grid: &[(String, Vec<Value>)],
+    points: usize,
+    seeds: Option<usize>,
+) -> Option<String> {
+    let total = grid
+        .iter()
+        .map(|(_, v)| v.len())
+        .chain([points.max(1), seeds.unwrap_or(1)])
+        .try_fold(1u64, |acc, n| acc.checked_mul(n as u64));
+    if total.is_some_and(|t| t <= MAX_RUNS) {
+        return None;
+    }
+    let shown = total.map_or("more than 2^64".into(), |t| t.to_string());
+    Some(format!(
+        "the sweep expands to {shown} runs ([[point]] x [grid] x [seeds]), above the limit of {MAX_RUNS} runs per sweep file: split it into several sweep files"
+    ))
+}

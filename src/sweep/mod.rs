@@ -78,7 +78,7 @@ pub mod expand;
 
 pub use csv::merge;
 pub use exec::{run_sweep, Shard, SweepOptions, SweepSummary};
-pub use expand::RunPoint;
+pub use expand::{RunPoint, MAX_RUNS};
 
 use crate::scene::{presets, SceneError};
 use std::path::{Path, PathBuf};
@@ -217,9 +217,6 @@ pub struct SweepSpec {
     /// the caller (`--max-output-bytes`, `--force`) changes it.
     pub max_output_bytes: u64,
 }
-
-/// Most runs a sweep may expand to (every run's scene is built before any run starts).
-pub const MAX_RUNS: u64 = 100_000;
 
 /// 64-bit FNV-1a (stable across platforms and Rust versions).
 pub fn fnv1a(bytes: &[u8]) -> u64 {
@@ -384,17 +381,9 @@ impl SweepSpec {
         if let Some((k, _)) = &seeds {
             check_key("[seeds].key", k)?;
         }
-        let mut dims = grid.iter().map(|(_, v)| v.len()).chain([
-            points.len().max(1),
-            seeds.as_ref().map_or(1, |(_, v)| v.len()),
-        ]);
-        let total = dims.try_fold(1u64, |acc, n| acc.checked_mul(n as u64));
-        if total.is_none_or(|t| t > MAX_RUNS) {
-            let shown = total.map_or("more than 2^64".into(), |t| t.to_string());
-            return Err(key_err(
-                "[grid]",
-                format!("the sweep expands to {shown} runs ([[point]] x [grid] x [seeds]), above the limit of {MAX_RUNS} runs per sweep file: split it into several sweep files"),
-            ));
+        let n_seeds = seeds.as_ref().map(|(_, v)| v.len());
+        if let Some(m) = expand::too_many_runs(&grid, points.len(), n_seeds) {
+            return Err(key_err("[grid]", m));
         }
         // A key may be set by only one of [set], [grid], [[point]], [seeds].
         let mut claims: Vec<(&str, &str)> = Vec::new();
