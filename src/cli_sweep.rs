@@ -70,6 +70,8 @@ pub fn cmd_sweep(a: SweepArgs) -> Result<i32> {
         &scene_file.to_string_lossy(),
     ));
     crate::cli_files::check_not_input(&out, "--out", &inputs)?;
+    // before any run: a refused output (a symbolic link) would otherwise fail only at the end
+    beadchain::files::classify_output(&out)?;
     let opts = SweepOptions {
         out: out.clone(),
         jobs: a.jobs,
