@@ -58,6 +58,8 @@ enum Cmd {
         /// Keep writing checkpoints every DT of simulated time.
         #[arg(long)]
         checkpoint_every: Option<f64>,
+        #[command(flatten)]
+        limit: crate::cli_files::SizeLimit,
     },
 }
 
@@ -184,6 +186,8 @@ struct RunArgs {
     /// bytes; by default it is only printed).
     #[arg(long)]
     timing: bool,
+    #[command(flatten)]
+    limit: crate::cli_files::SizeLimit,
 }
 
 #[derive(clap::Args, Debug)]
@@ -215,7 +219,7 @@ struct ExportArgs {
     /// Export the event log (CSV) instead of frames.
     #[arg(long)]
     events: bool,
-    /// Output path [default: standard output for CSV; required for NPY].
+    /// Output path [default: standard output for CSV; required for NPY; `-`: standard output].
     #[arg(long)]
     out: Option<PathBuf>,
 }
@@ -228,28 +232,42 @@ pub fn dispatch(cli: Cli) -> Result<i32> {
         Cmd::Validate(a) => crate::cli_analysis::cmd_validate(a),
         Cmd::Check(a) => cmd_check(a),
         Cmd::Export(a) => cmd_export(a),
-        Cmd::Inspect { file } => {
-            let snap = Snapshot::open(&file)?;
-            let chain = snap.header().scene.chain.clone();
-            print!("{}", export::inspect(&snap, &chain));
-            Ok(0)
-        }
+        Cmd::Inspect { file } => cmd_inspect(&file),
         Cmd::Resume {
             file,
             until,
             checkpoint_every,
-        } => cli_ckpt::cmd_resume(&file, until, checkpoint_every),
+            limit,
+        } => cli_ckpt::cmd_resume(&file, until, checkpoint_every, limit),
         Cmd::Accuracy(a) => cmd_accuracy(a),
         Cmd::Plot(a) => crate::cli_plot::cmd_plot(a),
         Cmd::Sweep(a) => crate::cli_sweep::cmd_sweep(a),
         Cmd::Merge(a) => crate::cli_sweep::cmd_merge(a),
         Cmd::Scenes => {
             for p in scene::presets() {
-                println!("{:<32} {}", p.name, p.description);
+                outln!("{:<32} {}", p.name, p.description);
             }
             Ok(0)
         }
     }
+}
+
+/// `beadchain inspect FILE`: the report, then every frame's checksum verified; a damaged frame
+/// makes it exit 2 with one line naming the first damaged frame.
+fn cmd_inspect(file: &std::path::Path) -> Result<i32> {
+    let snap = Snapshot::open(file)?;
+    let chain = snap.header().scene.chain.clone();
+    let damaged = export::damaged_frames(&snap);
+    out!("{}", export::inspect_with(&snap, &chain, &damaged));
+    if let Some((k, e)) = damaged.first() {
+        bail!(
+            "{}: {} of {} frames damaged (first: frame {k}: {e})",
+            file.display(),
+            damaged.len(),
+            snap.frame_count()
+        );
+    }
+    Ok(0)
 }
 
 fn load_scene(spec: &str) -> Result<Scene> {
@@ -301,6 +319,7 @@ fn cmd_run(a: RunArgs) -> Result<i32> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{}.snap", scene.name)));
+    check_run_files(&a, &scene, &cfg, &out_path)?;
     let created_by = std::env::args().collect::<Vec<_>>().join(" ");
     let header = Header::new(
         scene.clone(),
@@ -316,17 +335,65 @@ fn cmd_run(a: RunArgs) -> Result<i32> {
         cli_ckpt::SnapshotSink::new(writer, ckpt, a.checkpoint_every, &scene, &cfg, a.timing)?;
     match cli_ckpt::drive(sink, &a.common.scene, |s| engine::run(&scene, &cfg, s))? {
         Ok(out) => {
-            print_outcome(&scene, &cfg, &out);
-            println!("wrote {}", out_path.display());
+            // A snapshot written to a stream (`--out /dev/stdout`) must not get the text too.
+            let to_stream = beadchain::files::classify_output(&out_path)
+                .is_ok_and(|k| k == beadchain::files::OutputKind::Stream);
+            let (mut so, mut se) = (std::io::stdout().lock(), std::io::stderr().lock());
+            let w: &mut dyn Write = if to_stream { &mut se } else { &mut so };
+            print_outcome(w, &scene, &cfg, &out)?;
+            writeln!(w, "wrote {}", out_path.display())?;
+            w.flush()?;
             Ok(0)
         }
         Err(code) => Ok(code),
     }
 }
 
-pub fn print_outcome(scene: &Scene, cfg: &RunConfig, out: &RunOutcome) {
+/// Everything `run` checks before it touches a file: the checkpoint interval, the output is no
+/// input, a stream output takes no checkpoints, and the estimated output size.
+fn check_run_files(
+    a: &RunArgs,
+    scene: &Scene,
+    cfg: &RunConfig,
+    out_path: &std::path::Path,
+) -> Result<()> {
+    use beadchain::files::{classify_output, OutputKind};
+    let what = &a.common.scene;
+    cli_ckpt::check_checkpoint_every(what, a.checkpoint_every)?;
+    let inputs = crate::cli_files::labelled_scene_inputs(what);
+    crate::cli_files::check_not_input(out_path, "--out", &inputs)?;
+    let kind = classify_output(out_path)?;
+    if kind == OutputKind::Stream && a.checkpoint_every.is_some() {
+        bail!(
+            "{}: --checkpoint-every: the output is a stream (device or pipe), which cannot be resumed; write to a file",
+            out_path.display()
+        );
+    }
+    let until_key = if a.common.until.is_some() {
+        "--until"
+    } else {
+        "[run].until"
+    };
+    a.limit.check(
+        what,
+        scene.chain.len(),
+        (0.0, cfg.until, cfg.every),
+        0,
+        until_key,
+    )
+}
+
+/// The run summary, on `w` (standard output, or standard error when the snapshot itself goes
+/// to a stream such as `/dev/stdout`).
+pub fn print_outcome(
+    w: &mut dyn Write,
+    scene: &Scene,
+    cfg: &RunConfig,
+    out: &RunOutcome,
+) -> Result<()> {
     let s = &out.stats;
-    println!(
+    writeln!(
+        w,
         "{}: {} beads, engine {}, method {}, rtol {:e}, atol {:e}",
         scene.name,
         scene.chain.len(),
@@ -334,8 +401,9 @@ pub fn print_outcome(scene: &Scene, cfg: &RunConfig, out: &RunOutcome) {
         cfg.method.name(),
         cfg.rtol,
         cfg.atol
-    );
-    println!(
+    )?;
+    writeln!(
+        w,
         "t = {} in {:.3} s: {} steps ({} rejected), {} active bead-steps, {} RHS evaluations, {} factorizations, {} Newton iterations ({} failures), largest cluster {}",
         out.t_end,
         out.wall_seconds,
@@ -347,13 +415,14 @@ pub fn print_outcome(scene: &Scene, cfg: &RunConfig, out: &RunOutcome) {
         s.newton_iters,
         s.newton_failures,
         out.largest_cluster
-    );
+    )?;
     if cfg.method == Method::Auto {
-        println!(
+        writeln!(
+            w,
             "method auto: {} steps dop853, {} steps radau5",
             s.steps - out.implicit_steps,
             out.implicit_steps
-        );
+        )?;
     }
     if !out.events_by_kind.is_empty() {
         let ev: Vec<String> = out
@@ -362,27 +431,36 @@ pub fn print_outcome(scene: &Scene, cfg: &RunConfig, out: &RunOutcome) {
             .filter(|(_, c)| *c > 0)
             .map(|(k, c)| format!("{k} {c}"))
             .collect();
-        println!(
+        writeln!(
+            w,
             "events: {}",
             if ev.is_empty() {
                 "none".into()
             } else {
                 ev.join(", ")
             }
-        );
+        )?;
     }
-    println!(
+    writeln!(
+        w,
         "energy {:.12e} -> {:.12e} (relative change {:.3e}); momentum {:.12e} -> {:.12e}",
         out.energy_initial,
         out.energy_final,
         out.relative_energy_error(),
         out.momentum_initial,
         out.momentum_final
-    );
+    )?;
+    Ok(())
 }
 
 fn cmd_check(a: CheckArgs) -> Result<i32> {
     let scene = load_scene(&a.common.scene)?;
+    if scene.chain.has_hard() {
+        bail!(
+            "{}: [hard]/[walls]: check compares the hybrid with the dense engine, which has no hard contacts or hard walls; run it with `beadchain run` (hybrid engine) instead",
+            a.common.scene
+        );
+    }
     let base = config(&scene, &a.common);
     let tol = a.tol.unwrap_or(1000.0 * base.rtol);
     let mut dense_cfg = base.clone();
@@ -399,7 +477,7 @@ fn cmd_check(a: CheckArgs) -> Result<i32> {
     let ((du, iu), (dv, iv)) = (dev.du, dev.dv);
     let (rel_u, rel_v) = (dev.rel_u, dev.rel_v);
     let (umax, vmax) = dev.scale;
-    println!(
+    outln!(
         "{}: {} beads, t = {}, method {}, rtol {:e}, atol {:e}",
         scene.name,
         scene.chain.len(),
@@ -408,14 +486,14 @@ fn cmd_check(a: CheckArgs) -> Result<i32> {
         hyb_cfg.rtol,
         hyb_cfg.atol
     );
-    println!("max |u_hybrid - u_dense| = {du:.3e} at bead {iu} ({rel_u:.3e} of the largest displacement {umax:.3e})");
-    println!("max |v_hybrid - v_dense| = {dv:.3e} at bead {iv} ({rel_v:.3e} of the largest velocity {vmax:.3e})");
-    println!(
+    outln!("max |u_hybrid - u_dense| = {du:.3e} at bead {iu} ({rel_u:.3e} of the largest displacement {umax:.3e})");
+    outln!("max |v_hybrid - v_dense| = {dv:.3e} at bead {iv} ({rel_v:.3e} of the largest velocity {vmax:.3e})");
+    outln!(
         "energy error: hybrid {:.3e}, dense {:.3e}",
         h.relative_energy_error(),
         d.relative_energy_error()
     );
-    println!(
+    outln!(
         "wall time: hybrid {:.4} s ({} active bead-steps), dense {:.4} s ({} bead-steps); ratio {:.1}x",
         h.wall_seconds,
         h.stats.bead_steps,
@@ -424,10 +502,10 @@ fn cmd_check(a: CheckArgs) -> Result<i32> {
         d.wall_seconds / h.wall_seconds.max(1e-12)
     );
     if rel_u > tol || rel_v > tol {
-        println!("FAIL: deviation exceeds tolerance {tol:.3e}");
+        outln!("FAIL: deviation exceeds tolerance {tol:.3e}");
         return Ok(1);
     }
-    println!("OK: deviations within tolerance {tol:.3e}");
+    outln!("OK: deviations within tolerance {tol:.3e}");
     Ok(0)
 }
 
@@ -450,11 +528,15 @@ fn cmd_export(a: ExportArgs) -> Result<i32> {
             }
         }
     };
+    let to_stdout = a.out.as_deref().is_none_or(|p| p.as_os_str() == "-");
+    if let Some(p) = a.out.as_deref().filter(|_| !to_stdout) {
+        crate::cli_files::check_not_input(p, "--out", &[("snapshot", a.file.clone())])?;
+    }
     match &a.out {
-        Some(p) => export::write_atomically(p, write)?,
-        None => {
-            if matches!(a.format, Format::Npy) && !a.events {
-                bail!("--format npy needs --out PATH (binary output is not written to a terminal)");
+        Some(p) if !to_stdout => export::write_atomically(p, write)?,
+        _ => {
+            if matches!(a.format, Format::Npy) && !a.events && a.out.is_none() {
+                bail!("--format npy needs --out PATH (binary output is not written to a terminal; `--out -` writes it to standard output)");
             }
             // Validate the selection first so an error never leaves partial output.
             sel.range(&snap)?;
@@ -490,9 +572,9 @@ fn cmd_accuracy(a: AccuracyArgs) -> Result<i32> {
         ..AccuracyOptions::default()
     };
     let report = accuracy_study(&scene, &opts)?;
-    print!("{}", format_table(&report));
+    out!("{}", format_table(&report));
     for f in &report.files {
-        println!("wrote {}", f.display());
+        outln!("wrote {}", f.display());
     }
     Ok(0)
 }

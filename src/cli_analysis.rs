@@ -41,6 +41,9 @@ fn num(x: f64) -> String {
 pub fn cmd_analyze(args: AnalyzeArgs) -> Result<i32> {
     let snap =
         Snapshot::open(&args.snapshot).with_context(|| format!("{}", args.snapshot.display()))?;
+    for w in snap.warnings() {
+        eprintln!("beadchain: warning: {w}");
+    }
     let chain = snap.header().scene.chain.clone();
     let n = chain.len();
     let mut frames: Vec<Frame> = Vec::with_capacity(snap.frame_count());
@@ -228,7 +231,7 @@ pub fn cmd_analyze(args: AnalyzeArgs) -> Result<i32> {
     if j {
         o.push_str("\n}\n");
     }
-    print!("{o}");
+    out!("{o}");
     Ok(0)
 }
 
@@ -255,15 +258,15 @@ pub fn cmd_validate(args: ValidateArgs) -> Result<i32> {
     let t0 = std::time::Instant::now();
     let checks = quick_checks(false)?;
     let table = checks_markdown(&checks);
-    print!("{table}");
+    out!("{table}");
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir).with_context(|| format!("{}", dir.display()))?;
         let path = dir.join("quick.md");
         std::fs::write(&path, &table).with_context(|| format!("{}", path.display()))?;
-        println!("wrote {}", path.display());
+        outln!("wrote {}", path.display());
     }
     let failed = checks.iter().filter(|c| !c.pass()).count();
-    println!(
+    outln!(
         "{} checks, {failed} outside their range, {:.1} s",
         checks.len(),
         t0.elapsed().as_secs_f64()

@@ -27,6 +27,9 @@ pub struct SnapshotSink {
     cfg: RunConfig,
     timing: bool,
     wrote_checkpoint: bool,
+    /// A resumed run: its checkpoint and temporary output predate this process and are kept
+    /// when the run fails (the previous state stays resumable).
+    resumed: bool,
 }
 
 impl SnapshotSink {
@@ -54,6 +57,7 @@ impl SnapshotSink {
             cfg: cfg.clone(),
             timing,
             wrote_checkpoint: false,
+            resumed: false,
         })
     }
 }
@@ -163,7 +167,7 @@ pub fn drive(
             );
             Ok(Err(EXIT_INTERRUPTED))
         }
-        Err(e @ EngineError::Observer(_)) if sink.wrote_checkpoint => {
+        Err(e @ EngineError::Observer(_)) if sink.wrote_checkpoint || sink.resumed => {
             // Writing failed (disk full, I/O error): keep the unfinished output and the last
             // good checkpoint so the run can continue once the cause is fixed.
             let ckpt = sink.ckpt_path.clone();
@@ -171,6 +175,16 @@ pub fn drive(
             Err(anyhow::Error::new(e).context(format!(
                 "{what}: writing failed; the last checkpoint {} is intact: fix the cause (e.g. free disk space) and continue with `beadchain resume {}`",
                 ckpt.display(),
+                ckpt.display()
+            )))
+        }
+        Err(e) if sink.resumed => {
+            // The checkpoint on disk still matches the kept temporary output (cut back to its
+            // mark on the next resume).
+            let ckpt = sink.ckpt_path.clone();
+            let _ = sink.writer.detach();
+            Err(anyhow::Error::new(e).context(format!(
+                "{what}: resumed run failed; the checkpoint {} is kept and can be resumed again",
                 ckpt.display()
             )))
         }
@@ -185,16 +199,70 @@ pub fn drive(
     }
 }
 
-/// `beadchain resume FILE.ckpt [--until T] [--checkpoint-every DT]`.
-pub fn cmd_resume(file: &Path, until: Option<f64>, every: Option<f64>) -> Result<i32> {
-    let ck = read_checkpoint(file)?;
+/// Refuses a `--checkpoint-every` that is not a finite number > 0 (0 or NaN would checkpoint
+/// at every step or never).
+pub fn check_checkpoint_every(what: &str, every: Option<f64>) -> Result<()> {
+    match every {
+        Some(dt) if !(dt > 0.0 && dt.is_finite()) => anyhow::bail!(
+            "{what}: --checkpoint-every: must be a finite number > 0 (simulated time between checkpoints), got {dt}"
+        ),
+        _ => Ok(()),
+    }
+}
+
+/// The checkpoint's output and temporary paths. Checkpoints store absolute paths; one written
+/// with relative paths (older builds) is resolved next to the checkpoint file, where `run` puts
+/// both (`OUT.ckpt` beside `OUT` and `.OUT.tmp-PID-K`).
+fn locate(file: &Path, mark: &mut beadchain::snapshot::WriterMark) {
+    let dir = match file.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    for p in [&mut mark.path, &mut mark.temp] {
+        if p.is_relative() {
+            if let Some(name) = p.file_name() {
+                *p = dir.join(name);
+            }
+        }
+    }
+}
+
+/// `beadchain resume FILE.ckpt [--until T] [--checkpoint-every DT]`. Every argument is checked
+/// before the unfinished output is touched, so a rejected `--until` leaves the run resumable.
+pub fn cmd_resume(
+    file: &Path,
+    until: Option<f64>,
+    every: Option<f64>,
+    limit: crate::cli_files::SizeLimit,
+) -> Result<i32> {
+    let mut ck = read_checkpoint(file)?;
+    locate(file, &mut ck.writer);
+    let what = file.display().to_string();
+    check_checkpoint_every(&what, every)?;
     let mut cfg = ck.config.clone();
     if let Some(t) = until {
+        let t0 = ck.engine.time();
+        if !(t.is_finite() && t > 0.0 && t >= t0) {
+            anyhow::bail!(
+                "{what}: --until: must be a finite number at or after the checkpoint time t = {t0}, got {t} (the run is unchanged and can still be resumed)"
+            );
+        }
         cfg.until = t;
     }
+    limit.check(
+        &what,
+        ck.scene.chain.len(),
+        (ck.engine.time(), cfg.until, cfg.every),
+        ck.writer.offsets.len(),
+        if until.is_some() {
+            "--until"
+        } else {
+            "[run].until"
+        },
+    )?;
     let writer = SnapshotWriter::reopen(&ck.writer)?;
     let out_path = ck.writer.path.clone();
-    let sink = SnapshotSink::new(
+    let mut sink = SnapshotSink::new(
         writer,
         file.to_path_buf(),
         every,
@@ -202,13 +270,13 @@ pub fn cmd_resume(file: &Path, until: Option<f64>, every: Option<f64>) -> Result
         &cfg,
         ck.timing,
     )?;
-    let what = file.display().to_string();
+    sink.resumed = true;
     match drive(sink, &what, |s| {
         engine::resume(&ck.scene, &cfg, &ck.engine, s)
     })? {
         Ok(out) => {
-            crate::cli::print_outcome(&ck.scene, &cfg, &out);
-            println!(
+            crate::cli::print_outcome(&mut std::io::stdout().lock(), &ck.scene, &cfg, &out)?;
+            outln!(
                 "resumed from {}; wrote {}",
                 file.display(),
                 out_path.display()

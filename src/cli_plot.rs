@@ -150,6 +150,14 @@ fn open(path: &Path) -> Result<Snapshot> {
     Ok(snap)
 }
 
+/// The output rule (`X.png`, `X.svg` or a base name), and no output file is the input.
+fn check_out(path: &Path, kind: &str, input: &Path) -> Result<()> {
+    for (f, _) in plot::output_paths(path)? {
+        crate::cli_files::check_not_input(&f, "--out", &[(kind, input.to_path_buf())])?;
+    }
+    Ok(())
+}
+
 fn written<F: plot::Figure>(fig: &F, out: &Path) -> Result<i32> {
     // the output rule is checked before any work is reported
     let files = plot::write_figure(fig, out)?;
@@ -160,7 +168,7 @@ fn written<F: plot::Figure>(fig: &F, out: &Path) -> Result<i32> {
         );
     }
     for f in files {
-        println!("wrote {}", f.display());
+        outln!("wrote {}", f.display());
     }
     Ok(0)
 }
@@ -176,7 +184,7 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             out,
         } => {
             let path = out.path(&snapshot, "spacetime");
-            plot::output_paths(&path)?;
+            check_out(&path, "snapshot", &snapshot)?;
             let snap = open(&snapshot)?;
             let opts = SpacetimeOptions {
                 beads: beads.unwrap_or_default(),
@@ -197,7 +205,7 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             out,
         } => {
             let path = out.path(&snapshot, "profile");
-            plot::output_paths(&path)?;
+            check_out(&path, "snapshot", &snapshot)?;
             let snap = open(&snapshot)?;
             let opts = plot::ProfileOptions {
                 times,
@@ -213,7 +221,7 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             out,
         } => {
             let path = out.path(&snapshot, "trace");
-            plot::output_paths(&path)?;
+            check_out(&path, "snapshot", &snapshot)?;
             let snap = open(&snapshot)?;
             let opts = plot::TraceOptions {
                 beads,
@@ -230,7 +238,7 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             out,
         } => {
             let path = out.path(&snapshot, "energy");
-            plot::output_paths(&path)?;
+            check_out(&path, "snapshot", &snapshot)?;
             let snap = open(&snapshot)?;
             let opts = EnergyOptions {
                 from,
@@ -240,10 +248,12 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             };
             let fig = energy::energy(&snap, &opts)?;
             match &fig.fit {
-                Ok(f) => println!(
+                Ok(f) => {
+                    outln!(
                     "fit over peak beads {}..{}: gamma = {:.6e} +- {:.3e} ({} points, R^2 = {:.4})",
                     fig.range.0, fig.range.1, f.gamma, f.gamma_stderr, f.n, f.r2
-                ),
+                )
+                }
                 Err(e) => eprintln!(
                     "beadchain: warning: no exponential fit over peak beads {}..{}: {e}",
                     fig.range.0, fig.range.1
@@ -261,7 +271,7 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             out,
         } => {
             let path = out.path(&csv, "map");
-            plot::output_paths(&path)?;
+            check_out(&path, "CSV file", &csv)?;
             let opts = MapOptions {
                 x,
                 y,

@@ -30,6 +30,9 @@ pub struct SweepArgs {
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Per-run limit of the estimated frame data (`run.until / run.every` frames x beads).
+    #[command(flatten)]
+    pub limit: crate::cli_files::SizeLimit,
 }
 
 /// Arguments of `beadchain merge`.
@@ -47,7 +50,8 @@ pub struct MergeArgs {
 
 /// Runs `beadchain sweep`.
 pub fn cmd_sweep(a: SweepArgs) -> Result<i32> {
-    let spec = SweepSpec::load(&a.file)?;
+    let mut spec = SweepSpec::load(&a.file)?;
+    spec.max_output_bytes = a.limit.bytes();
     let shard: Option<Shard> = a.shard.as_deref().map(str::parse).transpose()?;
     if a.jobs == Some(0) {
         anyhow::bail!("--jobs 0: need at least one worker thread");
@@ -59,6 +63,15 @@ pub fn cmd_sweep(a: SweepArgs) -> Result<i32> {
             .map_or("sweep".into(), |s| s.to_string_lossy());
         PathBuf::from(format!("{stem}.csv"))
     });
+    let dir = a.file.parent().unwrap_or(std::path::Path::new("."));
+    let scene_file = dir.join(&spec.scene_spec);
+    let mut inputs = vec![("sweep file", a.file.clone())];
+    inputs.extend(crate::cli_files::labelled_scene_inputs(
+        &scene_file.to_string_lossy(),
+    ));
+    crate::cli_files::check_not_input(&out, "--out", &inputs)?;
+    // before any run: a refused output (a symbolic link) would otherwise fail only at the end
+    beadchain::files::classify_output(&out)?;
     let opts = SweepOptions {
         out: out.clone(),
         jobs: a.jobs,
@@ -82,7 +95,7 @@ pub fn cmd_sweep(a: SweepArgs) -> Result<i32> {
     let s = sweep::run_sweep(&spec, &opts, &progress)?;
     bar.finish_and_clear();
     let what = shard.map_or(String::new(), |s| format!(" (shard {}/{})", s.k, s.m));
-    println!(
+    outln!(
         "{}: {} runs{what}: {} resumed, {} run now, {} with errors",
         a.file.display(),
         s.runs,
@@ -91,9 +104,9 @@ pub fn cmd_sweep(a: SweepArgs) -> Result<i32> {
         s.failed
     );
     if s.complete {
-        println!("wrote {}", out.display());
+        outln!("wrote {}", out.display());
     } else {
-        println!(
+        outln!(
             "stopped with {} of {} runs done; rows are in {} (rerun the same command to continue)",
             s.resumed + s.ran,
             s.runs,
@@ -105,6 +118,8 @@ pub fn cmd_sweep(a: SweepArgs) -> Result<i32> {
 
 /// Runs `beadchain merge`.
 pub fn cmd_merge(a: MergeArgs) -> Result<i32> {
+    let inputs: Vec<_> = a.shards.iter().map(|s| ("shard file", s.clone())).collect();
+    crate::cli_files::check_not_input(&a.out, "OUT", &inputs)?;
     let m = sweep::merge(&a.out, &a.shards, a.allow_missing)?;
     if !m.missing.is_empty() {
         eprintln!(
@@ -113,6 +128,6 @@ pub fn cmd_merge(a: MergeArgs) -> Result<i32> {
             m.missing
         );
     }
-    println!("wrote {} ({} rows)", a.out.display(), m.rows);
+    outln!("wrote {} ({} rows)", a.out.display(), m.rows);
     Ok(0)
 }

@@ -167,23 +167,50 @@ pub fn export_events_csv(snap: &Snapshot, out: &mut dyn Write) -> Result<(), Sna
     Ok(())
 }
 
+/// Reads every frame (verifying its section header, length, checksum and time): the frames
+/// that fail, with the reason. One frame buffer is reused.
+pub fn damaged_frames(snap: &Snapshot) -> Vec<(usize, String)> {
+    let mut f = Frame::default();
+    let prefix = format!("{}: ", snap.path().display());
+    (0..snap.frame_count())
+        .filter_map(|k| {
+            let e = snap.read_frame_into(k, &mut f).err()?.to_string();
+            Some((k, e.strip_prefix(&prefix).unwrap_or(&e).to_string()))
+        })
+        .collect()
+}
+
 /// Human-readable report: header fields, frame count and time span, total energy at the first
 /// and last frame (with `chain`, normally `&snap.header().scene.chain`) and its relative
-/// change, run statistics and warnings. Problems reading a frame are reported in the text.
+/// change, run statistics and warnings. Every frame's checksum is verified
+/// ([`damaged_frames`]); damaged frames are listed and the file is not called complete.
 pub fn inspect(snap: &Snapshot, chain: &Chain) -> String {
+    inspect_with(snap, chain, &damaged_frames(snap))
+}
+
+/// [`inspect`] with the damaged frames already found.
+pub fn inspect_with(snap: &Snapshot, chain: &Chain, damaged: &[(usize, String)]) -> String {
     use std::fmt::Write as _;
     let h = snap.header();
     let mut s = String::new();
     let _ = writeln!(s, "file:        {}", snap.path().display());
+    let state = match (snap.is_complete(), damaged.len()) {
+        (true, 0) => "complete".to_string(),
+        (false, 0) => "INCOMPLETE (no valid END/INDEX)".to_string(),
+        (c, d) => format!(
+            "{}DAMAGED: {d} of {} frames fail their checks",
+            if c {
+                ""
+            } else {
+                "INCOMPLETE (no valid END/INDEX), "
+            },
+            snap.frame_count()
+        ),
+    };
     let _ = writeln!(
         s,
-        "format:      version {} (this build reads 1..={FORMAT_VERSION}), {}",
+        "format:      version {} (this build reads 1..={FORMAT_VERSION}), {state}",
         h.format_version,
-        if snap.is_complete() {
-            "complete"
-        } else {
-            "INCOMPLETE (no valid END/INDEX)"
-        }
     );
     let _ = writeln!(s, "written by:  beadchain {}", h.crate_version);
     let _ = writeln!(s, "command:     {}", h.created_by);
@@ -284,22 +311,42 @@ pub fn inspect(snap: &Snapshot, chain: &Chain) -> String {
     for w in snap.warnings() {
         let _ = writeln!(s, "warning:     {w}");
     }
+    for (k, e) in damaged {
+        let _ = writeln!(s, "damaged:     frame {k}: {e}");
+    }
     s
 }
 
 /// Writes `path` atomically: `f` writes into a buffered temporary sibling, which is flushed,
 /// fsynced and renamed onto `path` only if `f` succeeds; otherwise it is removed. Output
 /// errors ([`SnapshotError::Output`]) are reported as I/O errors naming `path`.
+///
+/// A character device or FIFO (`/dev/stdout`, `/dev/null`, a named pipe) is written in place;
+/// a symbolic link to a file is refused; stale temporaries of dead runs are removed first (rules
+/// in [`crate::files`]).
 pub fn write_atomically(
     path: &Path,
     f: impl FnOnce(&mut dyn Write) -> Result<(), SnapshotError>,
 ) -> Result<(), SnapshotError> {
-    let tmp = temp_sibling(path)?;
     let named = |action: &str, e: io::Error| SnapshotError::Io {
         path: path.to_path_buf(),
         action: action.to_string(),
         source: e,
     };
+    if crate::files::classify_output(path)? == crate::files::OutputKind::Stream {
+        let file = OpenOptions::new()
+            .write(true)
+            .open(path)
+            .map_err(|e| named("opening the output stream", e))?;
+        let mut w = BufWriter::with_capacity(1 << 16, file);
+        f(&mut w).map_err(|e| match e {
+            SnapshotError::Output(io) => named("writing", io),
+            other => other,
+        })?;
+        return w.flush().map_err(|e| named("writing", e));
+    }
+    crate::files::remove_stale_temps(path);
+    let tmp = temp_sibling(path)?;
     let file = OpenOptions::new()
         .write(true)
         .create_new(true)

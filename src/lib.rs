@@ -10,6 +10,7 @@ pub mod accuracy;
 pub mod analysis;
 pub mod engine;
 pub mod export;
+pub mod files;
 pub mod integrate;
 pub mod linalg;
 pub mod model;

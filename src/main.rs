@@ -3,10 +3,34 @@
 //! Exit codes: 0 success; 1 `check` found the engines disagreeing beyond tolerance; 2 bad input
 //! (scene, snapshot or arguments) or a failed run. Errors are one line on standard error. No
 //! output file is left behind on failure.
+//!
+//! Standard output closed early (`beadchain scenes | head -1`, `export | head`): every write to
+//! standard output goes through [`outln!`]/[`out!`], which return the write error instead of
+//! panicking like `println!`; `main` turns a broken pipe into a quiet exit 0, as `head` users
+//! expect (Rust ignores SIGPIPE, so the write fails with EPIPE instead of killing the process).
+
+/// `println!` that returns the error (`?`) instead of panicking when standard output is closed.
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout().lock(), $($arg)*)?
+    }};
+}
+
+/// `print!` that returns the error (`?`) instead of panicking when standard output is closed.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let mut lock = std::io::stdout().lock();
+        write!(lock, $($arg)*)?;
+        lock.flush()?
+    }};
+}
 
 mod cli;
 mod cli_analysis;
 mod cli_ckpt;
+mod cli_files;
 mod cli_plot;
 mod cli_sweep;
 
@@ -31,6 +55,7 @@ fn main() {
     };
     match cli::dispatch(args) {
         Ok(code) => std::process::exit(code),
+        Err(e) if cli_files::is_broken_pipe(&e) => std::process::exit(0),
         Err(e) => {
             eprintln!("beadchain: error: {}", one_line(&e));
             std::process::exit(2);

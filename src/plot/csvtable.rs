@@ -58,7 +58,7 @@ impl Table {
 
     /// Reads and parses `path`.
     pub fn read(path: &Path) -> Result<Table, PlotError> {
-        let text = std::fs::read_to_string(path).map_err(|e| PlotError::Csv {
+        let text = crate::files::read_text(path).map_err(|e| PlotError::Csv {
             path: path.to_path_buf(),
             msg: format!("cannot read: {e}"),
         })?;

@@ -178,6 +178,22 @@ impl Layout {
     }
 }
 
+/// An axis range plotters can tick: finite, `lo < hi`, and `hi − lo` finite. plotters' tick
+/// search loops forever on an infinite span (a snapshot or CSV holding ±1e308 gives
+/// `hi − lo = inf`), so ends are clamped to ±`f64::MAX / 4` (points beyond are clipped).
+pub fn safe_range(lo: f64, hi: f64) -> (f64, f64) {
+    const M: f64 = f64::MAX / 4.0;
+    if lo.is_nan() || hi.is_nan() {
+        return (0.0, 1.0);
+    }
+    let (lo, hi) = (lo.clamp(-M, M), hi.clamp(-M, M));
+    if hi > lo {
+        return (lo, hi);
+    }
+    let d = if lo == 0.0 { 1.0 } else { lo.abs() * 0.1 };
+    (lo - d, hi + d)
+}
+
 /// [`num_label`] of an axis tick on an axis spanning `span`: a tick within rounding of zero
 /// (|x| < 1e-9 · span, e.g. `-1.1e-16` from summing steps of 0.1) is labelled `0`.
 pub fn tick_label(x: f64, span: f64) -> String {

@@ -2,7 +2,7 @@
 //! [`super::trace`] and [`super::energy`]. A logarithmic y axis is drawn by plotting `log₁₀ y`
 //! and labelling the ticks with `10^y` (non-positive values are left out).
 
-use super::layout::{num_label, Layout};
+use super::layout::{num_label, safe_range, Layout};
 use super::{de, font::FAMILY, Figure};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -114,6 +114,7 @@ impl Figure for LineChart {
         root.fill(&WHITE).map_err(de)?;
         let lay = Layout::new(self.size, false);
         let ((x0, x1), (y0, y1)) = self.ranges();
+        let ((x0, x1), (y0, y1)) = (safe_range(x0, x1), safe_range(y0, y1));
         let mut chart = lay
             .chart(root)
             .build_cartesian_2d(x0..x1, y0..y1)

@@ -254,6 +254,10 @@ impl Figure for Map {
             ey.first().copied().unwrap_or(0.0),
             ey.last().copied().unwrap_or(1.0),
         );
+        let ((x0, x1), (y0, y1)) = (
+            super::layout::safe_range(x0, x1),
+            super::layout::safe_range(y0, y1),
+        );
         let mut chart = lay
             .chart(root)
             .build_cartesian_2d(x0..x1, y0..y1)

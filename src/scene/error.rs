@@ -101,3 +101,33 @@ pub(crate) fn one_line(s: &str) -> String {
         })
         .collect()
 }
+
+/// The key path (`[scene].seed`) of a `key = value` line, for syntax errors inside a value (an
+/// integer too large for 64 bits names its key this way); `None` for other lines.
+pub(crate) fn key_at_line(text: &str, line: usize) -> Option<String> {
+    let lines: Vec<&str> = text.lines().collect();
+    let this = lines.get(line.checked_sub(1)?)?;
+    let (key, _) = this.split_once('=')?;
+    let key = key.trim();
+    let plain = |s: &str| {
+        !s.is_empty()
+            && s.chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.' | '"'))
+    };
+    if !plain(key) {
+        return None;
+    }
+    let table = lines[..line - 1]
+        .iter()
+        .rev()
+        .map(|l| l.trim())
+        .find(|l| l.starts_with('[') && l.ends_with(']'))
+        .map_or(String::new(), |l| {
+            l.trim_matches(|c| c == '[' || c == ']').to_string()
+        });
+    Some(if table.is_empty() {
+        key.to_string()
+    } else {
+        format!("[{table}].{key}")
+    })
+}

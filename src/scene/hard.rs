@@ -54,9 +54,18 @@ pub(crate) fn parse_hard(
         }
         Some(Value::String(s)) if s == "all" => (0..nc).collect(),
         Some(Value::Array(a)) => {
-            let mut out = Vec::with_capacity(a.len());
+            let mut out: Vec<usize> = Vec::with_capacity(a.len());
+            let mut seen = vec![false; nc];
             for (i, v) in a.iter().enumerate() {
-                out.push(index(ctx, &format!("{key}[{i}]"), v, nc)?);
+                let c = index(ctx, &format!("{key}[{i}]"), v, nc)?;
+                if std::mem::replace(&mut seen[c], true) {
+                    let j = out.iter().position(|&o| o == c).unwrap_or(0);
+                    return Err(ctx.err(
+                        &format!("{key}[{i}]"),
+                        format!("contact {c} is listed twice (also at [{j}])"),
+                    ));
+                }
+                out.push(c);
             }
             out
         }
@@ -218,6 +227,15 @@ pub(crate) fn wall_restitution(
         )),
         (false, None) => Ok(None),
         (true, e) => {
+            // A hard wall has no force law: a contact-law key would be silently ignored.
+            for law in ["exponent", "prefactor", "prefactor_si"] {
+                if wt.contains_key(law) {
+                    return Err(ctx.err(
+                        &format!("{key}.{law}"),
+                        "a hard wall has no force law (remove the key, or set hard = false)",
+                    ));
+                }
+            }
             let e = e.unwrap_or(1.0);
             if !(0.0..=1.0).contains(&e) {
                 return Err(ctx.err(

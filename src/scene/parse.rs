@@ -29,7 +29,7 @@ pub const DEFAULT_PREFACTOR: f64 = 1.0;
 pub fn load(spec: &str) -> Result<Scene, SceneError> {
     let path = Path::new(spec);
     if path.exists() {
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+        let text = crate::files::read_text(path).map_err(|e| SceneError::Io {
             file: one_line(spec),
             reason: one_line(&e.to_string()),
         })?;
@@ -74,11 +74,15 @@ fn syntax_error(file: &str, text: &str, e: &toml::de::Error) -> SceneError {
         }
         None => (0, 0),
     };
+    let mut message = one_line(&e.message().trim().replace('\n', "; "));
+    if let Some(key) = super::error::key_at_line(text, line) {
+        message = format!("{key}: {message}");
+    }
     SceneError::Syntax {
         file: file.to_string(),
         line,
         column,
-        message: one_line(&e.message().trim().replace('\n', "; ")),
+        message,
     }
 }
 

@@ -24,6 +24,7 @@ pub(crate) fn validate_in(scene: &Scene, file: &str) -> Result<Vec<String>, Scen
         base_dir: Path::new("."),
         seed: scene.seed,
     };
+    check_name(&ctx, &scene.name)?;
     let c = &scene.chain;
     let n = c.mass.len();
     if n < 2 {
@@ -186,4 +187,19 @@ pub(crate) fn validate_in(scene: &Scene, file: &str) -> Result<Vec<String>, Scen
         }
     }
     Ok(warnings)
+}
+
+/// `[scene].name` names the default output `<name>.snap` in the working directory, so it must be
+/// a plain file stem: not empty, not `.`/`..`, no `/`, `\` or NUL.
+fn check_name(ctx: &Ctx, name: &str) -> Result<(), SceneError> {
+    let bad = name.is_empty() || name == "." || name == ".." || name.contains(['/', '\\', '\0']);
+    if bad {
+        return Err(ctx.err(
+            "[scene].name",
+            format!(
+                "{name:?} is not a plain file name (it names the output <name>.snap in the working directory: no /, \\, NUL, . or ..)"
+            ),
+        ));
+    }
+    Ok(())
 }

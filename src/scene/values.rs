@@ -555,7 +555,7 @@ fn gaussian(rng: &mut ChaCha8Rng) -> f64 {
 fn read_csv(ctx: &Ctx, key: &str, name: &str) -> Result<List, SceneError> {
     let path = ctx.base_dir.join(name);
     let shown = one_line(&path.display().to_string());
-    let text = std::fs::read_to_string(&path).map_err(|e| SceneError::CsvIo {
+    let text = crate::files::read_text(&path).map_err(|e| SceneError::CsvIo {
         file: ctx.file.to_string(),
         key: key.to_string(),
         csv: shown.clone(),

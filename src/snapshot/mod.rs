@@ -98,10 +98,13 @@
 //!
 //! The writer streams into a temporary sibling `.<name>.tmp-<pid>-<k>` and only renames it onto
 //! the target after `fsync`, so a failed or killed run never leaves a half-written file under the
-//! requested name; dropping an unfinished writer deletes the temporary file.
+//! requested name; dropping an unfinished writer deletes the temporary file. Stale temporaries of
+//! dead processes are removed first, a character device or FIFO is written in place, a symbolic
+//! link is refused (rules in [`crate::files`]).
 
 pub mod ckpt;
 mod reader;
+pub mod size;
 mod writer;
 
 pub use reader::Snapshot;
@@ -404,6 +407,9 @@ pub enum SnapshotError {
     /// turns this into [`SnapshotError::Io`] naming its file).
     #[error("writing output: {0}")]
     Output(#[from] std::io::Error),
+    /// The output path is refused (a symbolic link; see [`crate::files::classify_output`]).
+    #[error(transparent)]
+    Refused(#[from] crate::files::OutputError),
 }
 
 fn version_message(found: u32) -> String {

@@ -13,6 +13,7 @@ use super::{
     RunSummary, SnapshotError, FORMAT_VERSION, MAGIC, TAG_END, TAG_EVENT_BLOCK, TAG_EVENT_INDEX,
     TAG_FRAME, TAG_HEADER, TAG_INDEX, TAG_STATS,
 };
+use crate::files::OutputKind;
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -38,23 +39,43 @@ pub struct SnapshotWriter {
     events_written: u64,
     scratch: Box<[u8]>,
     ev_scratch: Vec<u8>,
+    /// Writing in place to a character device or FIFO (no temporary, no rename, no mark).
+    stream: bool,
 }
 
 impl SnapshotWriter {
     /// Starts a snapshot for `path`: creates the temporary sibling `.<name>.tmp-<pid>-<k>` and
     /// writes the preamble and the HEADER section (with `format_version` set to
     /// [`FORMAT_VERSION`]).
+    ///
+    /// A character device or FIFO is written in place instead (see [`crate::files`]); a
+    /// symbolic link to a file is refused; stale temporaries of dead runs are removed first.
     pub fn create(path: &Path, header: &Header) -> Result<Self, SnapshotError> {
-        let tmp = temp_sibling(path)?;
-        let file = OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&tmp)
-            .map_err(|e| SnapshotError::Io {
-                path: path.to_path_buf(),
-                action: format!("creating temporary file {}", tmp.display()),
-                source: e,
-            })?;
+        let stream = crate::files::classify_output(path)? == OutputKind::Stream;
+        let (tmp, file) = if stream {
+            let f = OpenOptions::new()
+                .write(true)
+                .open(path)
+                .map_err(|e| SnapshotError::Io {
+                    path: path.to_path_buf(),
+                    action: "opening the output stream".into(),
+                    source: e,
+                })?;
+            (PathBuf::new(), f)
+        } else {
+            crate::files::remove_stale_temps(path);
+            let tmp = temp_sibling(path)?;
+            let f = OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&tmp)
+                .map_err(|e| SnapshotError::Io {
+                    path: path.to_path_buf(),
+                    action: format!("creating temporary file {}", tmp.display()),
+                    source: e,
+                })?;
+            (tmp, f)
+        };
         let frame_len = frame_payload_len(header.n_beads).ok_or_else(|| SnapshotError::Encode {
             path: path.to_path_buf(),
             section: "HEADER",
@@ -73,6 +94,7 @@ impl SnapshotWriter {
             events_written: 0,
             scratch: vec![0u8; CHUNK_VALUES * 8].into_boxed_slice(),
             ev_scratch: Vec::new(),
+            stream,
         };
         let mut h = header.clone();
         h.format_version = FORMAT_VERSION;
@@ -207,6 +229,9 @@ impl SnapshotWriter {
             action: "flushing snapshot".into(),
             source: e.into_error(),
         })?;
+        if self.stream {
+            return Ok(()); // written in place: nothing to sync or rename
+        }
         file.sync_all().map_err(|e| SnapshotError::Io {
             path: self.path.clone(),
             action: "syncing snapshot to disk".into(),
@@ -333,7 +358,18 @@ pub struct WriterMark {
 
 impl SnapshotWriter {
     /// Flushes and fsyncs everything written so far and returns the mark to continue from.
+    ///
+    /// Paths in the mark are absolute, so `resume` works from any working directory.
     pub fn mark(&mut self) -> Result<WriterMark, SnapshotError> {
+        if self.stream {
+            return Err(SnapshotError::Io {
+                path: self.path.clone(),
+                action: "writing a checkpoint".into(),
+                source: std::io::Error::other(
+                    "the output is a stream (device or pipe), which cannot be resumed",
+                ),
+            });
+        }
         let out = self.out.as_mut().ok_or_else(finished_err)?;
         out.flush().map_err(|e| SnapshotError::Io {
             path: self.path.clone(),
@@ -345,9 +381,10 @@ impl SnapshotWriter {
             action: "syncing snapshot to disk".into(),
             source: e,
         })?;
+        let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
         Ok(WriterMark {
-            path: self.path.clone(),
-            temp: self.tmp.clone(),
+            path: abs(&self.path),
+            temp: abs(&self.tmp),
             len: self.pos,
             n_beads: self.n_beads,
             offsets: self.offsets.clone(),
@@ -405,6 +442,7 @@ impl SnapshotWriter {
             events_written: mark.events_written,
             scratch: vec![0u8; CHUNK_VALUES * 8].into_boxed_slice(),
             ev_scratch: Vec::new(),
+            stream: false,
         })
     }
 

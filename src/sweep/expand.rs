@@ -210,6 +210,24 @@ impl SweepSpec {
                 "the frame-based measures and stops need frames: the scene has no [run] every (add \"run.every\" to [set])".into(),
             ));
         }
+        use crate::snapshot::size::{
+            count_text, frame_count_estimate, human_bytes, output_bytes_estimate,
+        };
+        let frames = frame_count_estimate(0.0, s.run.until, s.run.every);
+        let bytes = output_bytes_estimate(n, frames);
+        if bytes > self.max_output_bytes as f64 {
+            return Err(err(
+                "run.every",
+                format!(
+                    "{} frames of {n} beads (run.until = {:e}, run.every = {:e}), about {} of frame data, above the limit of {} per run: raise run.every or lower run.until (or pass --max-output-bytes N or --force)",
+                    count_text(frames),
+                    s.run.until,
+                    s.run.every.unwrap_or(s.run.until),
+                    human_bytes(bytes),
+                    human_bytes(self.max_output_bytes as f64)
+                ),
+            ));
+        }
         Ok(())
     }
 }
@@ -272,4 +290,28 @@ fn step<'a>(
             super::type_name(other)
         )),
     }
+}
+
+/// Most runs a sweep may expand to (every run's scene is built before any run starts).
+pub const MAX_RUNS: u64 = 100_000;
+
+/// The message when a sweep expands to more than [`MAX_RUNS`] runs
+/// (`max(points, 1) × Π grid lengths × max(seeds, 1)`, computed before anything is expanded).
+pub(crate) fn too_many_runs(
+    grid: &[(String, Vec<Value>)],
+    points: usize,
+    seeds: Option<usize>,
+) -> Option<String> {
+    let total = grid
+        .iter()
+        .map(|(_, v)| v.len())
+        .chain([points.max(1), seeds.unwrap_or(1)])
+        .try_fold(1u64, |acc, n| acc.checked_mul(n as u64));
+    if total.is_some_and(|t| t <= MAX_RUNS) {
+        return None;
+    }
+    let shown = total.map_or("more than 2^64".into(), |t| t.to_string());
+    Some(format!(
+        "the sweep expands to {shown} runs ([[point]] x [grid] x [seeds]), above the limit of {MAX_RUNS} runs per sweep file: split it into several sweep files"
+    ))
 }

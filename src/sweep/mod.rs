@@ -78,7 +78,7 @@ pub mod expand;
 
 pub use csv::merge;
 pub use exec::{run_sweep, Shard, SweepOptions, SweepSummary};
-pub use expand::RunPoint;
+pub use expand::{RunPoint, MAX_RUNS};
 
 use crate::scene::{presets, SceneError};
 use std::path::{Path, PathBuf};
@@ -212,6 +212,10 @@ pub struct SweepSpec {
     pub stop: Stop,
     /// FNV-1a hash of the sweep file and base scene (as parsed TOML).
     pub hash: u64,
+    /// Limit of one run's estimated frame data (as the snapshot `run` would write; checked for
+    /// every run before any runs): [`crate::snapshot::size::DEFAULT_MAX_OUTPUT_BYTES`] unless
+    /// the caller (`--max-output-bytes`, `--force`) changes it.
+    pub max_output_bytes: u64,
 }
 
 /// 64-bit FNV-1a (stable across platforms and Rust versions).
@@ -240,7 +244,7 @@ impl SweepSpec {
     /// Reads and checks a sweep file (the base scene is resolved relative to it).
     pub fn load(path: &Path) -> Result<SweepSpec, SweepError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SweepError::Io {
+        let text = crate::files::read_text(path).map_err(|e| SweepError::Io {
             file: file.clone(),
             action: "cannot read sweep file".into(),
             reason: e.to_string(),
@@ -377,6 +381,10 @@ impl SweepSpec {
         if let Some((k, _)) = &seeds {
             check_key("[seeds].key", k)?;
         }
+        let n_seeds = seeds.as_ref().map(|(_, v)| v.len());
+        if let Some(m) = expand::too_many_runs(&grid, points.len(), n_seeds) {
+            return Err(key_err("[grid]", m));
+        }
         // A key may be set by only one of [set], [grid], [[point]], [seeds].
         let mut claims: Vec<(&str, &str)> = Vec::new();
         claims.extend(set.iter().map(|(k, _)| (k.as_str(), "[set]")));
@@ -420,6 +428,7 @@ impl SweepSpec {
             measure,
             stop,
             hash: fnv1a(canon.as_bytes()),
+            max_output_bytes: crate::snapshot::size::DEFAULT_MAX_OUTPUT_BYTES,
         })
     }
 }
@@ -428,7 +437,7 @@ impl SweepSpec {
 fn base_scene(spec: &str, dir: &Path) -> Result<(String, PathBuf), String> {
     let path = dir.join(spec);
     if path.is_file() {
-        let text = std::fs::read_to_string(&path)
+        let text = crate::files::read_text(&path)
             .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
         let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
         return Ok((text, base));

@@ -1,0 +1,140 @@
+//! File rules of the command line (issue 11, items 10 and 13): an output never overwrites an
+//! input, and a run whose estimated output is above the limit is refused before it starts.
+//!
+//! - **Output = input.** `--out` (or the default `<scene name>.snap`) is compared with every
+//!   input — the scene file and every `{ file = "..." }` CSV it references, the sweep file, the
+//!   snapshot or CSV being read — by device and inode ([`beadchain::files::same_file`]: hard
+//!   links and `./x` vs `x` are caught). Symbolic links and streams follow the library's rules
+//!   ([`beadchain::files::classify_output`]).
+//! - **Output size.** Before `run`/`resume` writes anything, the snapshot size is estimated
+//!   ([`beadchain::snapshot::size`]: frames × (16 N + 48) bytes plus the header). Above
+//!   `--max-output-bytes` (default [`DEFAULT_MAX_OUTPUT_BYTES`] = 10 GiB) the run is refused with
+//!   the size, the frame count and the keys to change; `--force` lifts the limit.
+
+use anyhow::{bail, Result};
+use beadchain::files::same_file;
+use beadchain::snapshot::size::{
+    count_text, frame_count_estimate, human_bytes, output_bytes_estimate, DEFAULT_MAX_OUTPUT_BYTES,
+};
+use std::path::{Path, PathBuf};
+
+/// `--max-output-bytes` / `--force` of `run`, `resume` and `sweep`.
+#[derive(clap::Args, Debug, Clone, Copy)]
+pub struct SizeLimit {
+    /// Refuse a run whose estimated output (frames x beads) is above N bytes [default: 10 GiB].
+    #[arg(long, value_name = "N")]
+    pub max_output_bytes: Option<u64>,
+    /// Run even if the estimated output is above the limit.
+    #[arg(long)]
+    pub force: bool,
+}
+
+impl SizeLimit {
+    /// The limit in bytes (`u64::MAX` with `--force`).
+    pub fn bytes(&self) -> u64 {
+        if self.force {
+            u64::MAX
+        } else {
+            self.max_output_bytes.unwrap_or(DEFAULT_MAX_OUTPUT_BYTES)
+        }
+    }
+
+    /// Refuses a run of `n_beads` from `t0` to `until` with interval `every` writing
+    /// `frames_before` frames already, if its snapshot would exceed the limit. `what` names the
+    /// file (scene or checkpoint), `until_key` the option or key that set the end time.
+    pub fn check(
+        &self,
+        what: &str,
+        n_beads: usize,
+        (t0, until, every): (f64, f64, Option<f64>),
+        frames_before: usize,
+        until_key: &str,
+    ) -> Result<()> {
+        let frames = frame_count_estimate(t0, until, every) + frames_before as f64;
+        let bytes = output_bytes_estimate(n_beads, frames);
+        let limit = self.bytes();
+        if bytes > limit as f64 {
+            bail!(
+                "{what}: [run].every: the output would be about {} ({} frames of {n_beads} beads: {until_key} = {}, every = {}), above the limit of {}: raise [run].every (or --every), lower {until_key}, or pass --max-output-bytes N or --force",
+                human_bytes(bytes),
+                count_text(frames),
+                short(until),
+                every.map_or("none (first and last frame)".into(), short),
+                human_bytes(limit as f64),
+            );
+        }
+        Ok(())
+    }
+}
+
+/// A number as `{}` in `1e-5 ≤ |x| < 1e16`, else as `{:e}` (`1e300`, not 301 digits).
+fn short(x: f64) -> String {
+    if x == 0.0 || (1e-5..1e16).contains(&x.abs()) {
+        x.to_string()
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// The files a scene argument reads: the scene file (none for a preset) and the CSV files its
+/// `{ file = "..." }` values name, resolved against the scene's directory.
+pub fn scene_inputs(spec: &str) -> Vec<PathBuf> {
+    let path = Path::new(spec);
+    if !path.is_file() {
+        return Vec::new();
+    }
+    let mut out = vec![path.to_path_buf()];
+    let dir = path.parent().unwrap_or(Path::new("."));
+    if let Ok(text) = beadchain::files::read_text(path) {
+        if let Ok(root) = text.parse::<toml::Table>() {
+            collect_csv(&toml::Value::Table(root), dir, &mut out);
+        }
+    }
+    out
+}
+
+fn collect_csv(v: &toml::Value, dir: &Path, out: &mut Vec<PathBuf>) {
+    match v {
+        toml::Value::Table(t) => {
+            if let Some(toml::Value::String(f)) = t.get("file") {
+                out.push(dir.join(f));
+            }
+            for x in t.values() {
+                collect_csv(x, dir, out);
+            }
+        }
+        toml::Value::Array(a) => a.iter().for_each(|x| collect_csv(x, dir, out)),
+        _ => {}
+    }
+}
+
+/// Refuses `out` when it is one of `inputs` (same device and inode); `flag` names the option.
+pub fn check_not_input(out: &Path, flag: &str, inputs: &[(&str, PathBuf)]) -> Result<()> {
+    for (kind, input) in inputs {
+        if same_file(out, input) {
+            bail!(
+                "{}: {flag}: is the {kind} {} read by this command; refusing to overwrite an input (choose another output name)",
+                out.display(),
+                input.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Scene inputs labelled for [`check_not_input`].
+pub fn labelled_scene_inputs(spec: &str) -> Vec<(&'static str, PathBuf)> {
+    scene_inputs(spec)
+        .into_iter()
+        .enumerate()
+        .map(|(i, p)| (if i == 0 { "scene file" } else { "CSV file" }, p))
+        .collect()
+}
+
+/// True when an error (or any cause) is a closed pipe on output (`beadchain ... | head`).
+pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
