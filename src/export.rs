@@ -223,8 +223,8 @@ pub fn inspect(snap: &Snapshot, chain: &Chain) -> String {
                     Num(e1)
                 );
                 // Relative to the gross energy (meaningful when E0 = 0, e.g. rest under a field).
-                let rel = crate::model::relative_energy_change(e0, e1, s0.max(s1))
-                    .copysign(e1 - e0);
+                let rel =
+                    crate::model::relative_energy_change(e0, e1, s0.max(s1)).copysign(e1 - e0);
                 let _ = writeln!(s, "energy change (relative): {rel:.3e}");
             }
             (a, b) => {

@@ -289,7 +289,13 @@ impl Chain {
     /// stiffness at `floor`, `n (n−1) a floor^{n−2}`, instead of its unbounded `δ^{n−2}`. Only
     /// the Newton matrix of the implicit method uses `k`; forces stay exact. Cold path.
     #[cold]
-    fn regularise_stiffness<const PRE: bool>(&self, lo: usize, u: &[f64], floor: f64, k: &mut [f64]) {
+    fn regularise_stiffness<const PRE: bool>(
+        &self,
+        lo: usize,
+        u: &[f64],
+        floor: f64,
+        k: &mut [f64],
+    ) {
         for c in 0..u.len() - 1 {
             let (n, a) = (self.exponent[lo + c], self.prefactor[lo + c]);
             let mut delta = u[c] - u[c + 1];

@@ -197,7 +197,13 @@ fn check_scales(ctx: &Ctx, scene: &Scene) -> Result<(), SceneError> {
     use crate::model::contact_potential;
     let (c, u0, v0) = (&scene.chain, &scene.u0, &scene.v0);
     let (kv, ku) = ("[initial].velocity", "[initial].displacement");
-    let pot = |k: usize| contact_potential(c.exponent[k], c.prefactor[k], c.overlap(k, u0[k], u0[k + 1]));
+    let pot = |k: usize| {
+        contact_potential(
+            c.exponent[k],
+            c.prefactor[k],
+            c.overlap(k, u0[k], u0[k + 1]),
+        )
+    };
     let ke = c.kinetic_energy(v0);
     let pe: f64 = (0..c.len() - 1).map(pot).sum();
     let e = ke + pe;
@@ -207,7 +213,11 @@ fn check_scales(ctx: &Ctx, scene: &Scene) -> Result<(), SceneError> {
     }
     if e == 0.0 {
         if let Some(i) = v0.iter().position(|v| *v != 0.0) {
-            let msg = format!("the kinetic energy ½mv² = {:e} underflows f64 (v = {:e}): rescale the scene", 0.5 * c.mass[i] * v0[i] * v0[i], v0[i]);
+            let msg = format!(
+                "the kinetic energy ½mv² = {:e} underflows f64 (v = {:e}): rescale the scene",
+                0.5 * c.mass[i] * v0[i] * v0[i],
+                v0[i]
+            );
             return Err(ctx.index_err(kv, Per::Bead, i, msg));
         }
         if let Some(k) = (0..c.len() - 1).find(|&k| c.overlap(k, u0[k], u0[k + 1]) > 0.0) {

@@ -189,7 +189,8 @@ pub fn run_one(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<Str
             let scale = chain
                 .energy_scale(&scene.u0, &scene.v0)
                 .max(chain.energy_scale(&u, &v));
-            out.energy_error = crate::model::relative_energy_change(e0, chain.energy(&u, &v), scale);
+            out.energy_error =
+                crate::model::relative_energy_change(e0, chain.energy(&u, &v), scale);
             out.steps = steps;
             out.events = events;
             (u, v)
