@@ -85,6 +85,8 @@ fn radau_step(c: &mut Criterion) {
             scales: Scales {
                 length: 0.1,
                 velocity: 1.0,
+                energy: 0.0,
+                mass: 0.0,
             },
             v_frame: 0.0,
         };

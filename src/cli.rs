@@ -151,7 +151,7 @@ struct Common {
     #[arg(long)]
     rtol: Option<f64>,
     /// Absolute tolerance, relative to the run's characteristic length/velocity
-    /// [default: the scene's, else 1e-10].
+    /// [default: the scene's, else rtol/100 (1e-10 at the default rtol)].
     #[arg(long)]
     atol: Option<f64>,
     /// End time [default: the scene's `[run] until`].
@@ -285,6 +285,9 @@ fn config(scene: &Scene, c: &Common) -> RunConfig {
     }
     if let Some(r) = c.rtol {
         cfg.rtol = r;
+        if scene.run.atol.is_none() {
+            cfg.atol = beadchain::integrate::default_atol(r);
+        }
     }
     if let Some(a) = c.atol {
         cfg.atol = a;

@@ -147,7 +147,13 @@ pub fn cmd_analyze(args: AnalyzeArgs) -> Result<i32> {
         let _ = writeln!(
             o,
             "energy: initial {e0:.9e}, final {e_end:.9e} (relative change {:.3e}); incoming wave {e_in:.9e} ({:.6} of E0)",
-            (e_end - e0).abs() / e0,
+            beadchain::model::relative_energy_change(
+                e0,
+                e_end,
+                chain
+                    .energy_scale(&frames[0].u, &frames[0].v)
+                    .max(chain.energy_scale(&last.u, &last.v))
+            ),
             e_in / e0
         );
         let vmax: Vec<String> = frag

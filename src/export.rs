@@ -230,7 +230,7 @@ pub fn inspect_with(snap: &Snapshot, chain: &Chain, damaged: &[(usize, String)])
     if n > 0 {
         let times = snap.frame_times();
         let _ = writeln!(s, "time span:   {} .. {}", Num(times[0]), Num(times[n - 1]));
-        let energy = |k: usize| -> Result<f64, String> {
+        let energy = |k: usize| -> Result<(f64, f64), String> {
             let f = snap.frame(k).map_err(|e| e.to_string())?;
             if f.u.len() != chain.len() {
                 return Err(format!(
@@ -239,21 +239,19 @@ pub fn inspect_with(snap: &Snapshot, chain: &Chain, damaged: &[(usize, String)])
                     chain.len()
                 ));
             }
-            Ok(chain.energy(&f.u, &f.v))
+            Ok((chain.energy(&f.u, &f.v), chain.energy_scale(&f.u, &f.v)))
         };
         match (energy(0), energy(n - 1)) {
-            (Ok(e0), Ok(e1)) => {
+            (Ok((e0, s0)), Ok((e1, s1))) => {
                 let _ = writeln!(
                     s,
                     "energy:      first frame {}, last frame {}",
                     Num(e0),
                     Num(e1)
                 );
-                let rel = if e0 != 0.0 {
-                    (e1 - e0) / e0.abs()
-                } else {
-                    e1 - e0
-                };
+                // Relative to the gross energy (meaningful when E0 = 0, e.g. rest under a field).
+                let rel =
+                    crate::model::relative_energy_change(e0, e1, s0.max(s1)).copysign(e1 - e0);
                 let _ = writeln!(s, "energy change (relative): {rel:.3e}");
             }
             (a, b) => {

@@ -70,6 +70,22 @@ pub struct Chain {
     pub hard: Option<HardContacts>,
 }
 
+/// Floor of the overlap at which the stiffness of an `n < 2` contact is evaluated for the
+/// Newton matrix, relative to the largest overlap of the integrated range (see
+/// [`Chain::accel_stiffness`]).
+///
+/// For `1 < n < 2` the contact stiffness `k = n (n−1) a δ^{n−2}` is unbounded as `δ → 0⁺`. Ahead
+/// of a wave the overlaps fall off super-exponentially (each contact transmits `δ^{n−1}` of the
+/// previous one), so a chain alternating n = 1.5 / 2.5 has n = 1.5 contacts at `δ ~ 1e-60` and
+/// below, whose `k` was so large that Radau's Newton matrix treated them as rigid and the step
+/// size fell to rounding level ("step size 6e-26 too small at t = 1e-10"). Their forces are at
+/// most `(floor/δ_max)^{n−1}` of the wave's, so the Newton iteration converges with the stiffness
+/// at `floor`; the right-hand side stays exact, so the solution is unchanged. Step counts were
+/// flat for floors 1e-2 … 1e-10 and doubled at 1e-14 (10-bead n = 1.5/2.5 chain, paper units).
+/// The dense engine stays slow on such chains (every closing/opening of an `n < 2` contact is a
+/// square-root kink the error control must resolve); the hybrid engine handles them by events.
+pub const JACOBIAN_FLOOR: f64 = 1e-6;
+
 /// `δ^{n−2}` for `δ > 0`, with the common half-integer exponents (n = 2, 2.5, 3, 3.5, 4) done by
 /// `sqrt`/multiplications instead of `powf` (about 5× cheaper; the branch is well predicted).
 #[inline(always)]
@@ -175,7 +191,9 @@ impl Chain {
 
     /// Accelerations plus contact stiffnesses: `k[c] = dF_c/dδ` for the `m−1` contacts inside the
     /// range, and `k[m−1]`, `k[m]` hold the left/right wall stiffness (0 when no wall applies).
-    /// `k` must have length `m + 1`.
+    /// `k` must have length `m + 1`. Contacts with `n < 2` whose overlap is below
+    /// [`JACOBIAN_FLOOR`] times the largest overlap of the range get the stiffness at that floor
+    /// (a regularised Jacobian; the accelerations are exact).
     pub fn accel_stiffness(&self, lo: usize, u: &[f64], acc: &mut [f64], k: &mut [f64]) {
         debug_assert_eq!(k.len(), u.len() + 1);
         match (self.precompression.is_some(), self.field.is_some()) {
@@ -214,6 +232,8 @@ impl Chain {
         } else {
             &[]
         };
+        // Largest overlap, and smallest positive overlap of an n < 2 contact (Jacobian floor).
+        let (mut d_max, mut d_soft) = (0.0_f64, f64::INFINITY);
         for c in 0..m - 1 {
             let mut delta = u[c] - u[c + 1];
             if PRE {
@@ -224,11 +244,18 @@ impl Chain {
                 acc[c] -= f;
                 acc[c + 1] += f;
                 k[c] = s;
+                d_max = d_max.max(delta);
+                if n[c] < 2.0 && delta > 0.0 {
+                    d_soft = d_soft.min(delta);
+                }
             } else {
                 let f = contact_force(n[c], a[c], delta);
                 acc[c] -= f;
                 acc[c + 1] += f;
             }
+        }
+        if STIFF && d_soft < JACOBIAN_FLOOR * d_max {
+            self.regularise_stiffness::<PRE>(lo, u, JACOBIAN_FLOOR * d_max, k);
         }
         // Walls: O(1) work outside the loop, only when the range holds the chain end.
         if STIFF {
@@ -257,6 +284,29 @@ impl Chain {
         }
         for (ai, mi) in acc.iter_mut().zip(&self.mass[lo..lo + m]) {
             *ai /= mi;
+        }
+    }
+
+    /// The regularised Jacobian: every contact with `n < 2` and overlap `0 < δ < floor` gets the
+    /// stiffness at `floor`, `n (n−1) a floor^{n−2}`, instead of its unbounded `δ^{n−2}`. Only
+    /// the Newton matrix of the implicit method uses `k`; forces stay exact. Cold path.
+    #[cold]
+    fn regularise_stiffness<const PRE: bool>(
+        &self,
+        lo: usize,
+        u: &[f64],
+        floor: f64,
+        k: &mut [f64],
+    ) {
+        for c in 0..u.len() - 1 {
+            let (n, a) = (self.exponent[lo + c], self.prefactor[lo + c]);
+            let mut delta = u[c] - u[c + 1];
+            if PRE {
+                delta += self.precompression.as_ref().map_or(0.0, |p| p[lo + c]);
+            }
+            if n < 2.0 && delta > 0.0 && delta < floor {
+                k[c] = contact_force_stiffness(n, a, floor).1;
+            }
         }
     }
 
@@ -294,6 +344,18 @@ impl Chain {
         self.kinetic_energy(v) + self.potential_energy(u)
     }
 
+    /// Gross energy `KE + contact/wall PE + |Σ W_i u_i|`: every part counted positive, so it is
+    /// a meaningful scale for energy errors even when the total energy is 0 (a chain at rest
+    /// under a field: the field potential and the contact/kinetic energies cancel).
+    pub fn energy_scale(&self, u: &[f64], v: &[f64]) -> f64 {
+        let field = self
+            .field
+            .as_ref()
+            .map_or(0.0, |f| f.iter().zip(u).map(|(w, x)| w * x).sum::<f64>());
+        // potential_energy() subtracts the field part: add it back, then count it positive.
+        self.kinetic_energy(v) + (self.potential_energy(u) + field) + field.abs()
+    }
+
     /// Total momentum `Σ m_i v_i`.
     pub fn momentum(&self, v: &[f64]) -> f64 {
         self.mass.iter().zip(v).map(|(m, x)| m * x).sum()
@@ -308,14 +370,33 @@ impl Chain {
     /// like the similarity law of a uniform chain (`v → λv` gives `L → λ^{2/n} L`), so a run at
     /// striker speed 1 and one at 1e-7 take the same steps after rescaling. When the state has no
     /// energy (and no field), falls back to `L = V = 1`.
+    ///
+    /// Per bead, the velocity scale is `V_i = sqrt(2E / max(m_i, m_E))` ([`Scales::bead_velocity`]),
+    /// with `m_E` the lightest mass among the beads that hold energy initially (moving, or
+    /// touching a compressed contact): a bead heavier than the energy carriers cannot move faster
+    /// than `sqrt(2E/m_i)`, and a lighter one is held to the carriers' speed (it reaches about
+    /// that speed when pushed, and `rtol·|v_i|` takes over if it goes faster). So neither a light
+    /// bead loosens everyone's tolerance (`V` from `m_min` did) nor is it given a tolerance its
+    /// speed never reaches. Uniform masses give `V_i = V` bit for bit.
     pub fn scales(&self, u: &[f64], v: &[f64]) -> Scales {
         let mut pe = 0.0;
+        // Lightest energy carrier.
+        let mut m_e = self
+            .mass
+            .iter()
+            .zip(v)
+            .filter(|(m, x)| *m * *x * *x > 0.0)
+            .fold(f64::INFINITY, |acc, (m, _)| acc.min(*m));
         for c in 0..self.len() - 1 {
-            pe += contact_potential(
+            let p = contact_potential(
                 self.exponent[c],
                 self.prefactor[c],
                 self.overlap(c, u[c], u[c + 1]),
             );
+            if p > 0.0 {
+                m_e = m_e.min(self.mass[c]).min(self.mass[c + 1]);
+            }
+            pe += p;
         }
         let e = self.kinetic_energy(v) + pe;
         let m_min = self.mass.iter().cloned().fold(f64::INFINITY, f64::min);
@@ -353,7 +434,29 @@ impl Chain {
                 1.0
             };
         }
-        Scales { length, velocity }
+        let (energy, mass) = if e > 0.0 && e.is_finite() {
+            (e, if m_e.is_finite() { m_e } else { m_min })
+        } else {
+            (0.0, 0.0)
+        };
+        Scales {
+            length,
+            velocity,
+            energy,
+            mass,
+        }
+    }
+}
+
+/// `|e1 − e0|` relative to the energy scale `scale` (e.g. the largest
+/// [`Chain::energy_scale`] reached); the absolute change when `scale` is 0 or not finite (a
+/// system with no energy at all), so the result is never NaN or infinite for finite energies.
+pub fn relative_energy_change(e0: f64, e1: f64, scale: f64) -> f64 {
+    let d = (e1 - e0).abs();
+    if scale > 0.0 && scale.is_finite() {
+        d / scale
+    } else {
+        d
     }
 }
 
@@ -362,8 +465,17 @@ impl Chain {
 pub struct Scales {
     /// Characteristic displacement/overlap.
     pub length: f64,
-    /// Characteristic velocity.
+    /// Characteristic velocity `V = sqrt(2E/m_min)` (of the lightest bead).
     pub velocity: f64,
+    /// The energy `E` the per-bead velocity scales come from; 0 when the velocity scale does
+    /// not come from the energy (no energy: the field's fall speed, or 1), in which case every
+    /// bead has scale `V`.
+    #[serde(default)]
+    pub energy: f64,
+    /// `m_E`, the lightest mass among the beads holding energy initially: bead `i`'s own
+    /// velocity scale is `V_i = sqrt(2E/max(m_i, m_E))` ([`Scales::bead_velocity`]).
+    #[serde(default)]
+    pub mass: f64,
 }
 
 /// Default collapse interval of hard contacts, as a fraction of the characteristic time `L/V`.
@@ -379,6 +491,18 @@ impl Scales {
     /// [`COLLAPSE_FRACTION`]` · L/V` of the scene's initial state (not of its end time).
     pub fn collapse_interval(&self) -> f64 {
         COLLAPSE_FRACTION * self.time()
+    }
+
+    /// Velocity scale of a bead of mass `m_i`: `sqrt(2E/max(m_i, m_E))` (see
+    /// [`Chain::scales`]), computed like `V` so that equal masses give exactly `V`. `V` itself
+    /// when `energy` is 0.
+    #[inline(always)]
+    pub fn bead_velocity(&self, m_i: f64) -> f64 {
+        if self.energy > 0.0 {
+            (2.0 * self.energy / m_i.max(self.mass)).sqrt()
+        } else {
+            self.velocity
+        }
     }
 }
 

@@ -16,7 +16,7 @@ pub mod hybrid;
 
 pub use checkpoint::{Control, EngineState};
 
-use crate::integrate::{IntegrationError, Method, Stats, DEFAULT_ATOL, DEFAULT_RTOL};
+use crate::integrate::{default_atol, IntegrationError, Method, Stats, DEFAULT_RTOL};
 use crate::linalg::SolverKind;
 use crate::scene::{Engine, Scene};
 use serde::{Deserialize, Serialize};
@@ -43,13 +43,15 @@ pub struct RunConfig {
 }
 
 impl RunConfig {
-    /// The scene's own settings, with documented defaults for what it leaves out.
+    /// The scene's own settings, with documented defaults for what it leaves out (`atol`
+    /// defaults to [`default_atol`]`(rtol)`, i.e. `rtol/100`).
     pub fn from_scene(scene: &Scene) -> Self {
+        let rtol = scene.run.rtol.unwrap_or(DEFAULT_RTOL);
         Self {
             engine: scene.run.engine.unwrap_or_default(),
             method: scene.run.method.unwrap_or_default(),
-            rtol: scene.run.rtol.unwrap_or(DEFAULT_RTOL),
-            atol: scene.run.atol.unwrap_or(DEFAULT_ATOL),
+            rtol,
+            atol: scene.run.atol.unwrap_or_else(|| default_atol(rtol)),
             until: scene.run.until,
             every: scene.run.every,
             solver: SolverKind::Auto,
@@ -169,6 +171,10 @@ pub struct RunOutcome {
     pub energy_initial: f64,
     /// Total energy at the end.
     pub energy_final: f64,
+    /// The scale of energy errors: the larger [`crate::model::Chain::energy_scale`] (gross
+    /// energy, every part positive) of the initial and final states.
+    #[serde(default)]
+    pub energy_scale: f64,
     /// Momentum at t = 0.
     pub momentum_initial: f64,
     /// Momentum at the end.
@@ -235,9 +241,11 @@ impl Deviation {
 }
 
 impl RunOutcome {
-    /// Relative total-energy error `|E_end − E_0| / |E_0|`.
+    /// Relative total-energy error `|E_end − E_0| / S` with `S` the larger of `|E_0|` and
+    /// [`RunOutcome::energy_scale`]; the absolute error when both are 0 (never NaN/inf).
     pub fn relative_energy_error(&self) -> f64 {
-        (self.energy_final - self.energy_initial).abs() / self.energy_initial.abs()
+        let scale = self.energy_scale.max(self.energy_initial.abs());
+        crate::model::relative_energy_change(self.energy_initial, self.energy_final, scale)
     }
 }
 

@@ -54,6 +54,8 @@ const N_DENSE: usize = 7;
 pub struct Dop853 {
     m: usize,
     tol: Tolerances,
+    /// Per-bead velocity scales of the system being integrated (refreshed every step).
+    vs: Vec<f64>,
     t: f64,
     t_prev: f64,
     /// Proposed size of the next step (> 0).
@@ -119,6 +121,7 @@ impl Dop853 {
         Self {
             m,
             tol,
+            vs: vec![0.0; m],
             t: 0.0,
             t_prev: 0.0,
             h: 0.0,
@@ -165,7 +168,7 @@ impl Dop853 {
         if i < self.m {
             self.tol.weight_u(a, b)
         } else {
-            self.tol.weight_v(a, b)
+            self.tol.weight_v(self.vs[i - self.m], a, b)
         }
     }
 
@@ -325,6 +328,7 @@ impl Integrator for Dop853 {
         self.f.fill(0.0);
         let (k0, _) = self.k.split_at_mut(2 * m);
         rhs(sys, &mut self.stats, &self.z, k0);
+        self.tol.velocity_scales(sys.mass(), &mut self.vs);
         self.h = self.initial_step(sys);
     }
 
@@ -332,6 +336,7 @@ impl Integrator for Dop853 {
     /// Returns `t` unchanged, without stepping, when `t_bound ≤ t`.
     fn step(&mut self, sys: &dyn System, t_bound: f64) -> Result<f64, IntegrationError> {
         debug_assert_eq!(sys.len(), self.m);
+        self.tol.velocity_scales(sys.mass(), &mut self.vs);
         let t = self.t;
         if !t.is_finite() || !self.z.iter().all(|x| x.is_finite()) {
             return Err(IntegrationError::NonFinite { t });

@@ -16,10 +16,21 @@
 //!
 //! ## Tolerances
 //! The error of component `z_j` is weighed by `sc_j = atol·S_j + rtol·|z_j|`, where `S_j` is the
-//! characteristic length (for `u`) or velocity (for `v`) of the run ([`crate::model::Scales`]).
-//! So `atol` is *relative to the physical scales*: the same `rtol`/`atol` work whether
-//! displacements are 1 or 1e-7. Errors are measured in the max norm over components, so the
-//! meaning of a tolerance does not depend on how many beads are integrated together.
+//! characteristic length `L` (for `u`) or the bead's own velocity scale
+//! `V_i = sqrt(2E/max(m_i, m_E))` (for `v_i`; `m_E` = lightest bead holding energy initially) of
+//! the run ([`crate::model::Scales`], [`crate::model::Chain::scales`]). So `atol` is *relative to
+//! the physical scales*: the same `rtol`/`atol` work whether displacements are 1 or 1e-7. The
+//! velocity scale is per bead so that a very light bead neither loosens the other beads'
+//! tolerance (a single `V = sqrt(2E/m_min)` did: with masses 1 and 1e-8 every bead's velocity
+//! was controlled only to `1e4·atol·v0`) nor is held to a meaningless one, while a heavy bead,
+//! which cannot move faster than `sqrt(2E/m_i)`, is held to that. For equal masses `V_i = V`
+//! exactly. Errors are measured in the max norm over components, so
+//! the meaning of a tolerance does not depend on how many beads are integrated together.
+//!
+//! The default `atol` is `rtol · DEFAULT_ATOL_RATIO` (= `rtol/100`, see [`default_atol`]), so
+//! that the error keeps falling with `rtol` over `1e-3 … 1e-13`: a fixed `atol` stalled the
+//! error at tight `rtol` and, at loose `rtol`, held the displacements to a far tighter
+//! tolerance than the velocities.
 
 pub mod auto;
 pub mod dop853;
@@ -31,8 +42,17 @@ use serde::{Deserialize, Serialize};
 
 /// Default relative tolerance.
 pub const DEFAULT_RTOL: f64 = 1e-8;
-/// Default absolute tolerance (relative to the run's characteristic scales, see module docs).
+/// Default absolute tolerance at the default `rtol` (relative to the run's characteristic
+/// scales, see module docs); in general the default is [`default_atol`]`(rtol)`.
 pub const DEFAULT_ATOL: f64 = 1e-10;
+/// Default `atol / rtol` when only `rtol` is given.
+pub const DEFAULT_ATOL_RATIO: f64 = 1e-2;
+
+/// The default absolute tolerance for a relative tolerance `rtol`: `rtol · DEFAULT_ATOL_RATIO`
+/// (so `default_atol(DEFAULT_RTOL) == DEFAULT_ATOL`).
+pub fn default_atol(rtol: f64) -> f64 {
+    rtol * DEFAULT_ATOL_RATIO
+}
 
 /// A second-order system of `m` beads: `ü = f(u)`, with a contact structure giving tridiagonal
 /// stiffness.
@@ -138,14 +158,23 @@ impl Tolerances {
     pub fn weight_u(&self, u_old: f64, u_new: f64) -> f64 {
         self.atol * self.scales.length + self.rtol * u_old.abs().max(u_new.abs())
     }
-    /// Error weight of a velocity component.
+    /// Error weight of a velocity component of a bead whose velocity scale is `vs` (from
+    /// [`Tolerances::velocity_scales`]).
     #[inline(always)]
-    pub fn weight_v(&self, v_old: f64, v_new: f64) -> f64 {
-        self.atol * self.scales.velocity
+    pub fn weight_v(&self, vs: f64, v_old: f64, v_new: f64) -> f64 {
+        self.atol * vs
             + self.rtol
                 * (v_old + self.v_frame)
                     .abs()
                     .max((v_new + self.v_frame).abs())
+    }
+    /// Per-bead velocity scales `V_i` of beads with masses `mass` into `out` (see
+    /// [`Scales::bead_velocity`]). No allocation; the integrators call it once per step.
+    #[inline]
+    pub fn velocity_scales(&self, mass: &[f64], out: &mut [f64]) {
+        for (o, &mi) in out.iter_mut().zip(mass) {
+            *o = self.scales.bead_velocity(mi);
+        }
     }
 }
 
@@ -265,16 +294,23 @@ pub trait Integrator {
     fn load(&mut self, s: &IntegratorState);
 }
 
-/// The max-norm of `err` weighted componentwise (u-part then v-part of length `m` each).
+/// The max-norm of `err` weighted componentwise (u-part then v-part of length `m` each);
+/// `vs` holds the `m` per-bead velocity scales ([`Tolerances::velocity_scales`]).
 #[inline]
-pub fn weighted_max_norm(err: &[f64], z_old: &[f64], z_new: &[f64], tol: &Tolerances) -> f64 {
+pub fn weighted_max_norm(
+    err: &[f64],
+    z_old: &[f64],
+    z_new: &[f64],
+    tol: &Tolerances,
+    vs: &[f64],
+) -> f64 {
     let m = err.len() / 2;
     let mut n: f64 = 0.0;
     for j in 0..m {
         n = n.max((err[j] / tol.weight_u(z_old[j], z_new[j])).abs());
     }
     for j in m..2 * m {
-        n = n.max((err[j] / tol.weight_v(z_old[j], z_new[j])).abs());
+        n = n.max((err[j] / tol.weight_v(vs[j - m], z_old[j], z_new[j])).abs());
     }
     // f64::max ignores NaN: make a non-finite error count as a failed test.
     if err.iter().all(|x| x.is_finite()) {

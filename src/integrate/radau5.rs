@@ -90,6 +90,8 @@ const MAX_FACTOR: f64 = 10.0;
 pub struct Radau5 {
     m: usize,
     tol: Tolerances,
+    /// Per-bead velocity scales of the system being integrated (refreshed every step).
+    vs: Vec<f64>,
     newton_tol: f64,
     real: Box<dyn TridiagSolver<f64>>,
     cplx: Box<dyn TridiagSolver<Complex64>>,
@@ -133,6 +135,7 @@ impl Radau5 {
         Self {
             m,
             tol,
+            vs: vec![0.0; m],
             newton_tol: (10.0 * f64::EPSILON / tol.rtol).max(0.03_f64.min(tol.rtol.sqrt())),
             real: new_solver::<f64>(kind, m),
             cplx: new_solver::<Complex64>(kind, m),
@@ -184,7 +187,7 @@ impl Radau5 {
     }
 
     fn weights_norm(&self, x: &[f64], y_a: &[f64], y_b: &[f64]) -> f64 {
-        super::weighted_max_norm(x, y_a, y_b, &self.tol)
+        super::weighted_max_norm(x, y_a, y_b, &self.tol, &self.vs)
     }
 
     /// Factorises `(c² M + L(k))` for `c = μ_r/h` and `c = μ_c/h`.
@@ -316,7 +319,7 @@ impl Radau5 {
             self.inv_w[j] = 1.0 / self.tol.weight_u(self.z[j], self.z[j]);
         }
         for j in m..n {
-            self.inv_w[j] = 1.0 / self.tol.weight_v(self.z[j], self.z[j]);
+            self.inv_w[j] = 1.0 / self.tol.weight_v(self.vs[j - m], self.z[j], self.z[j]);
         }
         let mut dw_norm_old: Option<f64> = None;
         let mut rate = f64::NAN;
@@ -476,6 +479,7 @@ impl Integrator for Radau5 {
         self.have_sol = false;
         self.h_abs_old = None;
         self.err_old = None;
+        self.tol.velocity_scales(sys.mass(), &mut self.vs);
         self.h_abs = self.initial_step(sys);
         for qi in self.q.iter_mut() {
             qi.fill(0.0);
@@ -493,6 +497,7 @@ impl Integrator for Radau5 {
     }
 
     fn step(&mut self, sys: &dyn System, t_bound: f64) -> Result<f64, IntegrationError> {
+        self.tol.velocity_scales(sys.mass(), &mut self.vs);
         let n = 2 * self.m;
         let m = self.m;
         let t = self.t;

@@ -150,6 +150,8 @@ pub(crate) fn validate_in(scene: &Scene, file: &str) -> Result<Vec<String>, Scen
         }
     }
 
+    check_scales(&ctx, scene)?;
+
     let soft: Vec<usize> = (0..n - 1).filter(|&k| c.exponent[k] < 2.0).collect();
     if !soft.is_empty() {
         let shown: Vec<String> = soft.iter().take(LIST_MAX).map(usize::to_string).collect();
@@ -200,6 +202,61 @@ fn check_name(ctx: &Ctx, name: &str) -> Result<(), SceneError> {
                 "{name:?} is not a plain file name (it names the output <name>.snap in the working directory: no /, \\, NUL, . or ..)"
             ),
         ));
+    }
+    Ok(())
+}
+
+/// Rejects initial states whose characteristic scales ([`crate::model::Chain::scales`], the unit
+/// of every tolerance and of the energy error) under- or overflow f64: an energy of 0 although a
+/// bead moves or a contact is compressed (e.g. a striker of 1e-300), a non-finite energy, or a
+/// length `(E/a_c)^{1/n_c}` or velocity `sqrt(2E/m_i)` scale that is 0 or not finite.
+fn check_scales(ctx: &Ctx, scene: &Scene) -> Result<(), SceneError> {
+    use crate::model::contact_potential;
+    let (c, u0, v0) = (&scene.chain, &scene.u0, &scene.v0);
+    let (kv, ku) = ("[initial].velocity", "[initial].displacement");
+    let pot = |k: usize| {
+        contact_potential(
+            c.exponent[k],
+            c.prefactor[k],
+            c.overlap(k, u0[k], u0[k + 1]),
+        )
+    };
+    let ke = c.kinetic_energy(v0);
+    let pe: f64 = (0..c.len() - 1).map(pot).sum();
+    let e = ke + pe;
+    if !e.is_finite() {
+        let key = if ke.is_finite() { ku } else { kv };
+        return Err(ctx.err(key, format!("the initial energy overflows f64 (kinetic {ke:e}, contact {pe:e}): rescale the scene")));
+    }
+    if e == 0.0 {
+        if let Some(i) = v0.iter().position(|v| *v != 0.0) {
+            let msg = format!(
+                "the kinetic energy ½mv² = {:e} underflows f64 (v = {:e}): rescale the scene",
+                0.5 * c.mass[i] * v0[i] * v0[i],
+                v0[i]
+            );
+            return Err(ctx.index_err(kv, Per::Bead, i, msg));
+        }
+        if let Some(k) = (0..c.len() - 1).find(|&k| c.overlap(k, u0[k], u0[k + 1]) > 0.0) {
+            let d = c.overlap(k, u0[k], u0[k + 1]);
+            let msg = format!("the contact energy a·δⁿ of the overlap δ = {d:e} underflows f64: rescale the scene");
+            return Err(ctx.index_err(ku, Per::Contact, k, msg));
+        }
+        return Ok(());
+    }
+    for k in 0..c.len() - 1 {
+        let l = (e / c.prefactor[k]).powf(1.0 / c.exponent[k]);
+        if !(l > 0.0 && l.is_finite()) {
+            let msg = format!("the length scale (E/a)^(1/n) = {l:e} (E = {e:e}) is outside the f64 range: rescale the scene");
+            return Err(ctx.index_err("[chain].prefactor", Per::Contact, k, msg));
+        }
+    }
+    for (i, m) in c.mass.iter().enumerate() {
+        let v = (2.0 * e / m).sqrt();
+        if !(v > 0.0 && v.is_finite()) {
+            let msg = format!("the velocity scale sqrt(2E/m) = {v:e} (E = {e:e}) is outside the f64 range: rescale the scene");
+            return Err(ctx.index_err("[chain].mass", Per::Bead, i, msg));
+        }
     }
     Ok(())
 }

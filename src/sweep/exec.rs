@@ -186,7 +186,11 @@ pub fn run_one(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<Str
             let (t, u, v) = std::mem::take(&mut watch.last);
             let e0 = chain.energy(&scene.u0, &scene.v0);
             out.t_end = t;
-            out.energy_error = (chain.energy(&u, &v) - e0).abs() / e0.abs();
+            let scale = chain
+                .energy_scale(&scene.u0, &scene.v0)
+                .max(chain.energy_scale(&u, &v));
+            out.energy_error =
+                crate::model::relative_energy_change(e0, chain.energy(&u, &v), scale);
             out.steps = steps;
             out.events = events;
             (u, v)

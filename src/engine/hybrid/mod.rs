@@ -193,6 +193,9 @@ pub fn run_from(
         wall_seconds: start.elapsed().as_secs_f64(),
         energy_initial: chain.energy(&scene.u0, &scene.v0),
         energy_final: chain.energy(&u, &v),
+        energy_scale: chain
+            .energy_scale(&scene.u0, &scene.v0)
+            .max(chain.energy_scale(&u, &v)),
         momentum_initial: chain.momentum(&scene.v0),
         momentum_final: chain.momentum(&v),
         events_by_kind: names

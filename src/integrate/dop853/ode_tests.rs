@@ -56,6 +56,8 @@ fn unit_tol(rtol: f64, atol: f64) -> Tolerances {
         scales: Scales {
             length: 1.0,
             velocity: 1.0,
+            energy: 0.0,
+            mass: 0.0,
         },
         v_frame: 0.0,
     }
