@@ -147,14 +147,14 @@ def run_scipy(args, method, rtol):
     return res
 
 
-def run_beadchain(args, engine, rtol, tmp):
+def run_beadchain(args, engine, rtol, tmp, method="auto"):
     scene = os.path.join(tmp, "chain.toml")
     with open(scene, "w") as f:
         f.write("[chain]\nbeads = %d\nmass = %r\nexponent = %r\nprefactor = %r\n"
                 "[initial]\nstriker = %r\n[run]\nuntil = %r\n"
                 % (args.beads, args.mass, args.exponent, args.prefactor, args.velocity, args.until))
     snap = os.path.join(tmp, "out.snap")
-    cmd = [args.binary, "run", scene, "--engine", engine, "--rtol", repr(rtol),
+    cmd = [args.binary, "run", scene, "--engine", engine, "--method", method, "--rtol", repr(rtol),
            "--atol", repr(rtol / 100), "--out", snap]
     try:
         out = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout)
@@ -196,6 +196,9 @@ def main():
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--timeout", type=float, default=120.0, help="per SciPy/beadchain run, seconds")
     ap.add_argument("--peers", default=",".join(PEERS))
+    ap.add_argument("--beadchain", default="hybrid:auto,hybrid:radau5,dense:dop853",
+                    help="beadchain runs ENGINE:METHOD, comma-separated; the first is the one the "
+                         "ratios and the equal-or-better-error table refer to (default: the CLI default)")
     ap.add_argument("--binary", default=os.path.join(ROOT, "target", "release", "beadchain"))
     ap.add_argument("--out", default=os.path.join(HERE, "results"), help="writes OUT.csv and OUT.md")
     args = ap.parse_args()
@@ -213,12 +216,14 @@ def main():
         subprocess.check_call(["cargo", "build", "--release", "--manifest-path", os.path.join(ROOT, "Cargo.toml")])
     rtols = [float(x) for x in args.rtols.split(",")]
     peers = [p for p in args.peers.split(",") if p]
+    bead_runs = [tuple(x.split(":")) for x in args.beadchain.split(",") if x]
+    args.main_solver = "beadchain %s %s" % bead_runs[0]
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for rtol in rtols:
-            for engine in ["hybrid", "dense"]:
-                res = measure(lambda: run_beadchain(args, engine, rtol, tmp), args.repeat)
-                rows.append(dict(solver="beadchain " + engine, rtol=rtol, **res))
+            for engine, method in bead_runs:
+                res = measure(lambda: run_beadchain(args, engine, rtol, tmp, method), args.repeat)
+                rows.append(dict(solver="beadchain %s %s" % (engine, method), rtol=rtol, **res))
                 print(rows[-1], file=sys.stderr, flush=True)
             for p in peers:
                 res = measure(lambda: run_scipy(args, p, rtol), args.repeat)
@@ -228,8 +233,9 @@ def main():
         for rtol in extra:
             if rtol in rtols:
                 continue
-            res = measure(lambda: run_beadchain(args, "hybrid", rtol, tmp), args.repeat)
-            rows.append(dict(solver="beadchain hybrid", rtol=rtol, **res))
+            res = measure(lambda: run_beadchain(args, bead_runs[0][0], rtol, tmp, bead_runs[0][1]),
+                          args.repeat)
+            rows.append(dict(solver=args.main_solver, rtol=rtol, **res))
             print(rows[-1], file=sys.stderr, flush=True)
     write_outputs(args, rows)
 
@@ -242,13 +248,13 @@ def write_outputs(args, rows):
                 r["solver"], args.beads, args.until, r["rtol"], r["rtol"] / 100, r["status"],
                 repr(r["wall"]) if "wall" in r else "", repr(r["energy_error"]) if "energy_error" in r else "",
                 args.repeat))
-    hyb = {r["rtol"]: r for r in rows if r["solver"] == "beadchain hybrid" and r["status"] == "ok"}
+    hyb = {r["rtol"]: r for r in rows if r["solver"] == args.main_solver and r["status"] == "ok"}
     lines = [
         "Uniform striker chain: %d beads, n = %g, a = %g, m = %g, v0 = %g, until %g; atol = rtol/100 "
         "(scaled); median of %d; python %s" % (args.beads, args.exponent, args.prefactor, args.mass,
                                                args.velocity, args.until, args.repeat, sys.version.split()[0]),
         "",
-        "| solver | rtol | wall time (s) | ratio to hybrid | relative energy error |",
+        "| solver | rtol | wall time (s) | ratio to %s | relative energy error |" % args.main_solver,
         "|---|---|---|---|---|",
     ]
     for r in rows:
@@ -260,7 +266,7 @@ def write_outputs(args, rows):
         lines.append("| %s | %g | %.3f | %s | %.1e |" % (r["solver"], r["rtol"], r["wall"], ratio, r["energy_error"]))
     # Equal or better energy error: for every peer run, the cheapest hybrid run (any rtol) whose
     # energy error is at most the peer's.
-    hyb_all = [r for r in rows if r["solver"] == "beadchain hybrid" and r["status"] == "ok"]
+    hyb_all = [r for r in rows if r["solver"] == args.main_solver and r["status"] == "ok"]
     lines += [
         "",
         "At equal or better energy error (cheapest hybrid run, any rtol, with energy error <= the peer's):",
@@ -269,7 +275,7 @@ def write_outputs(args, rows):
         "|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
-        if r["solver"] == "beadchain hybrid" or r["status"] != "ok":
+        if r["solver"] == args.main_solver or r["status"] != "ok":
             continue
         ok = [h for h in hyb_all if h["energy_error"] <= r["energy_error"]]
         if not ok:
