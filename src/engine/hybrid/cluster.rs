@@ -111,6 +111,12 @@ pub enum Pending {
         /// Time of the collision.
         t: f64,
     },
+    /// A contact inside opens at `t` (located on the continuous output,
+    /// [`super::opening`]): the cluster lands there when the queue reaches `t`.
+    Open {
+        /// Located opening time.
+        t: f64,
+    },
 }
 
 /// One cluster of beads `lo..hi` with its integrator.

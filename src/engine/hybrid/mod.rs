@@ -438,6 +438,7 @@ impl<'a> Hybrid<'a> {
                         Some(cluster::Pending::HardWall { side, t }) => {
                             self.process_hard_wall(side, t)?
                         }
+                        Some(cluster::Pending::Open { t }) => self.open_at(slot, t)?,
                         None => self.step_cluster(slot)?,
                     }
                 }
@@ -556,7 +557,8 @@ impl<'a> Hybrid<'a> {
         }
         if let Some(to) = self.first_opening(cl, t0, t1) {
             if earliest.is_none_or(|(te, _)| to < te) {
-                return self.open_at(slot, to);
+                self.defer_open(slot, to);
+                return Ok(());
             }
         }
         let split = earliest.is_none() && self.needs_split(cl);

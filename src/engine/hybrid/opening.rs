@@ -16,7 +16,14 @@
 //! The cluster therefore never integrates across `δ = 0`: every one of its steps sees a smooth
 //! right-hand side. The split rule itself is unchanged (`δ < θ` and `δ̇ < 0`, module docs of
 //! [`super`]) and is applied to the redone step's state at `t*`; only its time is located
-//! instead of taken at the step end. When the redone step disagrees with the continuous output
+//! instead of taken at the step end.
+//!
+//! The landing is **deferred** until the queue reaches `t*`, like a closing: redoing the step
+//! may take several sub-steps, and then the continuous output covers only the last of them.
+//! Landing at once (while the queue is still at the step start) left frames and neighbours'
+//! event searches at earlier times reading the output outside its step, an extrapolation
+//! (frame velocities of ±108 in a box scene whose beads move at 0.3, and a run whose energy
+//! then grew ×10²² through spurious collisions). When the redone step disagrees with the continuous output
 //! (the overlap is still above `θ` at `t*`, a difference at the tolerance level) the cluster
 //! simply continues from `t*` with its integrator as it is: it is not rebuilt, so no loop of
 //! fresh, short starting steps can form.
@@ -63,11 +70,23 @@ impl Hybrid<'_> {
         first
     }
 
+    /// Records a located opening at `t` in the step just taken: the cluster waits in the queue
+    /// until `t` ([`Self::open_at`]); until then its continuous output is the step's, valid
+    /// over the whole of `[t0, t]`.
+    pub(super) fn defer_open(&mut self, slot: u32, t: f64) {
+        self.update_peaks(slot, t);
+        let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
+        cl.pending = Some(Pending::Open { t });
+        cl.t_now = t;
+        let lo = cl.lo;
+        self.queue
+            .push(Key::Cluster(slot), prio(t, 1, lo, Key::Cluster(slot)));
+    }
+
     /// Lands the cluster in `slot` on the located opening time `t` and splits it there if the
     /// split rule holds in the landed state (module docs), or continues it from `t` otherwise.
     pub(super) fn open_at(&mut self, slot: u32, t: f64) -> Result<(), EngineError> {
         self.settle_at(slot, t)?;
-        self.update_peaks(slot, t);
         let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
         let (lo, split) = (cl.lo, self.needs_split(cl));
         let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
