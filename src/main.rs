@@ -32,6 +32,7 @@ mod cli_analysis;
 mod cli_ckpt;
 mod cli_files;
 mod cli_plot;
+mod cli_scene;
 mod cli_sweep;
 
 use clap::Parser;

@@ -44,7 +44,7 @@
 //! until = 150.0            # REQUIRED end time (computer units), > 0
 //! every = 1.0              # output interval; default: only first and last frame
 //! rtol = 1e-8              # relative tolerance in (0, 1); default crate::integrate::DEFAULT_RTOL
-//! atol = 1e-10             # absolute tolerance in (0, 1), relative to the run's scales; default rtol/100
+//! atol = 1e-10             # absolute tolerance in (0, 1), relative to the run's scales; default rtol/1e4 (at least 1e-14)
 //! method = "auto"          # "auto" (default) | "radau5" | "dop853" | "verlet"
 //! engine = "dense"         # "dense" | "hybrid" (default: the CLI's default engine)
 //! ```
@@ -196,6 +196,7 @@ pub(crate) mod hard;
 mod keys;
 pub mod parse;
 pub mod presets;
+pub mod show;
 pub mod units;
 pub mod validate;
 pub mod values;

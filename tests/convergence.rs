@@ -1,0 +1,74 @@
+//! Monotone convergence of the default method (hybrid engine, method auto, default `atol`) on
+//! the non-chaotic benchmark scenes: the final-state velocity error against a tight,
+//! independent reference (dense engine, DOP853, rtol 1e-13, atol 1e-16) falls with every decade
+//! of `rtol` from 1e-4 to 1e-12 until it reaches the reference's own floor (issue "fast by
+//! default": before the fixes there, hybrid DOP853 on the 1000-bead striker went 1.7e-5 at
+//! rtol 1e-8, 1.1e-5 at 1e-9, 4e-8 at 1e-10).
+
+mod common;
+
+use beadchain::engine::{self, Recorder, RunConfig, RunOutcome};
+use beadchain::integrate::Method;
+use beadchain::scene::{preset, Engine, Scene};
+
+/// Errors below this (relative to the largest reference velocity) are at the reference's floor.
+const FLOOR: f64 = 1e-12;
+
+fn run(s: &Scene, engine: Engine, method: Method, rtol: f64, atol: Option<f64>) -> RunOutcome {
+    let mut s = s.clone();
+    s.run.rtol = Some(rtol);
+    s.run.atol = atol;
+    let mut cfg = RunConfig::from_scene(&s);
+    cfg.engine = engine;
+    cfg.method = method;
+    cfg.every = None;
+    engine::run(&s, &cfg, &mut Recorder::default()).expect("run finishes")
+}
+
+/// `max_i |v_i − v_ref,i| / max_i |v_ref,i|`.
+fn vel_error(a: &RunOutcome, r: &RunOutcome) -> f64 {
+    let vmax = r.v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let dv =
+        a.v.iter()
+            .zip(&r.v)
+            .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+    dv / vmax
+}
+
+fn assert_monotone(name: &str, s: &Scene) {
+    let reference = run(s, Engine::Dense, Method::Dop853, 1e-13, Some(1e-16));
+    let errs: Vec<f64> = (4..=12)
+        .map(|k| {
+            let rtol = 10f64.powi(-k);
+            let e = vel_error(
+                &run(s, Engine::Hybrid, Method::Auto, rtol, None),
+                &reference,
+            );
+            println!("{name}: rtol {rtol:e}: relative velocity error {e:.3e}");
+            e
+        })
+        .collect();
+    for (k, w) in errs.windows(2).enumerate() {
+        // relative errors; the absolute floor is FLOOR (the reference's own accuracy)
+        assert!(
+            w[1] < w[0] || w[0].max(w[1]) <= FLOOR,
+            "{name}: error rises from rtol 1e-{} to 1e-{}: {errs:?}",
+            k + 4,
+            k + 5
+        );
+    }
+    assert!(errs[0] > 10.0 * errs[8], "{name}: no convergence: {errs:?}");
+}
+
+#[test]
+fn striker_error_falls_monotonically_with_rtol() {
+    assert_monotone("striker 200", &common::striker(200, 2.5, 1.0, 1.0, 205.0));
+}
+
+#[test]
+fn interface_error_falls_monotonically_with_rtol() {
+    assert_monotone(
+        "interface_3.0_2.5",
+        &preset("interface_3.0_2.5").expect("preset"),
+    );
+}

@@ -1,0 +1,302 @@
+#!/usr/bin/env python3
+"""beadchain against SciPy on any wall-less preset or scene file, side by side in one invocation.
+
+The chain comes from `beadchain scene show SCENE` (every per-bead and per-contact value after the
+builders and the unit conversion, computer units), so SciPy integrates exactly the chain beadchain
+runs: masses m_i, exponents n_k and prefactors a_k per contact, initial u and v (paper eq. 7,
+ü_i = [F_{i-1} - F_i]/m_i with F_k = n_k a_k δ_k^{n_k - 1}, δ_k = max(u_k - u_{k+1}, 0)).
+
+Peers: SciPy ode('vode', bdf, banded Jacobian lband = uband = 3 on the interleaved state),
+solve_ivp LSODA (same band) and DOP853, as in run_peers.py. Tolerances are matched: rtol the same;
+atol = rtol/100 times beadchain's characteristic scales (L for displacements, V_i per bead for
+velocities), and beadchain runs with `--atol rtol/100`.
+
+Accuracy, at the scene's end time:
+  - velocity: max_i |v_i - v_ref,i| / max_i |v_ref,i| against a tight reference (SciPy DOP853 at
+    --reference-rtol, atol = reference-rtol/100 scaled): the metric for non-chaotic scenes;
+  - energy: relative total-energy error (a conserved quantity);
+  - lead: relative error of the leading-wave energy (beads within --lead-window of the fastest
+    bead, kinetic + contact energy) against the reference's: the paper's observable.
+For chaotic scenes (disorder, periodic decay: tolerance-level differences grow) give
+--metric observables: the equal-or-better comparison then uses max(energy, lead) errors.
+
+Wall time: integration only, median of --repeat runs; runs longer than --timeout are recorded
+as "timeout" (a lower bound on their time).
+
+Usage: python3 validation/peers/run_scene_peers.py --scene interface_3.0_2.5
+       [--rtols 1e-6,1e-8,1e-10,1e-12] [--metric velocity|observables] [--repeat 3] [--timeout S]
+       [--peers vode_bdf_banded,lsoda,dop853] [--beadchain hybrid:auto,...] [--out PREFIX]
+"""
+import argparse
+import csv
+import io
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+VENV = os.path.join(HERE, ".venv")
+VPY = os.path.join(VENV, "bin", "python")
+
+
+def ensure_venv():
+    """Re-executes under validation/peers/.venv (created with numpy + scipy if missing)."""
+    try:
+        import numpy  # noqa: F401
+        import scipy  # noqa: F401
+        return
+    except ImportError:
+        pass
+    if os.path.abspath(sys.executable) == os.path.abspath(VPY):
+        sys.exit("run_scene_peers: numpy/scipy missing inside the venv; delete %s and retry" % VENV)
+    if not os.path.exists(VPY):
+        subprocess.check_call([sys.executable, "-m", "venv", VENV])
+        subprocess.check_call([VPY, "-m", "pip", "install", "-q", "numpy", "scipy"])
+    os.execv(VPY, [VPY, os.path.abspath(__file__)] + sys.argv[1:])
+
+
+def chain_of(binary, scene, tmp):
+    """The resolved chain (CSV columns as arrays) and the scene file beadchain will run."""
+    text = subprocess.run([binary, "scene", "show", scene], capture_output=True, text=True, check=True).stdout
+    for key in ("[walls]", "[field]", "[hard]", "precompression ="):
+        if key in text:
+            sys.exit("run_scene_peers: %s: %s is not supported by the SciPy right-hand side here" % (scene, key))
+    path = os.path.join(tmp, "scene.toml")
+    with open(path, "w") as f:
+        f.write(text)
+    until = float([ln for ln in text.splitlines() if ln.startswith("until = ")][0].split("=")[1])
+    rows = list(csv.DictReader(io.StringIO(subprocess.run(
+        [binary, "scene", "show", scene, "--format", "csv"], capture_output=True, text=True, check=True).stdout)))
+    col = lambda k, rs=rows: [float(r[k]) for r in rs]  # noqa: E731
+    chain = dict(mass=col("mass"), u0=col("u0"), v0=col("v0"), exponent=col("exponent", rows[:-1]),
+                 prefactor=col("prefactor", rows[:-1]), until=until)
+    return chain, path
+
+
+def scales(ch):
+    """beadchain's characteristic scales (model.rs `Chain::scales`) of the initial state."""
+    import numpy as np
+    m, u, v = np.array(ch["mass"]), np.array(ch["u0"]), np.array(ch["v0"])
+    n, a = np.array(ch["exponent"]), np.array(ch["prefactor"])
+    d = np.maximum(u[:-1] - u[1:], 0.0)
+    pe = a * d ** n
+    e = 0.5 * np.dot(m, v * v) + pe.sum()
+    carriers = list(m[m * v * v > 0]) + list(m[:-1][pe > 0]) + list(m[1:][pe > 0])
+    m_e = min(carriers)
+    length = max((e / a) ** (1.0 / n))
+    return length, np.sqrt(2.0 * e / np.maximum(m, m_e))
+
+
+def energies(ch, u, v, window):
+    """Total energy and leading-wave energy (beads within `window` of the fastest bead)."""
+    import numpy as np
+    m, n, a = np.array(ch["mass"]), np.array(ch["exponent"]), np.array(ch["prefactor"])
+    pe = a * np.maximum(u[:-1] - u[1:], 0.0) ** n
+    ke = 0.5 * m * v * v
+    k = int(np.argmax(np.abs(v)))
+    lo, hi = max(k - window, 0), min(k + window + 1, len(m))
+    return ke.sum() + pe.sum(), ke[lo:hi].sum() + pe[lo:hi - 1].sum()
+
+
+def worker(spec):
+    import numpy as np
+    from scipy.integrate import ode, solve_ivp
+    ch = spec["chain"]
+    m, n, a = np.array(ch["mass"]), np.array(ch["exponent"]), np.array(ch["prefactor"])
+    na, nm1 = n * a, n - 1.0
+    size = len(m)
+
+    def rhs(_t, z):
+        u = z[0::2]
+        f = na * np.maximum(u[:-1] - u[1:], 0.0) ** nm1
+        acc = np.zeros(size)
+        acc[:-1] -= f
+        acc[1:] += f
+        out = np.empty_like(z)
+        out[0::2] = z[1::2]
+        out[1::2] = acc / m
+        return out
+
+    z0 = np.empty(2 * size)
+    z0[0::2], z0[1::2] = ch["u0"], ch["v0"]
+    atol = np.empty(2 * size)
+    atol[0::2], atol[1::2] = spec["atol_u"], spec["atol_v"]
+    rtol, t_end, method = spec["rtol"], ch["until"], spec["method"]
+    t0 = time.perf_counter()
+    if method == "vode_bdf_banded":
+        r = ode(rhs).set_integrator("vode", method="bdf", with_jacobian=True, rtol=rtol, atol=atol,
+                                    nsteps=10**9, lband=3, uband=3)
+        r.set_initial_value(z0, 0.0)
+        r.integrate(t_end)
+        ok, z = r.successful(), r.y
+    else:
+        kw = dict(method="LSODA", lband=3, uband=3) if method == "lsoda" else dict(method="DOP853")
+        sol = solve_ivp(rhs, (0.0, t_end), z0, rtol=rtol, atol=atol, t_eval=[t_end], **kw)
+        ok, z = sol.success, sol.y[:, -1]
+    wall = time.perf_counter() - t0
+    print(json.dumps({"wall": wall, "ok": bool(ok), "u": list(z[0::2]), "v": list(z[1::2])}))
+
+
+def run_scipy(args, ch, method, rtol, timeout):
+    length, vel = scales(ch)
+    spec = dict(chain=ch, rtol=rtol, method=method, atol_u=rtol / 100 * length,
+                atol_v=list(rtol / 100 * vel))
+    with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
+        json.dump(spec, f)
+    try:
+        out = subprocess.run([sys.executable, os.path.abspath(__file__), "--worker", f.name],
+                             capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return {"status": "timeout"}
+    finally:
+        os.unlink(f.name)
+    if out.returncode != 0:
+        return {"status": "error"}
+    res = json.loads(out.stdout.strip().splitlines()[-1])
+    res["status"] = "ok" if res.pop("ok") else "failed"
+    return res
+
+
+def run_beadchain(args, scene, engine, method, rtol, tmp):
+    import re
+    snap = os.path.join(tmp, "out.snap")
+    cmd = [args.binary, "run", scene, "--engine", engine, "--method", method, "--rtol", repr(rtol),
+           "--atol", repr(rtol / 100), "--out", snap]
+    try:
+        out = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout)
+    except subprocess.TimeoutExpired:
+        return {"status": "timeout"}
+    if out.returncode != 0:
+        return {"status": "error"}
+    wall = float(re.search(r" in ([0-9.eE+-]+) s:", out.stdout).group(1))
+    last = subprocess.run([args.binary, "export", snap, "--frame", "last"], capture_output=True,
+                          text=True, check=True).stdout
+    rows = list(csv.DictReader(io.StringIO(last)))
+    return {"status": "ok", "wall": wall, "u": [float(r["u"]) for r in rows], "v": [float(r["v"]) for r in rows]}
+
+
+def score(ch, res, ref, window):
+    import numpy as np
+    if res["status"] != "ok":
+        return res
+    u, v, vr = np.array(res["u"]), np.array(res["v"]), np.array(ref["v"])
+    e0, _ = energies(ch, np.array(ch["u0"]), np.array(ch["v0"]), window)
+    e1, lead = energies(ch, u, v, window)
+    _, lead_ref = energies(ch, np.array(ref["u"]), vr, window)
+    return dict(status="ok", wall=res["wall"], velocity=float(np.abs(v - vr).max() / np.abs(vr).max()),
+                energy=abs(e1 - e0) / abs(e0), lead=abs(lead - lead_ref) / abs(lead_ref))
+
+
+def measure(fn, repeat):
+    walls, res = [], None
+    for _ in range(repeat):
+        res = fn()
+        if res["status"] != "ok":
+            return res
+        walls.append(res["wall"])
+    res["wall"] = statistics.median(walls)
+    return res
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--worker", help=argparse.SUPPRESS)
+    ap.add_argument("--scene", default="interface_3.0_2.5")
+    ap.add_argument("--rtols", default="1e-6,1e-8,1e-10,1e-12")
+    ap.add_argument("--hybrid-rtols", default="1e-4,1e-5,1e-6,1e-7,1e-8,1e-9,1e-10,1e-11,1e-12")
+    ap.add_argument("--metric", choices=["velocity", "observables"], default="velocity")
+    ap.add_argument("--reference-rtol", type=float, default=1e-13)
+    ap.add_argument("--lead-window", type=int, default=10)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--timeout", type=float, default=600.0)
+    ap.add_argument("--peers", default="vode_bdf_banded,lsoda,dop853")
+    ap.add_argument("--beadchain", default="hybrid:auto,dense:dop853")
+    ap.add_argument("--binary", default=os.path.join(ROOT, "target", "release", "beadchain"))
+    ap.add_argument("--out", help="writes OUT.csv and OUT.md [default: validation/peers/scene-SCENE]")
+    args = ap.parse_args()
+    if args.worker:
+        with open(args.worker) as f:
+            return worker(json.load(f))
+    out = args.out or os.path.join(HERE, "scene-" + os.path.basename(args.scene).replace(".toml", ""))
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        ch, scene = chain_of(args.binary, args.scene, tmp)
+        print("reference: scipy dop853 rtol %g ..." % args.reference_rtol, file=sys.stderr, flush=True)
+        ref = run_scipy(args, ch, "dop853", args.reference_rtol, 100 * args.timeout)
+        if ref["status"] != "ok":
+            sys.exit("run_scene_peers: reference run: %s" % ref["status"])
+        runs = [tuple(x.split(":")) for x in args.beadchain.split(",") if x]
+        main_solver = "beadchain %s %s" % runs[0]
+        rtols = [float(x) for x in args.rtols.split(",")]
+        extra = [float(x) for x in args.hybrid_rtols.split(",") if x and float(x) not in rtols]
+        jobs = [(r, "beadchain %s %s" % em, lambda r=r, em=em: run_beadchain(args, scene, em[0], em[1], r, tmp))
+                for r in rtols for em in runs]
+        jobs += [(r, "scipy " + p, lambda r=r, p=p: run_scipy(args, ch, p, r, args.timeout))
+                 for r in rtols for p in args.peers.split(",") if p]
+        jobs += [(r, main_solver, lambda r=r: run_beadchain(args, scene, runs[0][0], runs[0][1], r, tmp))
+                 for r in extra]
+        for rtol, solver, fn in jobs:
+            res = score(ch, measure(fn, args.repeat), ref, args.lead_window)
+            rows.append(dict(solver=solver, rtol=rtol, **res))
+            print({k: v for k, v in rows[-1].items()}, file=sys.stderr, flush=True)
+    write(args, out, rows, main_solver)
+
+
+def err_of(args, r):
+    return r["velocity"] if args.metric == "velocity" else max(r["energy"], r["lead"])
+
+
+def write(args, out, rows, main_solver):
+    with open(out + ".csv", "w") as f:
+        f.write("scene,solver,rtol,atol_rel,status,wall_seconds,velocity_error,energy_error,lead_error,repeat\n")
+        for r in rows:
+            vals = ["%r" % r[k] if k in r else "" for k in ("wall", "velocity", "energy", "lead")]
+            f.write("%s,%s,%r,%r,%s,%s,%d\n" % (args.scene, r["solver"], r["rtol"], r["rtol"] / 100,
+                                                r["status"], ",".join(vals), args.repeat))
+    metric = "final velocity error" if args.metric == "velocity" else "max(energy error, leading-wave energy error)"
+    lines = ["Scene `%s`; atol = rtol/100 (scaled); reference SciPy DOP853 rtol %g; median of %d; "
+             "error metric for the comparison: %s" % (args.scene, args.reference_rtol, args.repeat, metric), "",
+             "| solver | rtol | wall (s) | velocity error | energy error | lead-energy error |",
+             "|---|---|---|---|---|---|"]
+    for r in rows:
+        if r["status"] != "ok":
+            lines.append("| %s | %g | %s | | | |" % (r["solver"], r["rtol"], r["status"]))
+        else:
+            lines.append("| %s | %g | %.3f | %.1e | %.1e | %.1e |" % (
+                r["solver"], r["rtol"], r["wall"], r["velocity"], r["energy"], r["lead"]))
+    hyb = [r for r in rows if r["solver"] == main_solver and r["status"] == "ok"]
+    lines += ["", "At equal or better error (%s): the cheapest %s run, any rtol:" % (metric, main_solver), "",
+              "| peer | rtol | wall (s) | error | beadchain rtol | beadchain wall (s) | beadchain error | speed-up |",
+              "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        if r["solver"] == main_solver:
+            continue
+        if r["status"] != "ok":
+            same = [h for h in hyb if h["rtol"] == r["rtol"]]
+            bound = "> %.0f× vs the same rtol" % (args.timeout / max(same[0]["wall"], 1e-4)) if same else ""
+            lines.append("| %s | %g | %s (> %g s) | | | | | %s |" % (
+                r["solver"], r["rtol"], r["status"], args.timeout, bound))
+            continue
+        ok = [h for h in hyb if err_of(args, h) <= err_of(args, r)]
+        if not ok:
+            lines.append("| %s | %g | %.3f | %.1e | none as accurate | | | |" % (
+                r["solver"], r["rtol"], r["wall"], err_of(args, r)))
+            continue
+        h = min(ok, key=lambda h: h["wall"])
+        lines.append("| %s | %g | %.3f | %.1e | %g | %.3f | %.1e | %.0f× |" % (
+            r["solver"], r["rtol"], r["wall"], err_of(args, r), h["rtol"], h["wall"], err_of(args, h),
+            r["wall"] / max(h["wall"], 1e-4)))
+    text = "\n".join(lines) + "\n"
+    with open(out + ".md", "w") as f:
+        f.write(text)
+    print(text)
+
+
+if __name__ == "__main__":
+    ensure_venv()
+    main()
