@@ -274,6 +274,10 @@ fn cmd_inspect(file: &std::path::Path) -> Result<i32> {
     Ok(0)
 }
 
+/// Below this relative tolerance, rounding in f64 (≈ 1.1e-16 per operation, accumulated over a
+/// step's stages) dominates the error estimate: a warning, not an error.
+const RTOL_F64_FLOOR: f64 = 1e-14;
+
 pub(crate) fn load_scene(spec: &str) -> Result<Scene> {
     let scene = scene::load(spec)?;
     for w in scene::validate(&scene)? {
@@ -295,6 +299,12 @@ fn config(scene: &Scene, c: &Common) -> RunConfig {
     }
     if let Some(a) = c.atol {
         cfg.atol = a;
+    }
+    if cfg.rtol > 0.0 && cfg.rtol < RTOL_F64_FLOOR {
+        eprintln!(
+            "beadchain: warning: rtol = {:e} is below what f64 arithmetic can deliver (~{RTOL_F64_FLOOR:e} relative): the error will stall there",
+            cfg.rtol
+        );
     }
     if let Some(t) = c.until {
         cfg.until = t;
@@ -322,6 +332,7 @@ fn cmd_run(a: RunArgs) -> Result<i32> {
     }
     scene.run.until = cfg.until;
     scene.run.every = cfg.every;
+    engine::check_config(&cfg).with_context(|| scene.name.clone())?;
     let out_path = a
         .out
         .clone()

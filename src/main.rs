@@ -35,10 +35,45 @@ mod cli_plot;
 mod cli_scene;
 mod cli_sweep;
 
-use clap::Parser;
+use clap::{CommandFactory, FromArgMatches};
+
+/// Every (sub)command takes negative numbers as values (`--every -1` is then refused by the
+/// validator with the real reason, not by the parser as an unknown flag).
+fn allow_negative_numbers(c: clap::Command) -> clap::Command {
+    c.allow_negative_numbers(true)
+        .mut_subcommands(allow_negative_numbers)
+}
+
+/// `--key -1e-8` → `--key=-1e-8`: clap takes `-1` but not `-1e-8` for a negative number.
+fn join_negative_values(args: Vec<std::ffi::OsString>) -> Vec<std::ffi::OsString> {
+    let mut out: Vec<std::ffi::OsString> = Vec::with_capacity(args.len());
+    for a in args {
+        let joins = a
+            .to_str()
+            .is_some_and(|s| s.starts_with('-') && s.parse::<f64>().is_ok())
+            && out
+                .last()
+                .and_then(|p| p.to_str())
+                .is_some_and(|p| p.starts_with("--") && p.len() > 2 && !p.contains('='));
+        match out.last_mut() {
+            Some(prev) if joins => {
+                prev.push("=");
+                prev.push(&a);
+            }
+            _ => out.push(a),
+        }
+    }
+    out
+}
+
+fn parse() -> Result<cli::Cli, clap::Error> {
+    let args = join_negative_values(std::env::args_os().collect());
+    let matches = allow_negative_numbers(cli::Cli::command()).try_get_matches_from(args)?;
+    cli::Cli::from_arg_matches(&matches)
+}
 
 fn main() {
-    let args = match cli::Cli::try_parse() {
+    let args = match parse() {
         Ok(a) => a,
         Err(e) => {
             use clap::error::ErrorKind;

@@ -292,7 +292,9 @@ pub fn run(
     }
 }
 
-fn check_config(cfg: &RunConfig) -> Result<(), EngineError> {
+/// Checks a run configuration's tolerances and times (the engines call it; the CLI calls it
+/// before it creates any output file).
+pub fn check_config(cfg: &RunConfig) -> Result<(), EngineError> {
     let bad = |what: &str, x: f64| EngineError::Config(format!("{what} = {x} must be in (0, 1)"));
     if !(cfg.rtol > 0.0 && cfg.rtol < 1.0) {
         return Err(bad("rtol", cfg.rtol));

@@ -13,7 +13,9 @@ velocities), and beadchain runs with `--atol rtol/100`.
 
 Accuracy, at the scene's end time:
   - velocity: max_i |v_i - v_ref,i| / max_i |v_ref,i| against a tight reference (SciPy DOP853 at
-    --reference-rtol, atol = reference-rtol/100 scaled): the metric for non-chaotic scenes;
+    --reference-rtol, atol = reference-rtol/100 scaled; or, with --reference dense, beadchain's
+    dense engine, which shares no event code with the hybrid one): the metric for non-chaotic
+    scenes;
   - energy: relative total-energy error (a conserved quantity);
   - lead: relative error of the leading-wave energy (beads within --lead-window of the fastest
     bead, kinetic + contact energy) against the reference's: the paper's observable.
@@ -211,6 +213,8 @@ def main():
     ap.add_argument("--hybrid-rtols", default="1e-4,1e-5,1e-6,1e-7,1e-8,1e-9,1e-10,1e-11,1e-12")
     ap.add_argument("--metric", choices=["velocity", "observables"], default="velocity")
     ap.add_argument("--reference-rtol", type=float, default=1e-13)
+    ap.add_argument("--reference", choices=["scipy", "dense"], default="scipy",
+                    help="reference run: SciPy DOP853 or beadchain's dense engine (DOP853, no events)")
     ap.add_argument("--lead-window", type=int, default=10)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--timeout", type=float, default=600.0)
@@ -226,8 +230,13 @@ def main():
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         ch, scene = chain_of(args.binary, args.scene, tmp)
-        print("reference: scipy dop853 rtol %g ..." % args.reference_rtol, file=sys.stderr, flush=True)
-        ref = run_scipy(args, ch, "dop853", args.reference_rtol, 100 * args.timeout)
+        print("reference: %s dop853 rtol %g ..." % (args.reference, args.reference_rtol), file=sys.stderr, flush=True)
+        if args.reference == "scipy":
+            ref = run_scipy(args, ch, "dop853", args.reference_rtol, 100 * args.timeout)
+        else:
+            saved, args.timeout = args.timeout, 100 * args.timeout
+            ref = run_beadchain(args, scene, "dense", "dop853", args.reference_rtol, tmp)
+            args.timeout = saved
         if ref["status"] != "ok":
             sys.exit("run_scene_peers: reference run: %s" % ref["status"])
         runs = [tuple(x.split(":")) for x in args.beadchain.split(",") if x]
@@ -259,8 +268,9 @@ def write(args, out, rows, main_solver):
             f.write("%s,%s,%r,%r,%s,%s,%d\n" % (args.scene, r["solver"], r["rtol"], r["rtol"] / 100,
                                                 r["status"], ",".join(vals), args.repeat))
     metric = "final velocity error" if args.metric == "velocity" else "max(energy error, leading-wave energy error)"
-    lines = ["Scene `%s`; atol = rtol/100 (scaled); reference SciPy DOP853 rtol %g; median of %d; "
-             "error metric for the comparison: %s" % (args.scene, args.reference_rtol, args.repeat, metric), "",
+    lines = ["Scene `%s`; atol = rtol/100 (scaled); reference %s DOP853 rtol %g; median of %d; "
+             "error metric for the comparison: %s" % (args.scene, "SciPy" if args.reference == "scipy" else
+                                                     "beadchain dense", args.reference_rtol, args.repeat, metric), "",
              "| solver | rtol | wall (s) | velocity error | energy error | lead-energy error |",
              "|---|---|---|---|---|---|"]
     for r in rows:

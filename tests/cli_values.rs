@@ -1,0 +1,51 @@
+//! Command-line values: negative numbers reach the validator (its message, not the parser's
+//! "unexpected argument"), and an rtol below what f64 can deliver gets a warning.
+
+use std::process::Command;
+
+fn beadchain(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_beadchain"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("start beadchain")
+}
+
+/// Before: `--every -1` failed with "unexpected argument '-1' found"; `--until -5` likewise.
+#[test]
+fn negative_every_is_a_value_with_the_validators_error() {
+    let d = tempfile::tempdir().expect("tempdir");
+    for (flag, value, needle) in [
+        ("--every", "-1", "every = -1 must be positive and finite"),
+        ("--until", "-5", "until = -5 must be positive and finite"),
+        ("--rtol", "-1e-8", "rtol = -0.00000001 must be in (0, 1)"),
+    ] {
+        let o = beadchain(
+            d.path(),
+            &["run", "striker", flag, value, "--out", "x.snap"],
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        println!("{flag} {value}: {err}");
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(needle), "{flag} {value}: {err}");
+        assert!(!d.path().join("x.snap").exists(), "output written");
+    }
+}
+
+#[test]
+fn rtol_below_f64_reach_is_warned() {
+    let d = tempfile::tempdir().expect("tempdir");
+    let o = beadchain(
+        d.path(),
+        &[
+            "run", "striker", "--rtol", "1e-15", "--until", "5", "--out", "x.snap",
+        ],
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("warning: rtol = 1e-15 is below what f64 arithmetic can deliver"),
+        "{err}"
+    );
+}
