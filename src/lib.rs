@@ -8,6 +8,7 @@
 
 pub mod accuracy;
 pub mod analysis;
+pub mod check;
 pub mod engine;
 pub mod export;
 pub mod files;

@@ -29,6 +29,7 @@ macro_rules! out {
 
 mod cli;
 mod cli_analysis;
+mod cli_check;
 mod cli_ckpt;
 mod cli_files;
 mod cli_plot;
