@@ -147,7 +147,7 @@ enum SolverArg {
 struct Common {
     /// Scene file (TOML) or preset name (see `beadchain scenes`).
     scene: String,
-    /// Integration method [default: the scene's, else radau5].
+    /// Integration method [default: the scene's, else auto].
     #[arg(long, value_enum)]
     method: Option<MethodArg>,
     /// Relative tolerance [default: the scene's, else 1e-8].

@@ -1,7 +1,7 @@
 //! beadchain: simulator for one-dimensional granular chains with Hertz-like contacts.
 //!
-//! See README.md for the scene format and CLI. The physics follows
-//! `paper-hertz-like-interfaces.tex` (eqs. 1–11 and appendix A).
+//! See README.md (quick start) and docs/ (scene format: docs/scenes.md, CLI: docs/cli.md). The
+//! physics follows `paper-hertz-like-interfaces.tex` (eqs. 1–11 and appendix A).
 
 // Numerical kernels index several arrays in lock-step; index loops read closer to the formulas.
 #![allow(clippy::needless_range_loop)]
