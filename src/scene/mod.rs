@@ -46,7 +46,7 @@
 //! rtol = 1e-8              # relative tolerance in (0, 1); default 1e-8
 //! atol = 1e-10             # absolute tolerance in (0, 1), relative to the run's scales; default rtol/1e4 (at least 1e-14)
 //! method = "auto"          # "auto" (default) | "radau5" | "dop853" | "verlet"
-//! engine = "dense"         # "dense" | "hybrid" (default: the CLI's default engine)
+//! engine = "dense"         # "dense" | "hybrid" (default "hybrid"; `--engine` overrides)
 //! ```
 //!
 //! Initial velocities are applied in the order `velocity`, `pulse`, `striker`, `striker_right` (later
