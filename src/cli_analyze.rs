@@ -225,15 +225,17 @@ fn fits(
     n: usize,
 ) -> (Result<ExpFit, String>, Result<(f64, usize), String>) {
     let defaults = "default: positions 20 (or k + 10) to N - 10; set --fit-from/--fit-to";
-    let why = if !(x0 <= x1) && !(x1 >= 0.0) {
+    // comparisons written so that NaN counts as "not ordered" / "not positive"
+    let (ordered, end_inside, positive) = (x0 <= x1, x1 >= 0.0, e_ref > 0.0);
+    let why = if !ordered && !end_inside {
         Some(format!(
             "the chain has {n} beads, too few for the fit range ({defaults})"
         ))
-    } else if !(x0 <= x1) {
+    } else if !ordered {
         Some(format!(
             "the fit range starts at position {x0}, after its end {x1} (chain of {n} beads; {defaults})"
         ))
-    } else if !(e_ref > 0.0) {
+    } else if !positive {
         Some("the energy scale is 0 (the chain is at rest)".to_string())
     } else {
         None
@@ -313,7 +315,7 @@ fn summary(args: &AnalyzeArgs, a: &Analysis) -> String {
     );
     let scale_note = if a.e0 > 0.0 && a.e_ref - a.e0 <= 1e-6 * a.e_ref {
         "E0".to_string()
-    } else if !(a.e_ref > 0.0) {
+    } else if a.e_ref.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         "E_ref: none (the energy scale is 0: the chain is at rest), so they are not computed"
             .to_string()
     } else {

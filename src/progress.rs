@@ -47,9 +47,7 @@ impl RunProgress {
             ProgressDrawTarget::stderr_with_hz(10)
         };
         let bar = ProgressBar::with_draw_target(Some(TICKS), target);
-        if let Ok(style) =
-            ProgressStyle::with_template("{bar:30} {msg} [{elapsed} elapsed, eta {eta}]")
-        {
+        if let Ok(style) = ProgressStyle::with_template("{bar:20} {msg} [{elapsed}, eta {eta}]") {
             bar.set_style(style);
         }
         Self { bar }
@@ -134,7 +132,7 @@ impl Watch<'_> {
         self.bar
             .set_position((self.fraction(t) * TICKS as f64).round() as u64);
         self.bar.set_message(format!(
-            "{}t = {t:.4e} of {:.4e}, {rate:.3e} events/s",
+            "{}t = {t:.4e} of {:.4e}, {rate:.2e} events/s",
             self.label, self.until
         ));
     }
