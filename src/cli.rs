@@ -27,7 +27,7 @@ enum Cmd {
     Run(RunArgs),
     /// Run the hybrid and the dense engine on a scene and compare them.
     Check(CheckArgs),
-    /// Export frames (or the event log) of a snapshot as CSV or NPY.
+    /// Export frames (or the event log) of a snapshot as CSV, NPY or NPZ (long or wide layout).
     Export(crate::cli_export::ExportArgs),
     /// Print a snapshot's header, frame count, time span and energies.
     Inspect {

@@ -46,7 +46,7 @@ pub struct ExportArgs {
     /// Export the event log (CSV) instead of frames.
     #[arg(long)]
     events: bool,
-    /// Output path [default: standard output for CSV; required for NPY; `-`: standard output].
+    /// Output path [default: standard output for CSV; required for NPY/NPZ; `-`: standard output].
     #[arg(long)]
     out: Option<PathBuf>,
 }
