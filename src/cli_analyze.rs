@@ -157,40 +157,10 @@ fn analyze(args: &AnalyzeArgs) -> Result<Analysis> {
         .unwrap_or(k_if.map_or(20.0, |k| k as f64 + 10.0));
     let x1 = args.fit_to.unwrap_or(n as f64 - 10.0);
     let (fit, speed) = fits(&track, (x0, x1), e_ref, n);
-    // incoming-wave energy: the leading wave once developed (position >= 10 beads, or k/2), in
-    // the last frame before it reaches the interface (or the first such frame without one)
-    let developed = k_if.map_or(10.0, |k| (k as f64 / 2.0).min(10.0));
-    let mut before = track
-        .iter()
-        .filter(|p| p.position >= developed && k_if.is_none_or(|k| p.pulse.last + 2 < k));
-    let e_in = if k_if.is_some() {
-        before.next_back()
-    } else {
-        before.next()
-    }
-    .map(|p| p.energy);
+    let e_in = incoming_energy(&track, k_if);
     let frag = fragmentation(&chain, &last.u, &last.v, 0.0);
     let steady = is_steady_state(&chain, &last.u, &last.v, 1e-5);
-    let iface = k_if.map(|k| {
-        let s = energy_split(&chain, &last.u, &last.v, k);
-        let vr = velocity_ratio(frames.iter().map(|f| f.v.as_slice()), k, (k / 2).min(20), 3);
-        // reflected solitary wave: the largest left-moving pulse left of k in the final frame
-        let refl = detect_pulses(&last.v, &opts)
-            .into_iter()
-            .filter(|p| p.peak_velocity < 0.0 && p.last < k)
-            .max_by(|a, b| a.peak_velocity.abs().total_cmp(&b.peak_velocity.abs()));
-        Iface {
-            k,
-            left: s.left,
-            right: s.right,
-            refl: refl.map(|p| (p.first, p.last)),
-            e_refl: refl.map_or(0.0, |p| {
-                wave_energy(&chain, &last.u, &last.v, p.first, p.last)
-            }),
-            v_in: vr.v_in,
-            v_out: vr.v_out,
-        }
-    });
+    let iface = k_if.map(|k| interface(&chain, &frames, &last, k, &opts));
     Ok(Analysis {
         n,
         track,
@@ -214,6 +184,50 @@ fn analyze(args: &AnalyzeArgs) -> Result<Analysis> {
         iface,
         frames,
     })
+}
+
+/// Incoming-wave energy: the leading wave once developed (position >= 10 beads, or k/2), in
+/// the last frame before it reaches the interface `k` (or the first such frame without one).
+fn incoming_energy(track: &[TrackPoint], k_if: Option<usize>) -> Option<f64> {
+    let developed = k_if.map_or(10.0, |k| (k as f64 / 2.0).min(10.0));
+    let mut before = track
+        .iter()
+        .filter(|p| p.position >= developed && k_if.is_none_or(|k| p.pulse.last + 2 < k));
+    if k_if.is_some() {
+        before.next_back()
+    } else {
+        before.next()
+    }
+    .map(|p| p.energy)
+}
+
+/// The energy split at bead `k` in the final frame, the largest reflected pulse, and the
+/// velocity ratio over all frames.
+fn interface(
+    chain: &beadchain::model::Chain,
+    frames: &[Frame],
+    last: &Frame,
+    k: usize,
+    opts: &WaveOptions,
+) -> Iface {
+    let s = energy_split(chain, &last.u, &last.v, k);
+    let vr = velocity_ratio(frames.iter().map(|f| f.v.as_slice()), k, (k / 2).min(20), 3);
+    // reflected solitary wave: the largest left-moving pulse left of k in the final frame
+    let refl = detect_pulses(&last.v, opts)
+        .into_iter()
+        .filter(|p| p.peak_velocity < 0.0 && p.last < k)
+        .max_by(|a, b| a.peak_velocity.abs().total_cmp(&b.peak_velocity.abs()));
+    Iface {
+        k,
+        left: s.left,
+        right: s.right,
+        refl: refl.map(|p| (p.first, p.last)),
+        e_refl: refl.map_or(0.0, |p| {
+            wave_energy(chain, &last.u, &last.v, p.first, p.last)
+        }),
+        v_in: vr.v_in,
+        v_out: vr.v_out,
+    }
 }
 
 /// The decay fit and the speed fit over the leading-wave points inside `[x0, x1]`; an error
