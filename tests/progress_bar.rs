@@ -247,3 +247,44 @@ fn progress_observer_leaves_results_bit_identical() {
         assert!(bar.is_hidden());
     }
 }
+
+/// Positive control (skipped without util-linux `script`): under a pseudo-terminal the bar is
+/// drawn (its text reaches the terminal) and `-q` hides it; the results print after it.
+#[test]
+fn progress_bar_is_drawn_on_a_terminal_unless_quiet() {
+    if Command::new("script").arg("--version").output().is_err() {
+        eprintln!("`script` not available: pseudo-terminal check skipped");
+        return;
+    }
+    let d = tempfile::tempdir().unwrap();
+    let scene = LONG.replace("until = 250.0", "until = 2000.0");
+    std::fs::write(d.path().join("s.toml"), scene).unwrap();
+    let on_tty = |extra: &str| -> String {
+        let cmd = format!("{BIN} run s.toml --out t.snap {extra}");
+        let o = Command::new("script")
+            .args(["-qec", &cmd, "/dev/null"])
+            .current_dir(d.path())
+            .stdin(Stdio::null())
+            .output()
+            .expect("script runs");
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        String::from_utf8_lossy(&o.stdout).to_string()
+    };
+    let shown = on_tty("");
+    assert!(
+        shown.contains("events/s") && shown.contains("of 2.0000e3"),
+        "{shown:?}"
+    );
+    assert!(shown.contains("wrote t.snap"), "{shown:?}");
+    let quiet = on_tty("-q");
+    assert!(
+        !quiet.contains("events/s") && !quiet.contains('\x1b'),
+        "{quiet:?}"
+    );
+    assert!(quiet.contains("wrote t.snap"), "{quiet:?}");
+}
