@@ -37,7 +37,7 @@ pub fn run(scene: &Scene, engine: Engine, method: Method, rtol: f64, until: f64)
 }
 
 /// Time for the solitary wave (n = 2.5, m = a = v0 = 1) to cross `n` beads: 1.21 beads per
-/// time unit (measured; README), plus 5 %.
+/// time unit (measured; `t_end` of the scaling tables in docs/benchmarks.md), plus 5 %.
 pub fn exit_time(n: usize) -> f64 {
     n as f64 / 1.21 * 1.05
 }

@@ -2,7 +2,7 @@
 
 use crate::cli_ckpt;
 use anyhow::{bail, Context, Result};
-use beadchain::engine::{self, Recorder, RunConfig, RunOutcome};
+use beadchain::engine::{self, RunConfig, RunOutcome};
 use beadchain::export;
 use beadchain::integrate::Method;
 use beadchain::linalg::SolverKind;
@@ -154,7 +154,7 @@ enum SolverArg {
 struct Common {
     /// Scene file (TOML) or preset name (see `beadchain scenes`).
     scene: String,
-    /// Integration method [default: the scene's, else radau5].
+    /// Integration method [default: the scene's, else auto].
     #[arg(long, value_enum)]
     method: Option<MethodArg>,
     /// Relative tolerance [default: the scene's, else 1e-8].
@@ -207,8 +207,8 @@ struct RunArgs {
 struct CheckArgs {
     #[command(flatten)]
     common: Common,
-    /// Allowed deviation, relative to the largest |v| (for u: to the largest |u| change)
-    /// [default: 1000·rtol].
+    /// Allowed trajectory deviation, relative to the largest |v| (for u: to the largest |u|
+    /// change), when the scene is not more sensitive than that [default: 1000·rtol].
     #[arg(long)]
     tol: Option<f64>,
 }
@@ -466,63 +466,10 @@ pub fn print_outcome(
 
 fn cmd_check(a: CheckArgs) -> Result<i32> {
     let scene = load_scene(&a.common.scene)?;
-    if scene.chain.has_hard() {
-        bail!(
-            "{}: [hard]/[walls]: check compares the hybrid with the dense engine, which has no hard contacts or hard walls; run it with `beadchain run` (hybrid engine) instead",
-            a.common.scene
-        );
-    }
     let base = config(&scene, &a.common);
+    engine::check_config(&base).with_context(|| scene.name.clone())?;
     let tol = a.tol.unwrap_or(1000.0 * base.rtol);
-    let mut dense_cfg = base.clone();
-    dense_cfg.engine = Engine::Dense;
-    dense_cfg.every = None;
-    let mut hyb_cfg = base;
-    hyb_cfg.engine = Engine::Hybrid;
-    hyb_cfg.every = None;
-    let bar = RunProgress::new(a.common.quiet);
-    let run = |cfg: &RunConfig, label: &str| {
-        let mut rec = Recorder::default();
-        let r = engine::run(&scene, cfg, &mut bar.watch(&mut rec, 0.0, cfg.until, label));
-        bar.finish();
-        r
-    };
-    let h = run(&hyb_cfg, "hybrid: ").context("hybrid run failed")?;
-    let d = run(&dense_cfg, "dense: ").context("dense run failed")?;
-    let dev = engine::Deviation::between(&scene, &h, &d);
-    let ((du, iu), (dv, iv)) = (dev.du, dev.dv);
-    let (rel_u, rel_v) = (dev.rel_u, dev.rel_v);
-    let (umax, vmax) = dev.scale;
-    outln!(
-        "{}: {} beads, t = {}, method {}, rtol {:e}, atol {:e}",
-        scene.name,
-        scene.chain.len(),
-        hyb_cfg.until,
-        hyb_cfg.method.name(),
-        hyb_cfg.rtol,
-        hyb_cfg.atol
-    );
-    outln!("max |u_hybrid - u_dense| = {du:.3e} at bead {iu} ({rel_u:.3e} of the largest displacement {umax:.3e})");
-    outln!("max |v_hybrid - v_dense| = {dv:.3e} at bead {iv} ({rel_v:.3e} of the largest velocity {vmax:.3e})");
-    outln!(
-        "energy error: hybrid {:.3e}, dense {:.3e}",
-        h.relative_energy_error(),
-        d.relative_energy_error()
-    );
-    outln!(
-        "wall time: hybrid {:.4} s ({} active bead-steps), dense {:.4} s ({} bead-steps); ratio {:.1}x",
-        h.wall_seconds,
-        h.stats.bead_steps,
-        d.wall_seconds,
-        d.stats.bead_steps,
-        d.wall_seconds / h.wall_seconds.max(1e-12)
-    );
-    if rel_u > tol || rel_v > tol {
-        outln!("FAIL: deviation exceeds tolerance {tol:.3e}");
-        return Ok(1);
-    }
-    outln!("OK: deviations within tolerance {tol:.3e}");
-    Ok(0)
+    crate::cli_check::cmd_check(&scene, &base, tol, a.common.quiet)
 }
 
 fn cmd_accuracy(a: AccuracyArgs) -> Result<i32> {

@@ -1,13 +1,14 @@
 //! beadchain: simulator for one-dimensional granular chains with Hertz-like contacts.
 //!
-//! See README.md for the scene format and CLI. The physics follows
-//! `paper-hertz-like-interfaces.tex` (eqs. 1–11 and appendix A).
+//! See README.md (quick start) and docs/ (scene format: docs/scenes.md, CLI: docs/cli.md). The
+//! physics follows `paper-hertz-like-interfaces.tex` (eqs. 1–11 and appendix A).
 
 // Numerical kernels index several arrays in lock-step; index loops read closer to the formulas.
 #![allow(clippy::needless_range_loop)]
 
 pub mod accuracy;
 pub mod analysis;
+pub mod check;
 pub mod engine;
 pub mod export;
 pub mod files;

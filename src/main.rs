@@ -30,6 +30,7 @@ macro_rules! out {
 mod cli;
 mod cli_analysis;
 mod cli_analyze;
+mod cli_check;
 mod cli_ckpt;
 mod cli_export;
 mod cli_files;

@@ -226,19 +226,6 @@ fn huge_sweep_grid_is_refused_before_expansion() {
 }
 
 #[test]
-fn check_of_a_hard_scene_is_a_clear_error() {
-    let hard = format!("{TINY}[hard]\ncontacts = \"all\"\n");
-    let d = dir_with(&[("h.toml", &hard)]);
-    refused(
-        "check on a hard scene",
-        d.path(),
-        &["check", "h.toml"],
-        &["h.toml", "dense engine", "hard contacts", "beadchain run"],
-        10.0,
-    );
-}
-
-#[test]
 fn plot_of_extreme_values_finishes() {
     use beadchain::scene::{parse_str, Engine};
     use beadchain::snapshot::{Header, RunSummary, SnapshotWriter};

@@ -21,7 +21,7 @@
 //! - [`faer_lu::FaerLu`]: faer's sparse LU with the symbolic analysis done once per pattern.
 //!
 //! [`SolverKind::Auto`] picks the faster one per size (see `benches/linear_solvers.rs` and the
-//! numbers in README).
+//! numbers in docs/benchmarks.md).
 
 pub mod direct;
 pub mod faer_lu;
@@ -97,7 +97,7 @@ pub trait TridiagSolver<T: Scalar>: Send {
 /// Which linear solver the implicit integrator uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub enum SolverKind {
-    /// The faster one for the system size (measured; see README).
+    /// The faster one for the system size (measured; see docs/benchmarks.md).
     #[default]
     Auto,
     /// The direct tridiagonal sweep.

@@ -2,8 +2,8 @@
 //!
 //! Entry points: [`load`] (file path or preset name), [`parse_str`], [`validate()`], [`presets()`] /
 //! [`preset`]. Value forms and builders live in [`values`], the physical-unit conversion (paper
-//! eqs. 3–4, 10–11) in [`units`]. The key reference below is also the README's
-//! "Scene files" section.
+//! eqs. 3–4, 10–11) in [`units`]. The key reference below is also in
+//! docs/scenes.md ("Scene files").
 //!
 //!
 //! A scene is one TOML file (or a preset name: `beadchain scenes` lists them). Every key below is
@@ -43,10 +43,10 @@
 //! [run]
 //! until = 150.0            # REQUIRED end time (computer units), > 0
 //! every = 1.0              # output interval; default: only first and last frame
-//! rtol = 1e-8              # relative tolerance in (0, 1); default crate::integrate::DEFAULT_RTOL
+//! rtol = 1e-8              # relative tolerance in (0, 1); default 1e-8
 //! atol = 1e-10             # absolute tolerance in (0, 1), relative to the run's scales; default rtol/1e4 (at least 1e-14)
 //! method = "auto"          # "auto" (default) | "radau5" | "dop853" | "verlet"
-//! engine = "dense"         # "dense" | "hybrid" (default: the CLI's default engine)
+//! engine = "dense"         # "dense" | "hybrid" (default "hybrid"; `--engine` overrides)
 //! ```
 //!
 //! Initial velocities are applied in the order `velocity`, `pulse`, `striker`, `striker_right` (later

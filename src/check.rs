@@ -1,0 +1,214 @@
+//! `beadchain check`: is the hybrid engine right on this scene, told apart from how sensitive
+//! the scene itself is.
+//!
+//! A trajectory comparison alone cannot judge a chaotic scene (disorder, periodic decay, gases):
+//! tolerance-level differences between two correct runs grow there until the final states
+//! differ at order one. So the check measures the scene's own **sensitivity** first, by running
+//! the reference engine twice, at `rtol` and at `rtol/100`: their deviation `S` is what
+//! rtol-level differences become by the end time. The hybrid run (at `rtol`) is then judged by
+//! - its deviation `D` from the reference at `rtol`: `D ≤ max(tol, 10·S)` (`tol` = `--tol`,
+//!   default `1000·rtol`); in a scene with `S ≤ tol` this is the plain trajectory test;
+//! - conserved quantities: the total energy (paper eq. 5; relative to the gross energy) when
+//!   no contact dissipates, `ΔE_H ≤ max(10·ΔE_R, 1000·rtol)` with `ΔE_R` the reference's error
+//!   at `rtol`; the momentum (eq. 7 conserves `Σ m_i v_i` without walls and fields) to
+//!   `1000·rtol` of `Σ m_i |v_i|`;
+//! - an observable of the paper (eq. 13): the energy of the leading wave at the end time (the
+//!   beads within 10 of the fastest one), against the reference at `rtol/100`:
+//!   `|ΔE_lead,H| ≤ max(10·|ΔE_lead,R|, 1000·rtol)`, `R` the reference at `rtol`.
+//!
+//! The scene is called **sensitive** when `S > tol`; the verdict says so, with the
+//! amplification `S/rtol`.
+//!
+//! The reference is the dense engine (same method), which shares no event code with the hybrid
+//! one. A scene with hard contacts or hard walls has no dense counterpart: there the reference
+//! is the hybrid engine itself with the other method family (Radau IIA for `auto`/`dop853`,
+//! DOP853 for `radau5`), and the energy test applies only when every restitution is 1.
+
+use crate::engine::{self, Deviation, EngineError, Recorder, RunConfig, RunOutcome};
+use crate::integrate::Method;
+use crate::progress::RunProgress;
+use crate::scene::{Engine, Scene};
+
+/// Half-width (beads) of the leading-wave window.
+const LEAD_WINDOW: usize = 10;
+
+/// One verdict line: what was compared, the measured value, the bound, and whether it held.
+#[derive(Clone, Debug)]
+pub struct Criterion {
+    /// What is compared.
+    pub what: String,
+    /// Measured value.
+    pub value: f64,
+    /// Bound it must not exceed.
+    pub bound: f64,
+}
+
+impl Criterion {
+    /// Whether the value is within its bound.
+    pub fn holds(&self) -> bool {
+        self.value <= self.bound
+    }
+}
+
+/// The outcome of a check.
+#[derive(Clone, Debug)]
+pub struct CheckReport {
+    /// The reference run's description (engine and method).
+    pub reference: String,
+    /// Hybrid vs reference at `rtol`.
+    pub deviation: Deviation,
+    /// Reference at `rtol` vs reference at `rtol/100` (the scene's sensitivity).
+    pub sensitivity: Deviation,
+    /// `rtol` of the runs.
+    pub rtol: f64,
+    /// Whether the scene is sensitive (module docs).
+    pub sensitive: bool,
+    /// The criteria, in order.
+    pub criteria: Vec<Criterion>,
+    /// The hybrid run and the reference run at `rtol`.
+    pub runs: (RunOutcome, RunOutcome),
+}
+
+impl CheckReport {
+    /// Whether every criterion holds.
+    pub fn passed(&self) -> bool {
+        self.criteria.iter().all(Criterion::holds)
+    }
+}
+
+fn run(
+    scene: &Scene,
+    cfg: &RunConfig,
+    bar: &RunProgress,
+    label: &str,
+) -> Result<RunOutcome, EngineError> {
+    let mut cfg = cfg.clone();
+    cfg.every = None;
+    let mut rec = Recorder::default();
+    let out = engine::run(scene, &cfg, &mut bar.watch(&mut rec, 0.0, cfg.until, label));
+    bar.finish();
+    out
+}
+
+/// Energy of the beads within [`LEAD_WINDOW`] of the fastest one (kinetic + their contacts).
+pub fn leading_wave_energy(scene: &Scene, u: &[f64], v: &[f64]) -> f64 {
+    let c = &scene.chain;
+    let k = (0..v.len()).fold(0, |k, i| if v[i].abs() > v[k].abs() { i } else { k });
+    let (lo, hi) = (
+        k.saturating_sub(LEAD_WINDOW),
+        (k + LEAD_WINDOW + 1).min(v.len()),
+    );
+    let ke: f64 = (lo..hi).map(|i| 0.5 * c.mass[i] * v[i] * v[i]).sum();
+    let pe: f64 = (lo..hi - 1)
+        .map(|i| {
+            let d = c.overlap(i, u[i], u[i + 1]);
+            crate::model::contact_potential(c.exponent[i], c.prefactor[i], d)
+        })
+        .sum();
+    ke + pe
+}
+
+fn momentum_change(scene: &Scene, o: &RunOutcome) -> f64 {
+    let scale: f64 = scene
+        .chain
+        .mass
+        .iter()
+        .zip(&scene.v0)
+        .map(|(m, v)| m * v.abs())
+        .sum::<f64>()
+        .max(f64::MIN_POSITIVE);
+    (o.momentum_final - o.momentum_initial).abs() / scale
+}
+
+/// Runs the check of `scene` (module docs). `hybrid_scene` is the scene the hybrid engine runs
+/// (the same scene, except in tests that perturb it on purpose).
+pub fn check(
+    hybrid_scene: &Scene,
+    scene: &Scene,
+    base: &RunConfig,
+    tol: f64,
+) -> Result<CheckReport, EngineError> {
+    check_with_progress(hybrid_scene, scene, base, tol, &RunProgress::hidden())
+}
+
+/// [`check`] with a progress bar fed by each of its runs.
+pub fn check_with_progress(
+    hybrid_scene: &Scene,
+    scene: &Scene,
+    base: &RunConfig,
+    tol: f64,
+    bar: &RunProgress,
+) -> Result<CheckReport, EngineError> {
+    let hard = scene.chain.has_hard();
+    let mut hyb = base.clone();
+    hyb.engine = Engine::Hybrid;
+    let mut refc = base.clone();
+    if hard {
+        refc.method = match base.method {
+            Method::Radau5 => Method::Dop853,
+            _ => Method::Radau5,
+        };
+    } else {
+        refc.engine = Engine::Dense;
+    }
+    let mut tight = refc.clone();
+    tight.rtol = base.rtol / 100.0;
+    tight.atol = base.atol / 100.0;
+    let h = run(hybrid_scene, &hyb, bar, "hybrid: ")?;
+    let r = run(scene, &refc, bar, "reference: ")?;
+    let r2 = run(scene, &tight, bar, "reference at rtol/100: ")?;
+    let deviation = Deviation::between(scene, &h, &r);
+    let sensitivity = Deviation::between(scene, &r, &r2);
+    let rtol = base.rtol;
+    let s = sensitivity.rel_u.max(sensitivity.rel_v);
+    let reference = format!("{} {}", refc.engine.name(), refc.method.name());
+    let mut criteria = vec![Criterion {
+        what: format!("trajectory: hybrid vs {reference} (max of relative u, v)"),
+        value: deviation.rel_u.max(deviation.rel_v),
+        bound: tol.max(10.0 * s),
+    }];
+    let restitutions_one = scene
+        .chain
+        .hard
+        .as_ref()
+        .is_none_or(|hc| hc.restitution.iter().flatten().all(|&e| e == 1.0))
+        && [&scene.chain.left_wall, &scene.chain.right_wall]
+            .iter()
+            .all(|w| {
+                w.as_ref()
+                    .is_none_or(|w| w.restitution.is_none_or(|e| e == 1.0))
+            });
+    if restitutions_one {
+        criteria.push(Criterion {
+            what: "energy error of the hybrid run".into(),
+            value: h.relative_energy_error(),
+            bound: (10.0 * r.relative_energy_error()).max(1000.0 * rtol),
+        });
+    }
+    let c = &scene.chain;
+    if c.left_wall.is_none() && c.right_wall.is_none() && c.field.is_none() {
+        criteria.push(Criterion {
+            what: "momentum change of the hybrid run (relative to Σ m|v₀|)".into(),
+            value: momentum_change(scene, &h),
+            bound: 1000.0 * rtol,
+        });
+    }
+    let lead = |o: &RunOutcome| leading_wave_energy(scene, &o.u, &o.v);
+    let l2 = lead(&r2);
+    if l2 > 0.0 {
+        criteria.push(Criterion {
+            what: "leading-wave energy at the end, hybrid vs tight reference (relative)".into(),
+            value: (lead(&h) - l2).abs() / l2,
+            bound: (10.0 * (lead(&r) - l2).abs() / l2).max(1000.0 * rtol),
+        });
+    }
+    Ok(CheckReport {
+        reference,
+        deviation,
+        sensitivity,
+        rtol,
+        sensitive: s > tol,
+        criteria,
+        runs: (h, r),
+    })
+}

@@ -1,0 +1,88 @@
+//! `beadchain check`: prints the report of [`beadchain::check`] and its verdict.
+
+use anyhow::{Context, Result};
+use beadchain::check::{check_with_progress, CheckReport};
+use beadchain::engine::RunConfig;
+use beadchain::scene::Scene;
+
+fn print_report(scene: &Scene, cfg: &RunConfig, rep: &CheckReport) -> Result<()> {
+    let (h, r) = &rep.runs;
+    let dev = &rep.deviation;
+    let (umax, vmax) = dev.scale;
+    outln!(
+        "{}: {} beads, t = {}, method {}, rtol {:e}, atol {:e}; reference: {}",
+        scene.name,
+        scene.chain.len(),
+        cfg.until,
+        cfg.method.name(),
+        cfg.rtol,
+        cfg.atol,
+        rep.reference
+    );
+    outln!(
+        "max |u_hybrid - u_ref| = {:.3e} at bead {} ({:.3e} of the largest displacement {umax:.3e})",
+        dev.du.0,
+        dev.du.1,
+        dev.rel_u
+    );
+    outln!(
+        "max |v_hybrid - v_ref| = {:.3e} at bead {} ({:.3e} of the largest velocity {vmax:.3e})",
+        dev.dv.0,
+        dev.dv.1,
+        dev.rel_v
+    );
+    let s = rep.sensitivity.rel_u.max(rep.sensitivity.rel_v);
+    outln!(
+        "sensitivity: the reference at rtol and at rtol/100 differ by {s:.3e} (relative u, v), {:.1e} x rtol",
+        s / rep.rtol
+    );
+    outln!(
+        "energy error: hybrid {:.3e}, reference {:.3e}",
+        h.relative_energy_error(),
+        r.relative_energy_error()
+    );
+    outln!(
+        "wall time: hybrid {:.4} s ({} active bead-steps), reference {:.4} s ({} bead-steps); ratio {:.1}x",
+        h.wall_seconds,
+        h.stats.bead_steps,
+        r.wall_seconds,
+        r.stats.bead_steps,
+        r.wall_seconds / h.wall_seconds.max(1e-12)
+    );
+    if rep.sensitive {
+        outln!(
+            "scene is sensitive: trajectories separate by {:.1e} x rtol from rtol-level differences, so the final states are not a test; judged on conserved quantities and the leading wave",
+            s / rep.rtol
+        );
+    }
+    for c in &rep.criteria {
+        let mark = if c.holds() { "ok  " } else { "FAIL" };
+        outln!(
+            "  {mark} {}: {:.3e} (bound {:.3e})",
+            c.what,
+            c.value,
+            c.bound
+        );
+    }
+    Ok(())
+}
+
+/// Runs the check (progress bar on a terminal unless `quiet`); exit code 0 when every
+/// criterion holds, 1 otherwise.
+pub fn cmd_check(scene: &Scene, cfg: &RunConfig, tol: f64, quiet: bool) -> Result<i32> {
+    let bar = beadchain::progress::RunProgress::new(quiet);
+    let rep = check_with_progress(scene, scene, cfg, tol, &bar).context("check run failed")?;
+    print_report(scene, cfg, &rep)?;
+    if rep.passed() {
+        let what = if rep.sensitive {
+            "conserved quantities and the leading wave agree"
+        } else {
+            "hybrid and reference agree"
+        };
+        outln!("OK: {what} within the bounds above");
+        Ok(0)
+    } else {
+        outln!("FAIL: a criterion above exceeds its bound");
+        Ok(1)
+    }
+}
