@@ -61,6 +61,8 @@ pub struct AccuracyOptions {
     pub max_steps: Option<u64>,
     /// Directory for `accuracy.csv`, `accuracy.svg`, `accuracy.png` (`None`: write nothing).
     pub out_dir: Option<PathBuf>,
+    /// Progress bar fed by every run (`None`: none).
+    pub progress: Option<crate::progress::RunProgress>,
 }
 
 impl Default for AccuracyOptions {
@@ -77,6 +79,7 @@ impl Default for AccuracyOptions {
             solver: SolverKind::Auto,
             max_steps: Some(50_000_000),
             out_dir: None,
+            progress: None,
         }
     }
 }
@@ -205,9 +208,28 @@ impl Observer for Discard {
 }
 
 /// Runs once, timing the whole call.
-fn timed_run(scene: &Scene, cfg: &RunConfig) -> Result<(RunOutcome, f64), EngineError> {
+fn timed_run(
+    scene: &Scene,
+    cfg: &RunConfig,
+    bar: Option<&crate::progress::RunProgress>,
+) -> Result<(RunOutcome, f64), EngineError> {
     let start = Instant::now();
-    let out = engine::run(scene, cfg, &mut Discard)?;
+    let out = match bar {
+        Some(b) => {
+            let label = format!(
+                "{} {} rtol {:e}: ",
+                cfg.engine.name(),
+                cfg.method.name(),
+                cfg.rtol
+            );
+            engine::run(
+                scene,
+                cfg,
+                &mut b.watch(&mut Discard, 0.0, cfg.until, &label),
+            )?
+        }
+        None => engine::run(scene, cfg, &mut Discard)?,
+    };
     Ok((out, start.elapsed().as_secs_f64()))
 }
 
@@ -320,8 +342,12 @@ pub fn accuracy_study(
         .find(|&r| r > ref_rtol)
         .unwrap_or((10.0 * ref_rtol).min(0.1));
     let run_ref = |rtol: f64| {
-        timed_run(scene, &cfg_for(Engine::Dense, Method::Radau5, rtol))
-            .map_err(|source| AccuracyError::Reference { rtol, source })
+        timed_run(
+            scene,
+            &cfg_for(Engine::Dense, Method::Radau5, rtol),
+            opts.progress.as_ref(),
+        )
+        .map_err(|source| AccuracyError::Reference { rtol, source })
     };
     let (reference, ref_wall) = run_ref(ref_rtol)?;
     let (check, _) = run_ref(check_rtol)?;
@@ -341,7 +367,7 @@ pub fn accuracy_study(
             };
             for &rtol in knobs {
                 let cfg = cfg_for(engine, method, rtol);
-                let mut row = measure(scene, &cfg, opts.repeat, &reference, ke0, tau);
+                let mut row = measure(scene, &cfg, opts, &reference, ke0, tau);
                 row.is_reference =
                     engine == Engine::Dense && method == Method::Radau5 && rtol == ref_rtol;
                 rows.push(row);
@@ -374,7 +400,7 @@ pub fn accuracy_study(
 fn measure(
     scene: &Scene,
     cfg: &RunConfig,
-    repeat: usize,
+    opts: &AccuracyOptions,
     reference: &RunOutcome,
     ke0: f64,
     tau: f64,
@@ -399,10 +425,10 @@ fn measure(
         events: 0,
         bead_steps: 0,
     };
-    let mut walls = Vec::with_capacity(repeat);
+    let mut walls = Vec::with_capacity(opts.repeat);
     let mut last = None;
-    for _ in 0..repeat {
-        match timed_run(scene, cfg) {
+    for _ in 0..opts.repeat {
+        match timed_run(scene, cfg, opts.progress.as_ref()) {
             Ok((out, wall)) => {
                 walls.push(wall);
                 last = Some(out);

@@ -26,6 +26,7 @@
 
 use crate::engine::{self, Deviation, EngineError, Recorder, RunConfig, RunOutcome};
 use crate::integrate::Method;
+use crate::progress::RunProgress;
 use crate::scene::{Engine, Scene};
 
 /// Half-width (beads) of the leading-wave window.
@@ -75,10 +76,18 @@ impl CheckReport {
     }
 }
 
-fn run(scene: &Scene, cfg: &RunConfig) -> Result<RunOutcome, EngineError> {
+fn run(
+    scene: &Scene,
+    cfg: &RunConfig,
+    bar: &RunProgress,
+    label: &str,
+) -> Result<RunOutcome, EngineError> {
     let mut cfg = cfg.clone();
     cfg.every = None;
-    engine::run(scene, &cfg, &mut Recorder::default())
+    let mut rec = Recorder::default();
+    let out = engine::run(scene, &cfg, &mut bar.watch(&mut rec, 0.0, cfg.until, label));
+    bar.finish();
+    out
 }
 
 /// Energy of the beads within [`LEAD_WINDOW`] of the fastest one (kinetic + their contacts).
@@ -119,6 +128,17 @@ pub fn check(
     base: &RunConfig,
     tol: f64,
 ) -> Result<CheckReport, EngineError> {
+    check_with_progress(hybrid_scene, scene, base, tol, &RunProgress::hidden())
+}
+
+/// [`check`] with a progress bar fed by each of its runs.
+pub fn check_with_progress(
+    hybrid_scene: &Scene,
+    scene: &Scene,
+    base: &RunConfig,
+    tol: f64,
+    bar: &RunProgress,
+) -> Result<CheckReport, EngineError> {
     let hard = scene.chain.has_hard();
     let mut hyb = base.clone();
     hyb.engine = Engine::Hybrid;
@@ -134,9 +154,9 @@ pub fn check(
     let mut tight = refc.clone();
     tight.rtol = base.rtol / 100.0;
     tight.atol = base.atol / 100.0;
-    let h = run(hybrid_scene, &hyb)?;
-    let r = run(scene, &refc)?;
-    let r2 = run(scene, &tight)?;
+    let h = run(hybrid_scene, &hyb, bar, "hybrid: ")?;
+    let r = run(scene, &refc, bar, "reference: ")?;
+    let r2 = run(scene, &tight, bar, "reference at rtol/100: ")?;
     let deviation = Deviation::between(scene, &h, &r);
     let sensitivity = Deviation::between(scene, &r, &r2);
     let rtol = base.rtol;

@@ -3,9 +3,10 @@
 use crate::cli_ckpt;
 use anyhow::{bail, Context, Result};
 use beadchain::engine::{self, RunConfig, RunOutcome};
-use beadchain::export::{self, FrameSel};
+use beadchain::export;
 use beadchain::integrate::Method;
 use beadchain::linalg::SolverKind;
+use beadchain::progress::RunProgress;
 use beadchain::scene::{self, Engine, Scene};
 use beadchain::snapshot::{Header, Snapshot, SnapshotWriter};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -26,8 +27,8 @@ enum Cmd {
     Run(RunArgs),
     /// Run the hybrid and the dense engine on a scene and compare them.
     Check(CheckArgs),
-    /// Export frames (or the event log) of a snapshot as CSV or NPY.
-    Export(ExportArgs),
+    /// Export frames (or the event log) of a snapshot as CSV, NPY or NPZ (long or wide layout).
+    Export(crate::cli_export::ExportArgs),
     /// Print a snapshot's header, frame count, time span and energies.
     Inspect {
         /// Snapshot file.
@@ -63,6 +64,9 @@ enum Cmd {
         checkpoint_every: Option<f64>,
         #[command(flatten)]
         limit: crate::cli_files::SizeLimit,
+        /// No progress bar (it is shown only when standard error is a terminal).
+        #[arg(short, long)]
+        quiet: bool,
     },
 }
 
@@ -107,6 +111,9 @@ struct AccuracyArgs {
     /// Output directory.
     #[arg(long, default_value = "accuracy")]
     out: PathBuf,
+    /// No progress bar (it is shown only when standard error is a terminal).
+    #[arg(short, long)]
+    quiet: bool,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -166,6 +173,9 @@ struct Common {
     /// Abort after this many integrator steps.
     #[arg(long)]
     max_steps: Option<u64>,
+    /// No progress bar (it is shown only when standard error is a terminal).
+    #[arg(short, long)]
+    quiet: bool,
 }
 
 #[derive(clap::Args, Debug)]
@@ -203,30 +213,6 @@ struct CheckArgs {
     tol: Option<f64>,
 }
 
-#[derive(ValueEnum, Clone, Copy, Debug)]
-enum Format {
-    Csv,
-    Npy,
-}
-
-#[derive(clap::Args, Debug)]
-struct ExportArgs {
-    /// Snapshot file.
-    file: PathBuf,
-    /// Output format.
-    #[arg(long, value_enum, default_value = "csv")]
-    format: Format,
-    /// Frames: first, last, all, or an index K.
-    #[arg(long, default_value = "all")]
-    frame: String,
-    /// Export the event log (CSV) instead of frames.
-    #[arg(long)]
-    events: bool,
-    /// Output path [default: standard output for CSV; required for NPY; `-`: standard output].
-    #[arg(long)]
-    out: Option<PathBuf>,
-}
-
 /// Runs the parsed command; returns the exit code.
 pub fn dispatch(cli: Cli) -> Result<i32> {
     match cli.cmd {
@@ -234,14 +220,15 @@ pub fn dispatch(cli: Cli) -> Result<i32> {
         Cmd::Analyze(a) => crate::cli_analysis::cmd_analyze(a),
         Cmd::Validate(a) => crate::cli_analysis::cmd_validate(a),
         Cmd::Check(a) => cmd_check(a),
-        Cmd::Export(a) => cmd_export(a),
+        Cmd::Export(a) => crate::cli_export::cmd_export(a),
         Cmd::Inspect { file } => cmd_inspect(&file),
         Cmd::Resume {
             file,
             until,
             checkpoint_every,
             limit,
-        } => cli_ckpt::cmd_resume(&file, until, checkpoint_every, limit),
+            quiet,
+        } => cli_ckpt::cmd_resume(&file, until, checkpoint_every, limit, quiet),
         Cmd::Accuracy(a) => cmd_accuracy(a),
         Cmd::Plot(a) => crate::cli_plot::cmd_plot(a),
         Cmd::Sweep(a) => crate::cli_sweep::cmd_sweep(a),
@@ -351,7 +338,13 @@ fn cmd_run(a: RunArgs) -> Result<i32> {
     let ckpt = cli_ckpt::ckpt_path(&out_path);
     let sink =
         cli_ckpt::SnapshotSink::new(writer, ckpt, a.checkpoint_every, &scene, &cfg, a.timing)?;
-    match cli_ckpt::drive(sink, &a.common.scene, |s| engine::run(&scene, &cfg, s))? {
+    let bar = RunProgress::new(a.common.quiet);
+    let done = cli_ckpt::drive(sink, &a.common.scene, |s| {
+        let r = engine::run(&scene, &cfg, &mut bar.watch(s, 0.0, cfg.until, ""));
+        bar.finish();
+        r
+    })?;
+    match done {
         Ok(out) => {
             // A snapshot written to a stream (`--out /dev/stdout`) must not get the text too.
             let to_stream = beadchain::files::classify_output(&out_path)
@@ -476,47 +469,7 @@ fn cmd_check(a: CheckArgs) -> Result<i32> {
     let base = config(&scene, &a.common);
     engine::check_config(&base).with_context(|| scene.name.clone())?;
     let tol = a.tol.unwrap_or(1000.0 * base.rtol);
-    crate::cli_check::cmd_check(&scene, &base, tol)
-}
-
-fn cmd_export(a: ExportArgs) -> Result<i32> {
-    let snap = Snapshot::open(&a.file)?;
-    for w in snap.warnings() {
-        eprintln!("beadchain: warning: {w}");
-    }
-    let sel: FrameSel = a
-        .frame
-        .parse()
-        .map_err(|e| anyhow::anyhow!("--frame {}: {e}", a.frame))?;
-    let write = |out: &mut dyn Write| -> Result<(), beadchain::snapshot::SnapshotError> {
-        if a.events {
-            export::export_events_csv(&snap, out)
-        } else {
-            match a.format {
-                Format::Csv => export::export_csv(&snap, sel, out),
-                Format::Npy => export::export_npy(&snap, sel, out),
-            }
-        }
-    };
-    let to_stdout = a.out.as_deref().is_none_or(|p| p.as_os_str() == "-");
-    if let Some(p) = a.out.as_deref().filter(|_| !to_stdout) {
-        crate::cli_files::check_not_input(p, "--out", &[("snapshot", a.file.clone())])?;
-    }
-    match &a.out {
-        Some(p) if !to_stdout => export::write_atomically(p, write)?,
-        _ => {
-            if matches!(a.format, Format::Npy) && !a.events && a.out.is_none() {
-                bail!("--format npy needs --out PATH (binary output is not written to a terminal; `--out -` writes it to standard output)");
-            }
-            // Validate the selection first so an error never leaves partial output.
-            sel.range(&snap)?;
-            let stdout = std::io::stdout();
-            let mut lock = std::io::BufWriter::new(stdout.lock());
-            write(&mut lock)?;
-            lock.flush().context("writing to standard output")?;
-        }
-    }
-    Ok(0)
+    crate::cli_check::cmd_check(&scene, &base, tol, a.common.quiet)
 }
 
 fn cmd_accuracy(a: AccuracyArgs) -> Result<i32> {
@@ -539,9 +492,13 @@ fn cmd_accuracy(a: AccuracyArgs) -> Result<i32> {
         repeat: a.repeat,
         reference_rtol: a.reference_rtol,
         out_dir: Some(a.out),
+        progress: Some(RunProgress::new(a.quiet)),
         ..AccuracyOptions::default()
     };
     let report = accuracy_study(&scene, &opts)?;
+    if let Some(bar) = &opts.progress {
+        bar.finish();
+    }
     out!("{}", format_table(&report));
     for f in &report.files {
         outln!("wrote {}", f.display());

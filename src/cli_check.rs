@@ -1,7 +1,7 @@
 //! `beadchain check`: prints the report of [`beadchain::check`] and its verdict.
 
 use anyhow::{Context, Result};
-use beadchain::check::{check, CheckReport};
+use beadchain::check::{check_with_progress, CheckReport};
 use beadchain::engine::RunConfig;
 use beadchain::scene::Scene;
 
@@ -67,9 +67,11 @@ fn print_report(scene: &Scene, cfg: &RunConfig, rep: &CheckReport) -> Result<()>
     Ok(())
 }
 
-/// Runs the check; exit code 0 when every criterion holds, 1 otherwise.
-pub fn cmd_check(scene: &Scene, cfg: &RunConfig, tol: f64) -> Result<i32> {
-    let rep = check(scene, scene, cfg, tol).context("check run failed")?;
+/// Runs the check (progress bar on a terminal unless `quiet`); exit code 0 when every
+/// criterion holds, 1 otherwise.
+pub fn cmd_check(scene: &Scene, cfg: &RunConfig, tol: f64, quiet: bool) -> Result<i32> {
+    let bar = beadchain::progress::RunProgress::new(quiet);
+    let rep = check_with_progress(scene, scene, cfg, tol, &bar).context("check run failed")?;
     print_report(scene, cfg, &rep)?;
     if rep.passed() {
         let what = if rep.sensitive {

@@ -234,6 +234,7 @@ pub fn cmd_resume(
     until: Option<f64>,
     every: Option<f64>,
     limit: crate::cli_files::SizeLimit,
+    quiet: bool,
 ) -> Result<i32> {
     let mut ck = read_checkpoint(file)?;
     locate(file, &mut ck.writer);
@@ -271,9 +272,19 @@ pub fn cmd_resume(
         ck.timing,
     )?;
     sink.resumed = true;
-    match drive(sink, &what, |s| {
-        engine::resume(&ck.scene, &cfg, &ck.engine, s)
-    })? {
+    let bar = beadchain::progress::RunProgress::new(quiet);
+    let t0 = ck.engine.time();
+    let done = drive(sink, &what, |s| {
+        let r = engine::resume(
+            &ck.scene,
+            &cfg,
+            &ck.engine,
+            &mut bar.watch(s, t0, cfg.until, ""),
+        );
+        bar.finish();
+        r
+    })?;
+    match done {
         Ok(out) => {
             crate::cli::print_outcome(&mut std::io::stdout().lock(), &ck.scene, &cfg, &out)?;
             outln!(

@@ -6,6 +6,11 @@
 //! `1e-5 ≤ |x| < 1e16` so tiny displacements (1e-7 units) stay short.
 //!
 //! All outputs go through [`write_atomically`] in the CLI: a failed export leaves no file.
+//!
+//! This module writes the long layout (one row per bead and frame); [`wide`] the wide one (one
+//! row per frame; `.npz` with the chain arrays).
+
+pub mod wide;
 
 use crate::model::Chain;
 use crate::snapshot::{

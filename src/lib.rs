@@ -16,6 +16,7 @@ pub mod integrate;
 pub mod linalg;
 pub mod model;
 pub mod plot;
+pub mod progress;
 pub mod scene;
 pub mod snapshot;
 pub mod sweep;

@@ -29,8 +29,10 @@ macro_rules! out {
 
 mod cli;
 mod cli_analysis;
+mod cli_analyze;
 mod cli_check;
 mod cli_ckpt;
+mod cli_export;
 mod cli_files;
 mod cli_plot;
 mod cli_scene;

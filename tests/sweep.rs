@@ -101,7 +101,7 @@ fn scene_errors_fail_before_any_run() {
     let cases: &[(&str, &str)] = &[
         (
             "[grid]\n\"chain.exponent\" = [2.5, 0.5]\n",
-            "test.toml: run 1 (chain.exponent=5e-1): scene striker: [chain].exponent: contact 0: exponent must be > 1",
+            "test.toml: run 1 (chain.exponent=0.5): scene striker: [chain].exponent: contact 0: exponent must be > 1",
         ),
         (
             "[grid]\n\"chain.beadz\" = [3]\n",
@@ -179,23 +179,23 @@ fn expansion_order_points_grid_seeds() {
     let d: Vec<String> = runs.iter().map(|r| r.describe()).collect();
     assert_eq!(
         d[0],
-        "chain.exponent=2.5e0, initial.striker=1e0, chain.mass=1e0, scene.seed=7"
+        "chain.exponent=2.5, initial.striker=1.0, chain.mass=1.0, scene.seed=7"
     );
     assert_eq!(
         d[1],
-        "chain.exponent=2.5e0, initial.striker=1e0, chain.mass=1e0, scene.seed=8"
+        "chain.exponent=2.5, initial.striker=1.0, chain.mass=1.0, scene.seed=8"
     );
     assert_eq!(
         d[2],
-        "chain.exponent=2.5e0, initial.striker=2e0, chain.mass=1e0, scene.seed=7"
+        "chain.exponent=2.5, initial.striker=2.0, chain.mass=1.0, scene.seed=7"
     );
     assert_eq!(
         d[4],
-        "chain.exponent=3e0, initial.striker=1e0, chain.mass=1e0, scene.seed=7"
+        "chain.exponent=3.0, initial.striker=1.0, chain.mass=1.0, scene.seed=7"
     );
     assert_eq!(
         d[12],
-        "chain.exponent=2.5e0, initial.striker=1e0, chain.prefactor=2e0, scene.seed=7"
+        "chain.exponent=2.5, initial.striker=1.0, chain.prefactor=2.0, scene.seed=7"
     );
     assert!(runs.iter().enumerate().all(|(i, r)| r.index == i));
     // The overrides reach the resolved scene.
@@ -411,4 +411,45 @@ fn example_sweep_files_parse() {
         let runs = s.check_all().unwrap();
         assert_eq!(runs.len(), 9, "{f}");
     }
+}
+
+/// Before: line 1 of `OUT` was `# beadchain sweep spec=...` (so `pandas.read_csv(OUT)` failed
+/// without `comment="#"`/`skiprows=1`), and swept floats were written `1e-1`, `5e-1`.
+#[test]
+fn sweep_csv_header_is_the_first_line_and_values_are_written_as_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = spec(SMALL).unwrap();
+    let out = dir.path().join("p.csv");
+    run_sweep(&s, &opts(&out, 2), &no_progress).unwrap();
+    let text = read(&out);
+    let first = text.lines().next().unwrap();
+    assert!(
+        first.starts_with("run,chain.mass.random.eps,initial.striker,scene.seed,status,"),
+        "{first}"
+    );
+    assert!(!text.contains('#'), "{text}");
+    // The spec line is in the sidecar, and merge/resume read it from there.
+    let meta = read(&dir.path().join("p.csv.meta"));
+    assert_eq!(
+        meta,
+        format!("# beadchain sweep spec={:016x} runs=16\n", s.hash)
+    );
+    // Values as written in the sweep file: [0.0, 0.1, 0.2, 0.4] x [1.0, 0.5], seeds 3, 4.
+    let f = read_result(&out, false).unwrap();
+    let params = |i: usize| split_fields(&f.rows[&i]).unwrap()[1..4].to_vec();
+    assert_eq!(params(0), ["0.0", "1.0", "3"]);
+    assert_eq!(params(7), ["0.1", "0.5", "4"]);
+    assert_eq!(params(15), ["0.4", "0.5", "4"]);
+    // Every row has the header's field count (what pandas needs without options).
+    let ncol = split_fields(first).unwrap().len();
+    assert!(text.lines().all(|l| split_fields(l).unwrap().len() == ncol));
+    // Without its sidecar the file is not taken for a sweep result by merge.
+    std::fs::remove_file(dir.path().join("p.csv.meta")).unwrap();
+    let e = merge(&dir.path().join("m.csv"), &[out], false)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("p.csv.meta: cannot read the sweep's spec sidecar of"),
+        "{e}"
+    );
 }

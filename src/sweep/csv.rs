@@ -1,8 +1,11 @@
 //! Result files: the spec line and column header, row fields, reading a (possibly interrupted)
 //! result file, atomic writes, and merging shard files.
 //!
-//! Layout: line 1 `# beadchain sweep spec=HASH runs=N`, line 2 the column names, then one row per
-//! run (RFC 4180 quoting: a field with `,` or `"` is quoted, `"` doubled; no field holds a newline).
+//! Layout of a finished result `OUT` (and of merged shards): line 1 the column names, then one
+//! row per run (RFC 4180 quoting: a field with `,` or `"` is quoted, `"` doubled; no field holds
+//! a newline), so `pandas.read_csv(OUT)` needs no options. The spec line
+//! `# beadchain sweep spec=HASH runs=N` (what `merge` and resuming check) is in the sidecar
+//! `OUT.meta`. The unfinished `OUT.partial` keeps the spec line as its line 1.
 
 use super::{SweepError, SweepSpec};
 use std::collections::BTreeMap;
@@ -92,10 +95,31 @@ pub fn split_fields(line: &str) -> Result<Vec<String>, String> {
     Ok(out)
 }
 
-/// A result file read back: its two header lines and its rows by run index.
+/// The sidecar of a result file holding its spec line: `OUT.meta`.
+pub fn meta_path(out: &Path) -> PathBuf {
+    let mut s = out.as_os_str().to_owned();
+    s.push(".meta");
+    PathBuf::from(s)
+}
+
+/// Writes a finished result: the spec line to `OUT.meta`, then the table to `OUT` (each
+/// atomically; `OUT` appears last).
+pub fn write_result(
+    out: &Path,
+    spec_line: &str,
+    columns: &str,
+    rows: &BTreeMap<usize, String>,
+) -> Result<(), SweepError> {
+    write_atomic(&meta_path(out), &format!("{spec_line}\n"))?;
+    let mut s = render(spec_line, columns, rows);
+    s.drain(..=spec_line.len());
+    write_atomic(out, &s)
+}
+
+/// A result file read back: its spec line, column header and its rows by run index.
 #[derive(Clone, Debug, Default)]
 pub struct ResultFile {
-    /// Line 1 (`# beadchain sweep ...`).
+    /// The spec line (`# beadchain sweep ...`: line 1 of a partial file, or of `OUT.meta`).
     pub spec_line: String,
     /// Line 2 (column names).
     pub columns: String,
@@ -145,22 +169,24 @@ pub fn read_result(path: &Path, partial: bool) -> Result<ResultFile, SweepError>
             }
         }
     }
-    let mut lines = lines.into_iter().map(|l| l.trim_end_matches(['\n', '\r']));
-    let spec_line = lines.next().unwrap_or("").to_string();
-    if !spec_line.starts_with("# beadchain sweep spec=") {
-        return Err(bad(
-            1,
-            "not a beadchain sweep result (expected `# beadchain sweep spec=...`)".into(),
-        ));
-    }
+    let mut lines = lines
+        .into_iter()
+        .map(|l| l.trim_end_matches(['\n', '\r']))
+        .peekable();
+    let tag = "# beadchain sweep spec=";
+    // line number of the column header: 2 with the spec line inside, 1 with a sidecar
+    let (spec_line, head) = match lines.peek() {
+        Some(l) if l.starts_with(tag) => (lines.next().unwrap_or("").to_string(), 2),
+        _ => (read_meta(path, tag)?, 1),
+    };
     let columns = lines
         .next()
-        .ok_or_else(|| bad(2, "missing the column header".into()))?
+        .ok_or_else(|| bad(head, "missing the column header".into()))?
         .to_string();
-    let ncol = split_fields(&columns).map_err(|m| bad(2, m))?.len();
+    let ncol = split_fields(&columns).map_err(|m| bad(head, m))?.len();
     let mut rows = BTreeMap::new();
     for (i, l) in lines.enumerate() {
-        let ln = i + 3;
+        let ln = i + head + 1;
         let f = split_fields(l).map_err(|m| bad(ln, m))?;
         if f.len() != ncol {
             return Err(bad(
@@ -182,7 +208,30 @@ pub fn read_result(path: &Path, partial: bool) -> Result<ResultFile, SweepError>
     })
 }
 
-/// The whole file: header lines and the rows in run order.
+/// The spec line of a finished result, from its sidecar `PATH.meta`.
+fn read_meta(path: &Path, tag: &str) -> Result<String, SweepError> {
+    let meta = meta_path(path);
+    let text = std::fs::read_to_string(&meta).map_err(|e| SweepError::Csv {
+        file: meta.display().to_string(),
+        line: 0,
+        message: format!(
+            "cannot read the sweep's spec sidecar of {} ({e}); a sweep result is `OUT` with `OUT.meta` beside it",
+            path.display()
+        ),
+    })?;
+    let line = text.lines().next().unwrap_or("").trim_end().to_string();
+    if !line.starts_with(tag) {
+        return Err(SweepError::Csv {
+            file: meta.display().to_string(),
+            line: 1,
+            message: format!("not a beadchain sweep spec line (expected `{tag}...`)"),
+        });
+    }
+    Ok(line)
+}
+
+/// The whole file with the spec line as line 1 (the partial file), the header line and the
+/// rows in run order.
 pub fn render(spec_line: &str, columns: &str, rows: &BTreeMap<usize, String>) -> String {
     let mut s = String::with_capacity(64 * (rows.len() + 2));
     s.push_str(spec_line);
@@ -295,7 +344,7 @@ pub fn merge(
             ),
         });
     }
-    write_atomic(out, &render(&head.spec_line, &head.columns, &rows))?;
+    write_result(out, &head.spec_line, &head.columns, &rows)?;
     Ok(MergeSummary {
         rows: rows.len(),
         missing,

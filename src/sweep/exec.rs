@@ -379,7 +379,7 @@ pub fn run_sweep(
     let failed = rows.values().filter(|r| is_error_row(r)).count();
     let complete = rows.len() == n_mine;
     if complete {
-        csv::write_atomic(&opts.out, &csv::render(&spec_line, &columns, &rows))?;
+        csv::write_result(&opts.out, &spec_line, &columns, &rows)?;
         std::fs::remove_file(&partial).map_err(|e| SweepError::Io {
             file: partial.display().to_string(),
             action: "cannot remove".into(),

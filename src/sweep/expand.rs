@@ -26,11 +26,13 @@ impl RunPoint {
     }
 }
 
-/// A parameter value as written in the CSV: floats with `{:e}` (shortest exact round trip),
+/// A parameter value as written in the CSV: floats with `{:?}` (shortest exact round trip),
 /// integers, booleans and strings as they are, anything else as inline TOML.
 pub fn format_value(v: &Value) -> String {
     match v {
-        Value::Float(x) => format!("{x:e}"),
+        // Shortest round-trip text without an exponent where Rust writes none: `2.5`, `0.1`,
+        // `1e-8` (pandas and spreadsheets read it as written).
+        Value::Float(x) => format!("{x:?}"),
         Value::Integer(i) => i.to_string(),
         Value::Boolean(b) => b.to_string(),
         Value::String(s) => s.clone(),

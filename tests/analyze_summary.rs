@@ -1,0 +1,136 @@
+//! `beadchain analyze` prints a one-screen summary by default and never a non-finite number or
+//! a reversed range; the per-frame table comes with `--frames` (issue 14).
+//!
+//! Before the fix (`analyze` of these snapshots): a gravity column at rest printed "incoming
+//! wave NaN (NaN of E0)" and "decay fit over positions 20..-4"; a chain at rest (E0 = 0)
+//! "NaN of E0" and "20..-5"; a 30-bead two-frame run "positions 20..20"; the 100-bead striker
+//! run printed 107 lines.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn bc(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_beadchain"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("start beadchain")
+}
+
+/// Runs `scene` into `out` and returns `analyze out` plus `extra` (stdout), asserting exit 0.
+fn run_and_analyze(dir: &Path, scene: &str, out: &str, extra: &[&str]) -> String {
+    let o = bc(dir, &["run", scene, "--out", out, "-q"]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let mut args = vec!["analyze", out];
+    args.extend_from_slice(extra);
+    let a = bc(dir, &args);
+    assert_eq!(
+        a.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&a.stderr)
+    );
+    String::from_utf8(a.stdout).expect("utf-8")
+}
+
+/// No NaN/inf anywhere, and no range whose end is written as a negative number ("20..-4").
+fn assert_clean(s: &str) {
+    let lower = s.to_lowercase();
+    assert!(!lower.contains("nan"), "NaN in:\n{s}");
+    assert!(!lower.contains("inf"), "inf in:\n{s}");
+    assert!(!s.contains("..-"), "reversed range in:\n{s}");
+    assert!(!s.contains("to -"), "reversed range in:\n{s}");
+}
+
+const GRAVITY_AT_REST: &str = "[chain]\nbeads = 6\n[field]\ngravity = 1.0\n[walls]\nleft = { exponent = 2.5, prefactor = 1.0 }\n[initial]\ndisplacement = [-1.7925618986228657, -3.3799629505910653, -4.747943707932423, -5.877186942589657, -6.73896081860241, -7.281844341921392]\n[run]\nuntil = 5.0\nevery = 0.25\n";
+
+#[test]
+fn analyze_of_a_gravity_column_at_rest_prints_no_nan_or_reversed_range() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("g.toml"), GRAVITY_AT_REST).unwrap();
+    let s = run_and_analyze(d.path(), "g.toml", "g.snap", &[]);
+    assert_clean(&s);
+    assert!(
+        s.contains("decay fit: not computed: the chain has 6 beads, too few for the fit range"),
+        "{s}"
+    );
+    assert!(s.contains("incoming wave energy: not computed ("), "{s}");
+    // E0 < 0 (field potential): fractions are of the positive energy scale, and it says so.
+    assert!(
+        s.contains("E0 = -1.789108e1 is not a positive total"),
+        "{s}"
+    );
+    let f = run_and_analyze(d.path(), "g.toml", "g.snap", &["--frames"]);
+    assert_clean(&f);
+}
+
+#[test]
+fn analyze_of_a_chain_at_rest_with_zero_energy_prints_no_nan() {
+    let d = tempfile::tempdir().unwrap();
+    let rest = "[chain]\nbeads = 5\n[run]\nuntil = 1.0\nevery = 0.5\n";
+    std::fs::write(d.path().join("rest.toml"), rest).unwrap();
+    let s = run_and_analyze(
+        d.path(),
+        "rest.toml",
+        "rest.snap",
+        &["--frames", "--interface", "2"],
+    );
+    assert_clean(&s);
+    assert!(
+        s.contains("relative change not computed (energy scale 0)"),
+        "{s}"
+    );
+    assert!(s.contains("leading wave: none"), "{s}");
+    assert!(
+        s.contains("E_left = 0.000000e0 (not computed (total energy 0) of total)"),
+        "{s}"
+    );
+}
+
+#[test]
+fn analyze_of_a_two_frame_run_says_why_the_fits_are_missing() {
+    let d = tempfile::tempdir().unwrap();
+    let two = "[chain]\nbeads = 30\n[initial]\nstriker = 1.0\n[run]\nuntil = 10.0\n";
+    std::fs::write(d.path().join("two.toml"), two).unwrap();
+    let s = run_and_analyze(d.path(), "two.toml", "two.snap", &[]);
+    assert_clean(&s);
+    assert!(
+        s.contains("decay fit: not computed: the leading wave is in positions 20 to 20 in 0 of 2 frames with a leading wave, fewer than 3"),
+        "{s}"
+    );
+    assert!(s.contains("speed: not computed: "), "{s}");
+    assert!(s.contains("2 frames, t = 0 to 10"), "{s}");
+}
+
+#[test]
+fn analyze_summary_of_the_striker_run_fits_one_screen() {
+    let d = tempfile::tempdir().unwrap();
+    let s = run_and_analyze(d.path(), "striker", "s.snap", &[]);
+    assert_clean(&s);
+    let lines = s.lines().count();
+    assert!(lines <= 40, "{lines} lines:\n{s}");
+    // The striker preset's wave speed: 1.21 beads per time unit (data/scenes/striker.toml,
+    // measured with velocity Verlet); the fit must find it within 5 % (absolute 0.06).
+    let c: f64 = s
+        .lines()
+        .find_map(|l| l.strip_prefix("speed: "))
+        .and_then(|l| l.split_whitespace().next())
+        .and_then(|x| x.parse().ok())
+        .unwrap_or_else(|| panic!("no speed in:\n{s}"));
+    assert!(
+        (c - 1.21).abs() <= 0.06,
+        "speed {c} (expected 1.21 +- 0.06, 5 %)"
+    );
+    assert!(s.contains("decay fit E/E_ref = a exp(-gamma x)"), "{s}");
+    assert!(s.contains("energy fractions below are of E0"), "{s}");
+    // The table is there with --frames: one row per frame with a leading wave.
+    let f = run_and_analyze(d.path(), "striker", "s.snap", &["--frames"]);
+    assert_clean(&f);
+    assert!(f.lines().count() > lines + 50, "{f}");
+    assert!(f.contains("leading wave per frame"), "{f}");
+}
