@@ -115,18 +115,7 @@ pub fn export_csv(
 /// The `.npy` v1.0 header for a little-endian float64 C-order array of `rows × cols`
 /// (magic, version, u16 header length, dict padded with spaces to a 64-byte multiple, `\n`).
 pub fn npy_header(rows: u64, cols: u64) -> Vec<u8> {
-    let dict = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({rows}, {cols}), }}");
-    let unpadded = 10 + dict.len() + 1;
-    let pad = (64 - unpadded % 64) % 64;
-    let header_len = dict.len() + pad + 1;
-    let mut h = Vec::with_capacity(10 + header_len);
-    h.extend_from_slice(b"\x93NUMPY\x01\x00");
-    // The dict of a 2-D shape is < 100 bytes, far below the u16 limit of format 1.0.
-    h.extend_from_slice(&(header_len as u16).to_le_bytes());
-    h.extend_from_slice(dict.as_bytes());
-    h.resize(h.len() + pad, b' ');
-    h.push(b'\n');
-    h
+    wide::npy_header_shape(&[rows, cols])
 }
 
 /// Writes the selected frames as a NumPy `.npy` (v1.0) float64 array of shape `(rows, 5)` with

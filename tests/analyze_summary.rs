@@ -6,16 +6,11 @@
 //! "NaN of E0" and "20..-5"; a 30-bead two-frame run "positions 20..20"; the 100-bead striker
 //! run printed 107 lines.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod common;
 
-fn bc(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_beadchain"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("start beadchain")
-}
+use common::bc;
+
+use std::path::Path;
 
 /// Runs `scene` into `out` and returns `analyze out` plus `extra` (stdout), asserting exit 0.
 fn run_and_analyze(dir: &Path, scene: &str, out: &str, extra: &[&str]) -> String {

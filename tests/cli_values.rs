@@ -1,15 +1,9 @@
 //! Command-line values: negative numbers reach the validator (its message, not the parser's
 //! "unexpected argument"), and an rtol below what f64 can deliver gets a warning.
 
-use std::process::Command;
+mod common;
 
-fn beadchain(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_beadchain"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("start beadchain")
-}
+use common::bc as beadchain;
 
 /// Before: `--every -1` failed with "unexpected argument '-1' found"; `--until -5` likewise.
 #[test]

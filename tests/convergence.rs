@@ -10,6 +10,7 @@ mod common;
 use beadchain::engine::{self, Recorder, RunConfig, RunOutcome};
 use beadchain::integrate::Method;
 use beadchain::scene::{preset, Engine, Scene};
+use common::vel_error;
 
 /// Errors below this (relative to the largest reference velocity) are at the reference's floor.
 const FLOOR: f64 = 1e-12;
@@ -23,16 +24,6 @@ fn run(s: &Scene, engine: Engine, method: Method, rtol: f64, atol: Option<f64>) 
     cfg.method = method;
     cfg.every = None;
     engine::run(&s, &cfg, &mut Recorder::default()).expect("run finishes")
-}
-
-/// `max_i |v_i − v_ref,i| / max_i |v_ref,i|`.
-fn vel_error(a: &RunOutcome, r: &RunOutcome) -> f64 {
-    let vmax = r.v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-    let dv =
-        a.v.iter()
-            .zip(&r.v)
-            .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
-    dv / vmax
 }
 
 fn assert_monotone(name: &str, s: &Scene) {

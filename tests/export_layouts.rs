@@ -4,18 +4,14 @@
 //! read back here (zip central directory, NPY header and data parsed in Rust) and compared bit
 //! for bit with the snapshot; with python3 + numpy available, `numpy.load` reads the `.npz` too.
 
+mod common;
+
+use common::bc;
+
 use beadchain::snapshot::Snapshot;
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::{Command, Output};
-
-fn bc(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_beadchain"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("start beadchain")
-}
 
 fn ok(o: &Output) {
     assert_eq!(

@@ -4,24 +4,18 @@
 
 mod common;
 
+use common::{assert_ok, bc};
+
 use beadchain::engine::{self, Recorder};
 use beadchain::integrate::Method;
 use beadchain::progress::RunProgress;
 use beadchain::scene::Engine;
 use beadchain::snapshot::Snapshot;
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::time::Duration;
 
 const BIN: &str = env!("CARGO_BIN_EXE_beadchain");
-
-fn bc(dir: &Path, args: &[&str]) -> Output {
-    Command::new(BIN)
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("start beadchain")
-}
 
 /// No terminal control: no escape sequence, no carriage return, no bar text.
 fn assert_no_bar(what: &str, stderr: &[u8]) {
@@ -43,12 +37,7 @@ fn progress_bar_is_hidden_when_stderr_is_not_a_terminal() {
     let d = tempfile::tempdir().unwrap();
     std::fs::write(d.path().join("s.toml"), LONG).unwrap();
     let o = bc(d.path(), &["run", "s.toml", "--out", "a.snap"]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_ok(&o);
     assert_no_bar("run", &o.stderr);
     assert!(
         o.stderr.is_empty(),
@@ -56,12 +45,7 @@ fn progress_bar_is_hidden_when_stderr_is_not_a_terminal() {
         String::from_utf8_lossy(&o.stderr)
     );
     let o = bc(d.path(), &["check", "striker", "--until", "20"]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stdout)
-    );
+    assert_ok(&o);
     assert_no_bar("check", &o.stderr);
     let acc = [
         "accuracy",
@@ -76,12 +60,7 @@ fn progress_bar_is_hidden_when_stderr_is_not_a_terminal() {
         "acc",
     ];
     let o = bc(d.path(), &acc);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_ok(&o);
     assert_no_bar("accuracy", &o.stderr);
 }
 
@@ -92,31 +71,16 @@ fn quiet_is_accepted_and_the_snapshot_is_identical_with_and_without_it() {
     let o = bc(d.path(), &["run", "s.toml", "--out", "a.snap"]);
     assert_eq!(o.status.code(), Some(0));
     let o = bc(d.path(), &["run", "s.toml", "--out", "b.snap", "-q"]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_ok(&o);
     let o = bc(d.path(), &["run", "s.toml", "--out", "c.snap", "--quiet"]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_ok(&o);
     // The header records the command line (`created_by`), which differs by `-q`; all else,
     // every frame, the event log and the run summary, must be identical.
     for other in ["b.snap", "c.snap"] {
         same_results(&d.path().join("a.snap"), &d.path().join(other));
     }
     let o = bc(d.path(), &["check", "-q", "striker", "--until", "5"]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stdout)
-    );
+    assert_ok(&o);
     let acc = [
         "accuracy",
         "-q",
@@ -133,12 +97,7 @@ fn quiet_is_accepted_and_the_snapshot_is_identical_with_and_without_it() {
         "acc",
     ];
     let o = bc(d.path(), &acc);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_ok(&o);
 }
 
 /// Two snapshots hold the same run: header (but `created_by`), frames, events and summary.
@@ -204,12 +163,7 @@ fn resume_accepts_quiet_and_finishes_the_same_bytes() {
     );
     assert_no_bar("interrupted run", &out.stderr);
     let o = bc(d.path(), &["resume", "-q", "o.snap.ckpt"]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_ok(&o);
     assert_no_bar("resume", &o.stderr);
     assert!(std::fs::read(d.path().join("o.snap")).unwrap() == want);
 }
@@ -267,12 +221,7 @@ fn progress_bar_is_drawn_on_a_terminal_unless_quiet() {
             .stdin(Stdio::null())
             .output()
             .expect("script runs");
-        assert_eq!(
-            o.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&o.stderr)
-        );
+        assert_ok(&o);
         String::from_utf8_lossy(&o.stdout).to_string()
     };
     let shown = on_tty("");

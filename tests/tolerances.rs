@@ -7,11 +7,13 @@
 //! or tighter) as `max_i |v_i − v_ref,i| / max_i |v_ref,i|`, the relative velocity error of the
 //! final state. The "before" values quoted are those of the code before the fix, same scenes.
 
+mod common;
+
 use beadchain::engine::{self, Deviation, Recorder, RunConfig, RunOutcome};
 use beadchain::integrate::Method;
 use beadchain::scene::{self, Engine, Scene};
+use common::{bc as beadchain, vel_error};
 use std::path::Path;
-use std::process::{Command, Output};
 
 fn scene(text: &str) -> Scene {
     scene::parse_str(text, Path::new("."), "t.toml").expect("scene parses")
@@ -48,16 +50,6 @@ fn reference(s: &Scene, rtol: f64) -> RunOutcome {
     cfg.rtol = rtol;
     cfg.atol = rtol / 100.0;
     engine::run(s, &cfg, &mut Recorder::default()).expect("reference finishes")
-}
-
-/// `max_i |v_i − v_ref,i| / max_i |v_ref,i|`.
-fn vel_error(a: &RunOutcome, r: &RunOutcome) -> f64 {
-    let vmax = r.v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-    let dv =
-        a.v.iter()
-            .zip(&r.v)
-            .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
-    dv / vmax
 }
 
 /// Asserts `err <= factor · rtol` (a relative error; the absolute floor is `1e-14`, rounding).
@@ -159,14 +151,6 @@ fn default_atol_follows_rtol() {
         steps[0],
         steps[1]
     );
-}
-
-fn beadchain(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_beadchain"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("start beadchain")
 }
 
 /// `--rtol` alone sets the default `atol = rtol/10⁴` on the command line too.

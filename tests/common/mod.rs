@@ -55,3 +55,33 @@ pub fn run(scene: &Scene, cfg: &RunConfig) -> (RunOutcome, Recorder) {
     let out = beadchain::engine::run(scene, cfg, &mut rec).expect("run succeeds");
     (out, rec)
 }
+
+/// Runs the `beadchain` binary with `args` in `dir` and returns its output.
+pub fn bc(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_beadchain"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("start beadchain")
+}
+
+/// `max_i |v_i − v_ref,i| / max_i |v_ref,i|`: the final velocity error of `a` against `r`.
+pub fn vel_error(a: &RunOutcome, r: &RunOutcome) -> f64 {
+    let vmax = r.v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let dv =
+        a.v.iter()
+            .zip(&r.v)
+            .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+    dv / vmax
+}
+
+/// Asserts a `beadchain` run exited 0, showing its stderr and stdout otherwise.
+pub fn assert_ok(o: &std::process::Output) {
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "stderr: {}\nstdout: {}",
+        String::from_utf8_lossy(&o.stderr),
+        String::from_utf8_lossy(&o.stdout)
+    );
+}

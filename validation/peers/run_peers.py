@@ -47,8 +47,9 @@ VPY = os.path.join(VENV, "bin", "python")
 PEERS = ["vode_bdf_banded", "lsoda", "radau", "dop853"]
 
 
-def ensure_venv():
-    """Re-executes under the venv python (created with numpy + scipy if missing)."""
+def ensure_venv(script=None):
+    """Re-executes `script` (default: this file) under the venv python (created with numpy +
+    scipy if missing)."""
     try:
         import numpy  # noqa: F401
         import scipy  # noqa: F401
@@ -61,7 +62,7 @@ def ensure_venv():
         print("run_peers: creating %s (numpy, scipy from PyPI)" % VENV, file=sys.stderr)
         subprocess.check_call([sys.executable, "-m", "venv", VENV])
         subprocess.check_call([VPY, "-m", "pip", "install", "-q", "numpy", "scipy"])
-    os.execv(VPY, [VPY, os.path.abspath(__file__)] + sys.argv[1:])
+    os.execv(VPY, [VPY, script or os.path.abspath(__file__)] + sys.argv[1:])
 
 
 # ---------------------------------------------------------------- SciPy worker (one run)

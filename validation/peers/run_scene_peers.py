@@ -34,7 +34,6 @@ import csv
 import io
 import json
 import os
-import statistics
 import subprocess
 import sys
 import tempfile
@@ -42,25 +41,8 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
-VENV = os.path.join(HERE, ".venv")
-VPY = os.path.join(VENV, "bin", "python")
-
-
-def ensure_venv():
-    """Re-executes under validation/peers/.venv (created with numpy + scipy if missing)."""
-    try:
-        import numpy  # noqa: F401
-        import scipy  # noqa: F401
-        return
-    except ImportError:
-        pass
-    if os.path.abspath(sys.executable) == os.path.abspath(VPY):
-        sys.exit("run_scene_peers: numpy/scipy missing inside the venv; delete %s and retry" % VENV)
-    if not os.path.exists(VPY):
-        subprocess.check_call([sys.executable, "-m", "venv", VENV])
-        subprocess.check_call([VPY, "-m", "pip", "install", "-q", "numpy", "scipy"])
-    os.execv(VPY, [VPY, os.path.abspath(__file__)] + sys.argv[1:])
-
+sys.path.insert(0, HERE)
+from run_peers import ensure_venv, measure  # noqa: E402  (venv set-up; median of --repeat runs)
 
 def chain_of(binary, scene, tmp):
     """The resolved chain (CSV columns as arrays) and the scene file beadchain will run."""
@@ -194,17 +176,6 @@ def score(ch, res, ref, window):
                 energy=abs(e1 - e0) / abs(e0), lead=abs(lead - lead_ref) / abs(lead_ref))
 
 
-def measure(fn, repeat):
-    walls, res = [], None
-    for _ in range(repeat):
-        res = fn()
-        if res["status"] != "ok":
-            return res
-        walls.append(res["wall"])
-    res["wall"] = statistics.median(walls)
-    return res
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--worker", help=argparse.SUPPRESS)
@@ -308,5 +279,5 @@ def write(args, out, rows, main_solver):
 
 
 if __name__ == "__main__":
-    ensure_venv()
+    ensure_venv(os.path.abspath(__file__))
     main()
