@@ -334,6 +334,7 @@ fn cmd_run(a: RunArgs) -> Result<i32> {
         cfg.atol,
         created_by,
     );
+    note_output_size(&a, &scene, &cfg);
     let writer = SnapshotWriter::create(&out_path, &header)?;
     let ckpt = cli_ckpt::ckpt_path(&out_path);
     let sink =
@@ -392,6 +393,27 @@ fn check_run_files(
         0,
         until_key,
     )
+}
+
+/// Estimated snapshot size from which `run` says, before it starts, how large its output will be.
+const NOTE_OUTPUT_BYTES: f64 = 16.0 * 1024.0 * 1024.0;
+
+/// Prints the snapshot size estimate on stderr before a run whose output is large (not with
+/// `-q`): a long run's disk use is known before it is spent.
+fn note_output_size(a: &RunArgs, scene: &Scene, cfg: &RunConfig) {
+    use beadchain::snapshot::size::{
+        count_text, frame_count_estimate, human_bytes, output_bytes_estimate,
+    };
+    let frames = frame_count_estimate(0.0, cfg.until, cfg.every);
+    let bytes = output_bytes_estimate(scene.chain.len(), frames);
+    if bytes >= NOTE_OUTPUT_BYTES && !a.common.quiet {
+        eprintln!(
+            "beadchain: note: the snapshot will be about {} ({} frames of {} beads)",
+            human_bytes(bytes),
+            count_text(frames),
+            scene.chain.len()
+        );
+    }
 }
 
 /// The run summary, on `w` (standard output, or standard error when the snapshot itself goes

@@ -43,3 +43,27 @@ fn rtol_below_f64_reach_is_warned() {
         "{err}"
     );
 }
+
+/// The snapshot size estimate is printed before a run whose output is large (≥ 16 MiB): here
+/// 10⁴ beads × 201 frames × 16 bytes ≈ 31 MiB (the estimate counts one frame of margin, as the
+/// output limit does); a small run and `-q` print nothing.
+#[test]
+fn large_output_size_is_announced_before_the_run() {
+    let d = tempfile::tempdir().expect("tempdir");
+    std::fs::write(
+        d.path().join("big.toml"),
+        "[chain]\nbeads = 10000\n[initial]\nstriker = 1.0\n[run]\nuntil = 20.0\nevery = 0.1\n",
+    )
+    .expect("write");
+    let o = beadchain(d.path(), &["run", "big.toml", "--out", "big.snap"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("note: the snapshot will be about 31.4 MiB (202 frames of 10000 beads)"),
+        "{err}"
+    );
+    let q = beadchain(d.path(), &["run", "big.toml", "--out", "q.snap", "-q"]);
+    assert!(!String::from_utf8_lossy(&q.stderr).contains("note:"));
+    let small = beadchain(d.path(), &["run", "striker", "--out", "s.snap"]);
+    assert!(!String::from_utf8_lossy(&small.stderr).contains("note:"));
+}
