@@ -23,6 +23,7 @@ fn chain(n: usize, exp: f64, pre: bool, field: bool) -> Chain {
         left_wall: None,
         right_wall: None,
         hard: None,
+        damping: None,
     }
 }
 

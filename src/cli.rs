@@ -319,7 +319,7 @@ fn cmd_run(a: RunArgs) -> Result<i32> {
     }
     scene.run.until = cfg.until;
     scene.run.every = cfg.every;
-    engine::check_config(&cfg).with_context(|| scene.name.clone())?;
+    engine::check_config(&scene, &cfg).with_context(|| scene.name.clone())?;
     let out_path = a
         .out
         .clone()
@@ -474,6 +474,19 @@ pub fn print_outcome(
             }
         )?;
     }
+    if out.dissipated != 0.0 {
+        writeln!(
+            w,
+            "energy {:.12e} -> {:.12e}, dissipated {:.12e} (balance error {:.3e}); momentum {:.12e} -> {:.12e}",
+            out.energy_initial,
+            out.energy_final,
+            out.dissipated,
+            out.relative_energy_error(),
+            out.momentum_initial,
+            out.momentum_final
+        )?;
+        return Ok(());
+    }
     writeln!(
         w,
         "energy {:.12e} -> {:.12e} (relative change {:.3e}); momentum {:.12e} -> {:.12e}",
@@ -489,7 +502,7 @@ pub fn print_outcome(
 fn cmd_check(a: CheckArgs) -> Result<i32> {
     let scene = load_scene(&a.common.scene)?;
     let base = config(&scene, &a.common);
-    engine::check_config(&base).with_context(|| scene.name.clone())?;
+    engine::check_config(&scene, &base).with_context(|| scene.name.clone())?;
     let tol = a.tol.unwrap_or(1000.0 * base.rtol);
     crate::cli_check::cmd_check(&scene, &base, tol, a.common.quiet)
 }

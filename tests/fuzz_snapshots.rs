@@ -52,6 +52,7 @@ fn snap_scene() -> Scene {
             }),
             right_wall: None,
             hard: None,
+            damping: None,
         },
         u0: vec![0.0; N_BEADS],
         v0: vec![1.0, 0.0, 0.0],

@@ -30,6 +30,7 @@ fn scene(n: usize) -> Scene {
             left_wall: None,
             right_wall: None,
             hard: None,
+            damping: None,
         },
         u0: vec![0.0; n],
         v0,

@@ -182,6 +182,7 @@ pub(crate) mod tests {
             left_wall: None,
             right_wall: None,
             hard: None,
+            damping: None,
         }
     }
 

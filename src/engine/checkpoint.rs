@@ -140,4 +140,7 @@ pub struct HybridState {
     pub stuck: Vec<bool>,
     /// Next frame index.
     pub next_frame: u64,
+    /// Energy dissipated by cluster integrations that have ended (removed clusters, and the
+    /// segments before an integrator restart).
+    pub dissipated: f64,
 }

@@ -8,7 +8,7 @@ use crate::integrate::auto::Auto;
 use crate::integrate::dop853::Dop853;
 use crate::integrate::radau5::Radau5;
 use crate::integrate::verlet::Verlet;
-use crate::integrate::{ChainRange, Integrator, Method, System, Tolerances};
+use crate::integrate::{dissipated_at, ChainRange, Integrator, Method, System, Tolerances};
 use crate::scene::Scene;
 use std::time::Instant;
 
@@ -46,6 +46,9 @@ pub fn run_from(
     match from {
         None => {
             integ.reset(&sys, 0.0, &scene.u0, &scene.v0);
+            if chain.is_dissipative() {
+                obs.dissipated(0.0, 0.0)?;
+            }
             obs.frame(0.0, &scene.u0, &scene.v0)?;
         }
         Some(d) => {
@@ -75,6 +78,9 @@ pub fn run_from(
                 break;
             }
             integ.dense(tf, &mut buf);
+            if chain.is_dissipative() {
+                obs.dissipated(tf, dissipated_at(&*integ, &sys, tf))?;
+            }
             obs.frame(tf, &buf[..n], &buf[n..])?;
             last_frame_t = tf;
             next += 1;
@@ -97,6 +103,7 @@ pub fn run_from(
         largest_cluster: n as u64,
         late_merges: 0,
         implicit_steps: integ.implicit_steps(),
+        dissipated: integ.dissipated().1,
         u,
         v,
     })

@@ -66,6 +66,10 @@ pub struct Auto {
     zbuf: Vec<f64>,
     acc: Vec<f64>,
     k: Vec<f64>,
+    /// Scratch: damping Jacobian (`m + 1`).
+    kv: Vec<f64>,
+    /// Energy dissipated in the phases before the current one (since the last reset).
+    diss_base: f64,
 }
 
 impl Auto {
@@ -83,6 +87,8 @@ impl Auto {
             zbuf: vec![0.0; 2 * m],
             acc: vec![0.0; m],
             k: vec![0.0; m + 1],
+            kv: vec![0.0; m + 1],
+            diss_base: 0.0,
         }
     }
 
@@ -110,26 +116,16 @@ impl Auto {
         } else {
             self.dop.state()
         };
-        sys.accel_stiffness(&z[..m], &mut self.acc, &mut self.k);
+        sys.accel_stiffness(&z[..m], &z[m..], &mut self.acc, &mut self.k, &mut self.kv);
         let mass = sys.mass();
-        let mut w2: f64 = 0.0;
-        for i in 0..m {
-            let (kl, cl) = if i > 0 {
-                (
-                    self.k[i - 1],
-                    self.k[i - 1] / (mass[i - 1] * mass[i]).sqrt(),
-                )
-            } else {
-                (self.k[m - 1], 0.0)
-            };
-            let (kr, cr) = if i + 1 < m {
-                (self.k[i], self.k[i] / (mass[i] * mass[i + 1]).sqrt())
-            } else {
-                (self.k[m], 0.0)
-            };
-            w2 = w2.max((kl + kr) / mass[i] + cl + cr);
+        let w = gershgorin_sqrt(mass, &self.k);
+        if sys.dissipative() {
+            // Damping moves the eigenvalues to λ = −γ ± sqrt(γ² − ω²): |λ| ≤ ω + g with g the
+            // Gershgorin bound of M⁻¹ L(k_v).
+            w + gershgorin_sqrt(mass, &self.kv).powi(2)
+        } else {
+            w
         }
-        w2.sqrt()
     }
 
     /// Applies a pending switch: the other method starts from the current state and step.
@@ -142,6 +138,7 @@ impl Auto {
             self.dop.state()
         };
         self.zbuf.copy_from_slice(z);
+        self.diss_base += self.active().dissipated().1;
         self.mode.implicit = !self.mode.implicit;
         self.mode.streak = 0;
         self.mode.since = 0;
@@ -178,6 +175,26 @@ impl Auto {
     }
 }
 
+/// `sqrt` of the Gershgorin bound of the spectral radius of `M^{-1/2} L(k) M^{-1/2}`.
+fn gershgorin_sqrt(mass: &[f64], k: &[f64]) -> f64 {
+    let m = mass.len();
+    let mut w2: f64 = 0.0;
+    for i in 0..m {
+        let (kl, cl) = if i > 0 {
+            (k[i - 1], k[i - 1] / (mass[i - 1] * mass[i]).sqrt())
+        } else {
+            (k[m - 1], 0.0)
+        };
+        let (kr, cr) = if i + 1 < m {
+            (k[i], k[i] / (mass[i] * mass[i + 1]).sqrt())
+        } else {
+            (k[m], 0.0)
+        };
+        w2 = w2.max((kl + kr) / mass[i] + cl + cr);
+    }
+    w2.sqrt()
+}
+
 /// `acc += now − before`, field by field.
 fn add_diff(acc: &mut Stats, now: &Stats, before: &Stats) {
     acc.steps += now.steps - before.steps;
@@ -194,6 +211,7 @@ impl Integrator for Auto {
     fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]) {
         let before = self.active().stats().clone();
         self.active_mut().reset(sys, t, u, v);
+        self.diss_base = 0.0;
         self.mode.pending = false;
         let now = self.active().stats().clone();
         add_diff(&mut self.stats, &now, &before);
@@ -258,16 +276,23 @@ impl Integrator for Auto {
         self.mode.implicit_steps
     }
 
+    fn dissipated(&self) -> (f64, f64) {
+        let (a, b) = self.active().dissipated();
+        (self.diss_base + a, self.diss_base + b)
+    }
+
     fn save(&self) -> IntegratorState {
         let mut s = self.active().save();
         s.stats = self.stats.clone();
         s.auto = Some(self.mode);
+        s.dissipated = self.dissipated();
         s
     }
 
     fn load(&mut self, s: &IntegratorState) {
         self.mode = s.auto.unwrap_or_default();
         self.active_mut().load(s);
+        self.diss_base = 0.0;
         self.stats = s.stats.clone();
     }
 }

@@ -73,6 +73,12 @@ pub struct Dop853 {
     /// Scratch: 5th and 3rd order error estimates.
     e5: Vec<f64>,
     e3: Vec<f64>,
+    /// Dissipated power at the main stages (stage 0 = at `z`; 0 for conservative systems).
+    pw: [f64; N_MAIN],
+    /// Energy dissipated since the reset, at `t_prev` and at `t`.
+    diss: (f64, f64),
+    /// The system is dissipative: `E_d` is an error-controlled component (set every step).
+    damped: bool,
     stats: Stats,
 }
 
@@ -87,13 +93,13 @@ fn ulp(t: f64) -> f64 {
     }
 }
 
-/// `z = (u, v)` → `k = (v, f(u))`.
+/// `z = (u, v)` → `k = (v, f(u, v))`; returns the dissipated power at `z`.
 #[inline]
-fn rhs(sys: &dyn System, stats: &mut Stats, z: &[f64], k: &mut [f64]) {
+fn rhs(sys: &dyn System, stats: &mut Stats, z: &[f64], k: &mut [f64]) -> f64 {
     let m = z.len() / 2;
     k[..m].copy_from_slice(&z[m..]);
-    sys.accel(&z[..m], &mut k[m..]);
     stats.rhs_evals += 1;
+    sys.accel(&z[..m], &z[m..], &mut k[m..])
 }
 
 /// `y = z + h Σ_j a_j K_j` over the stages `K_j` stored in `k` (allocation-free).
@@ -132,6 +138,9 @@ impl Dop853 {
             f: vec![0.0; N_DENSE * n],
             e5: vec![0.0; n],
             e3: vec![0.0; n],
+            pw: [0.0; N_MAIN],
+            diss: (0.0, 0.0),
+            damped: false,
             stats: Stats::default(),
         }
     }
@@ -229,8 +238,16 @@ impl Dop853 {
         for (s, a) in A.iter().enumerate().take(N_MAIN).skip(1) {
             let (done, rest) = self.k.split_at_mut(s * n);
             combine(&mut self.y, &self.z, h, a, done);
-            rhs(sys, &mut self.stats, &self.y, &mut rest[..n]);
+            self.pw[s] = rhs(sys, &mut self.stats, &self.y, &mut rest[..n]);
         }
+    }
+
+    /// Energy dissipated over the step of size `h` just computed: the 8th-order weights (the
+    /// last main row of `A`) applied to the stage powers, i.e. `Ė_d = P` integrated as one more
+    /// component of the state.
+    fn step_dissipation(&self, h: f64) -> f64 {
+        let b = &A[N_MAIN - 1];
+        h * b.iter().zip(&self.pw).map(|(b, p)| b * p).sum::<f64>()
     }
 
     /// Weighted max-norm error of the step just computed by [`Self::main_stages`] (`INFINITY`
@@ -255,6 +272,22 @@ impl Dop853 {
             let sc = self.weight(i, self.z[i], self.y[i]);
             let (r5, r3) = ((self.e5[i] / sc).abs(), (self.e3[i] / sc).abs());
             finite &= r5.is_finite() && r3.is_finite() && self.y[i].is_finite();
+            n5 = n5.max(r5);
+            n3 = n3.max(r3);
+        }
+        if self.damped {
+            // The dissipated energy, integrated as one more component, is error-controlled
+            // too: inside a step the clipped force can vanish while the power does not
+            // (`P = −F_el δ̇`), which the state's error estimate cannot see.
+            let (d5, d3) = self
+                .pw
+                .iter()
+                .zip(E5.iter().zip(&E3))
+                .fold((0.0, 0.0), |(a, b), (p, (e5, e3))| (a + e5 * p, b + e3 * p));
+            let d_new = self.diss.1 + self.step_dissipation(h);
+            let sc = self.tol.weight_e(self.diss.1, d_new);
+            let (r5, r3) = ((d5 / sc).abs(), (d3 / sc).abs());
+            finite &= r5.is_finite() && r3.is_finite();
             n5 = n5.max(r5);
             n3 = n3.max(r3);
         }
@@ -327,7 +360,8 @@ impl Integrator for Dop853 {
         self.z_old.copy_from_slice(&self.z);
         self.f.fill(0.0);
         let (k0, _) = self.k.split_at_mut(2 * m);
-        rhs(sys, &mut self.stats, &self.z, k0);
+        self.pw[0] = rhs(sys, &mut self.stats, &self.z, k0);
+        self.diss = (0.0, 0.0);
         self.tol.velocity_scales(sys.mass(), &mut self.vs);
         self.h = self.initial_step(sys);
     }
@@ -337,6 +371,7 @@ impl Integrator for Dop853 {
     fn step(&mut self, sys: &dyn System, t_bound: f64) -> Result<f64, IntegrationError> {
         debug_assert_eq!(sys.len(), self.m);
         self.tol.velocity_scales(sys.mass(), &mut self.vs);
+        self.damped = sys.dissipative();
         let t = self.t;
         if !t.is_finite() || !self.z.iter().all(|x| x.is_finite()) {
             return Err(IntegrationError::NonFinite { t });
@@ -386,6 +421,10 @@ impl Integrator for Dop853 {
                 std::mem::swap(&mut self.z, &mut self.y);
                 self.t_prev = t;
                 self.t = t_new;
+                if sys.dissipative() {
+                    self.diss = (self.diss.1, self.diss.1 + self.step_dissipation(h));
+                    self.pw[0] = self.pw[N_MAIN - 1];
+                }
                 self.dense_coefficients(sys, h);
                 self.stats.steps += 1;
                 self.stats.bead_steps += self.m as u64;
@@ -474,6 +513,10 @@ impl Integrator for Dop853 {
         &self.stats
     }
 
+    fn dissipated(&self) -> (f64, f64) {
+        self.diss
+    }
+
     fn save(&self) -> IntegratorState {
         IntegratorState {
             t: self.t,
@@ -487,9 +530,11 @@ impl Integrator for Dop853 {
                 self.z_old.clone(),
                 self.k.clone(),
                 self.f.clone(),
+                vec![self.pw[0]],
             ],
             stats: self.stats.clone(),
             auto: None,
+            dissipated: self.diss,
         }
     }
 
@@ -499,11 +544,13 @@ impl Integrator for Dop853 {
         self.h = s.h;
         for (d, v) in [&mut self.z, &mut self.z_old, &mut self.k, &mut self.f]
             .into_iter()
-            .zip(&s.vecs)
+            .zip(&s.vecs[..4])
         {
             d.copy_from_slice(v);
         }
         self.stats = s.stats.clone();
+        self.diss = s.dissipated;
+        self.pw[0] = s.vecs.get(4).map_or(0.0, |p| p[0]);
     }
 }
 

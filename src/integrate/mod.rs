@@ -64,8 +64,8 @@ pub fn default_atol(rtol: f64) -> f64 {
     (rtol * DEFAULT_ATOL_RATIO).max(ATOL_FLOOR.min(rtol))
 }
 
-/// A second-order system of `m` beads: `ü = f(u)`, with a contact structure giving tridiagonal
-/// stiffness.
+/// A second-order system of `m` beads: `ü = f(u, u̇)`, with a contact structure giving
+/// tridiagonal Jacobian blocks `∂f/∂u`, `∂f/∂u̇`.
 pub trait System {
     /// Number of beads `m`.
     fn len(&self) -> usize;
@@ -75,11 +75,26 @@ pub trait System {
     }
     /// Bead masses, length `m`.
     fn mass(&self) -> &[f64];
-    /// Accelerations `f(u)`.
-    fn accel(&self, u: &[f64], acc: &mut [f64]);
-    /// Accelerations and stiffnesses: `k[c]` (c < m−1) for the contact between local beads `c`
-    /// and `c+1`, `k[m−1]`/`k[m]` for the left/right wall (0 when none). `k.len() == m + 1`.
-    fn accel_stiffness(&self, u: &[f64], acc: &mut [f64], k: &mut [f64]);
+    /// Accelerations `f(u, v)`; returns the power dissipated by the contacts (0 for a
+    /// conservative system, which ignores `v`).
+    fn accel(&self, u: &[f64], v: &[f64], acc: &mut [f64]) -> f64;
+    /// Accelerations and contact Jacobians: `k[c]` (c < m−1) is `∂F/∂δ` of the contact between
+    /// local beads `c` and `c+1`, `k[m−1]`/`k[m]` the left/right wall (0 when none), and
+    /// `kv` the same for `∂F/∂δ̇` (left untouched by a conservative system). Both have length
+    /// `m + 1`. Returns the dissipated power.
+    fn accel_stiffness(
+        &self,
+        u: &[f64],
+        v: &[f64],
+        acc: &mut [f64],
+        k: &mut [f64],
+        kv: &mut [f64],
+    ) -> f64;
+    /// Whether forces depend on velocities (damping): the implicit method then includes the
+    /// `∂F/∂δ̇` block, and the integrators accumulate the dissipated energy.
+    fn dissipative(&self) -> bool {
+        false
+    }
 }
 
 /// Beads `lo..lo+m` of a chain, as a [`System`].
@@ -111,11 +126,21 @@ impl System for ChainRange<'_> {
     fn mass(&self) -> &[f64] {
         &self.chain.mass[self.lo..self.lo + self.m]
     }
-    fn accel(&self, u: &[f64], acc: &mut [f64]) {
-        self.chain.accel(self.lo, u, acc)
+    fn accel(&self, u: &[f64], v: &[f64], acc: &mut [f64]) -> f64 {
+        self.chain.accel_v(self.lo, u, v, acc)
     }
-    fn accel_stiffness(&self, u: &[f64], acc: &mut [f64], k: &mut [f64]) {
-        self.chain.accel_stiffness(self.lo, u, acc, k)
+    fn accel_stiffness(
+        &self,
+        u: &[f64],
+        v: &[f64],
+        acc: &mut [f64],
+        k: &mut [f64],
+        kv: &mut [f64],
+    ) -> f64 {
+        self.chain.accel_stiffness_v(self.lo, u, v, acc, k, kv)
+    }
+    fn dissipative(&self) -> bool {
+        self.chain.is_dissipative()
     }
 }
 
@@ -177,6 +202,17 @@ impl Tolerances {
                 * (v_old + self.v_frame)
                     .abs()
                     .max((v_new + self.v_frame).abs())
+    }
+    /// Error weight of the dissipated energy (the extra state `E_d` of dissipative systems):
+    /// `atol·E + rtol·|E_d|`, with `E` the run's energy scale (1 when it has none).
+    #[inline]
+    pub fn weight_e(&self, d_old: f64, d_new: f64) -> f64 {
+        let e = if self.scales.energy > 0.0 {
+            self.scales.energy
+        } else {
+            1.0
+        };
+        self.atol * e + self.rtol * d_old.abs().max(d_new.abs())
     }
     /// Per-bead velocity scales `V_i` of beads with masses `mass` into `out` (see
     /// [`Scales::bead_velocity`]). No allocation; the integrators call it once per step.
@@ -269,6 +305,8 @@ pub struct IntegratorState {
     pub stats: Stats,
     /// Switching state of the [`auto::Auto`] integrator (`None` for the others).
     pub auto: Option<auto::AutoState>,
+    /// Energy dissipated since the last reset, at `t_prev` and at `t` ([`Integrator::dissipated`]).
+    pub dissipated: (f64, f64),
 }
 
 /// An adaptive one-step integrator with continuous output over the last accepted step.
@@ -298,10 +336,48 @@ pub trait Integrator {
     fn implicit_steps(&self) -> u64 {
         0
     }
+    /// Energy dissipated by the contacts since the last [`Integrator::reset`], at `t_prev` and
+    /// at `t`: the integral of the dissipated power computed with the method's own quadrature on
+    /// its stages (equivalent to integrating `Ė_d = P(u, v)` as one more state component).
+    /// `(0, 0)` for a conservative system.
+    fn dissipated(&self) -> (f64, f64) {
+        (0.0, 0.0)
+    }
     /// The state needed to continue exactly (see [`IntegratorState`]).
     fn save(&self) -> IntegratorState;
     /// Restores a state saved by the same method for the same number of beads.
     fn load(&mut self, s: &IntegratorState);
+}
+
+/// Gauss–Legendre nodes (on `[0, 1]`) and weights of order 8, for [`dissipated_at`].
+const GL4: [(f64, f64); 4] = [
+    (0.069_431_844_202_973_71, 0.173_927_422_568_726_93),
+    (0.330_009_478_207_571_87, 0.326_072_577_431_273_07),
+    (0.669_990_521_792_428_1, 0.326_072_577_431_273_07),
+    (0.930_568_155_797_026_3, 0.173_927_422_568_726_93),
+];
+
+/// Energy dissipated since the last reset at `t ∈ [t_prev, t]` of the last step: the value at
+/// the step's ends exactly, inside it the value at `t_prev` plus the 4-point Gauss–Legendre
+/// quadrature of the power along the continuous output (frames only; allocates `2m`).
+pub fn dissipated_at(integ: &dyn Integrator, sys: &dyn System, t: f64) -> f64 {
+    let (d0, d1) = integ.dissipated();
+    let (t0, t1) = (integ.t_prev(), integ.t());
+    if !sys.dissipative() || t >= t1 {
+        return d1;
+    }
+    if t <= t0 {
+        return d0;
+    }
+    let m = sys.len();
+    let (mut z, mut acc) = (vec![0.0; 2 * m], vec![0.0; m]);
+    let h = t - t0;
+    let mut sum = 0.0;
+    for (x, w) in GL4 {
+        integ.dense(t0 + x * h, &mut z);
+        sum += w * sys.accel(&z[..m], &z[m..], &mut acc);
+    }
+    d0 + h * sum
 }
 
 /// The max-norm of `err` weighted componentwise (u-part then v-part of length `m` each);
@@ -346,6 +422,7 @@ pub(crate) mod test_util {
             left_wall: None,
             right_wall: None,
             hard: None,
+            damping: None,
         }
     }
 

@@ -18,6 +18,8 @@ use super::{IntegrationError, Integrator, IntegratorState, Stats, System, Tolera
 use crate::linalg::{new_solver, SolverKind, TridiagSolver};
 use num_complex::Complex64;
 
+mod linear;
+
 const S6: f64 = 2.449_489_742_783_178; // sqrt(6)
 /// Collocation nodes.
 const C: [f64; 3] = [(4.0 - S6) / 10.0, (4.0 + S6) / 10.0, 1.0];
@@ -77,6 +79,20 @@ const P: [[f64; 3]; 3] = [
     ],
     [1.0 / 3.0, -8.0 / 3.0, 10.0 / 3.0],
 ];
+/// The Radau IIA matrix (its last row holds the quadrature weights).
+const RADAU_A: [[f64; 3]; 3] = [
+    [
+        (88.0 - 7.0 * S6) / 360.0,
+        (296.0 - 169.0 * S6) / 1800.0,
+        (-2.0 + 3.0 * S6) / 225.0,
+    ],
+    [
+        (296.0 + 169.0 * S6) / 1800.0,
+        (88.0 + 7.0 * S6) / 360.0,
+        (-2.0 - 3.0 * S6) / 225.0,
+    ],
+    [(16.0 - S6) / 36.0, (16.0 + S6) / 36.0, 1.0 / 9.0],
+];
 const NEWTON_MAXITER: usize = 6;
 /// A Newton increment below this fraction of the Newton tolerance counts as converged.
 const NEGLIGIBLE_NEWTON: f64 = 1e-3;
@@ -103,6 +119,13 @@ pub struct Radau5 {
     f: Vec<f64>,
     /// Stiffnesses at the current point (`m + 1`: contacts, then left/right wall).
     k: Vec<f64>,
+    /// Damping Jacobian `∂F/∂δ̇` at the current point (same layout; zero when conservative).
+    kv: Vec<f64>,
+    /// Energy dissipated since the reset, at `t_old` and at `t`.
+    diss: (f64, f64),
+    /// Dissipated power at `z`, and at the three stages of the step being tried.
+    p0: f64,
+    ps: [f64; 3],
     h_abs: f64,
     h_abs_old: Option<f64>,
     err_old: Option<f64>,
@@ -115,8 +138,11 @@ pub struct Radau5 {
     // scratch
     dw: [Vec<f64>; 3],
     ytmp: Vec<f64>,
+    /// Scratch for the stage states of [`Self::stage_dissipation`] (`ytmp` holds the new state).
+    ytmp_d: Vec<f64>,
     acc: Vec<f64>,
     ktmp: Vec<f64>,
+    kvtmp: Vec<f64>,
     d_r: Vec<f64>,
     e_r: Vec<f64>,
     d_c: Vec<Complex64>,
@@ -145,6 +171,10 @@ impl Radau5 {
             z_old: v(),
             f: v(),
             k: vec![0.0; m + 1],
+            kv: vec![0.0; m + 1],
+            diss: (0.0, 0.0),
+            p0: 0.0,
+            ps: [0.0; 3],
             h_abs: 0.0,
             h_abs_old: None,
             err_old: None,
@@ -155,8 +185,10 @@ impl Radau5 {
             fs: [v(), v(), v()],
             dw: [v(), v(), v()],
             ytmp: v(),
+            ytmp_d: v(),
             acc: vec![0.0; m],
             ktmp: vec![0.0; m + 1],
+            kvtmp: vec![0.0; m + 1],
             d_r: vec![0.0; m],
             e_r: vec![0.0; m.saturating_sub(1)],
             d_c: vec![Complex64::new(0.0, 0.0); m],
@@ -182,7 +214,7 @@ impl Radau5 {
     fn rhs(sys: &dyn System, m: usize, y: &[f64], out: &mut [f64], stats: &mut Stats) {
         let (ou, ov) = out.split_at_mut(m);
         ou.copy_from_slice(&y[m..]);
-        sys.accel(&y[..m], ov);
+        sys.accel(&y[..m], &y[m..], ov);
         stats.rhs_evals += 1;
     }
 
@@ -190,83 +222,23 @@ impl Radau5 {
         super::weighted_max_norm(x, y_a, y_b, &self.tol, &self.vs)
     }
 
-    /// Factorises `(c² M + L(k))` for `c = μ_r/h` and `c = μ_c/h`.
+    /// Factorises `(c² M + c L(k_v) + L(k))` for `c = μ_r/h` and `c = μ_c/h`
+    /// ([`linear::newton_matrix`]).
     fn factorize(&mut self, sys: &dyn System, h: f64) -> bool {
-        let m = self.m;
         let mass = sys.mass();
+        let kv = sys.dissipative().then_some(&self.kv[..]);
         let cr = MU_REAL / h;
         let cc = Complex64::new(MU_COMPLEX.0, MU_COMPLEX.1) / h;
-        let cr2 = cr * cr;
-        let cc2 = cc * cc;
-        let k = &self.k;
-        for i in 0..m {
-            let mut lap = 0.0;
-            if i > 0 {
-                lap += k[i - 1];
-            } else {
-                lap += k[m - 1]; // left wall
-            }
-            if i + 1 < m {
-                lap += k[i];
-            } else {
-                lap += k[m]; // right wall
-            }
-            self.d_r[i] = cr2 * mass[i] + lap;
-            self.d_c[i] = cc2 * mass[i] + lap;
-        }
-        for i in 0..m.saturating_sub(1) {
-            self.e_r[i] = -k[i];
-            self.e_c[i] = Complex64::new(-k[i], 0.0);
-        }
+        linear::newton_matrix(mass, &self.k, kv, cr, &mut self.d_r, &mut self.e_r);
+        linear::newton_matrix(mass, &self.k, kv, cc, &mut self.d_c, &mut self.e_c);
         self.stats.factorizations += 1;
         self.real.factorize(&self.d_r, &self.e_r).is_ok()
             && self.cplx.factorize(&self.d_c, &self.e_c).is_ok()
     }
 
-    /// Solves `(μ_r/h I − J) x = r` in place (`r` has length `2m`).
-    fn solve_real(real: &mut dyn TridiagSolver<f64>, mass: &[f64], c: f64, r: &mut [f64]) {
-        let m = mass.len();
-        let (ru, rv) = r.split_at_mut(m);
-        // rhs_u = M (r_v + c r_u), stored into rv temporarily.
-        for i in 0..m {
-            rv[i] = mass[i] * (rv[i] + c * ru[i]);
-        }
-        real.solve_in_place(rv);
-        // now rv = x_u; x_v = c x_u − r_u
-        for i in 0..m {
-            let xu = rv[i];
-            let xv = c * xu - ru[i];
-            ru[i] = xu;
-            rv[i] = xv;
-        }
-    }
-
-    /// Solves `(μ_c/h I − J) x = r` for complex `r = re + i·im` (each length `2m`), in place.
-    #[allow(clippy::too_many_arguments)]
-    fn solve_complex(
-        cplx: &mut dyn TridiagSolver<Complex64>,
-        mass: &[f64],
-        c: Complex64,
-        re: &mut [f64],
-        im: &mut [f64],
-        buf: &mut [Complex64],
-    ) {
-        let m = mass.len();
-        for i in 0..m {
-            let ru = Complex64::new(re[i], im[i]);
-            let rv = Complex64::new(re[m + i], im[m + i]);
-            buf[i] = (rv + c * ru) * mass[i];
-        }
-        cplx.solve_in_place(buf);
-        for i in 0..m {
-            let ru = Complex64::new(re[i], im[i]);
-            let xu = buf[i];
-            let xv = c * xu - ru;
-            re[i] = xu.re;
-            im[i] = xu.im;
-            re[m + i] = xv.re;
-            im[m + i] = xv.im;
-        }
+    /// The damping block for the Newton solves (`None` for a conservative system).
+    fn kv_of<'a>(sys: &dyn System, kv: &'a [f64]) -> Option<&'a [f64]> {
+        sys.dissipative().then_some(kv)
     }
 
     /// Initial step (Hairer's algorithm, error-estimator order 3), scale-free via the
@@ -351,8 +323,9 @@ impl Radau5 {
             if !finite {
                 return (false, it + 1, rate);
             }
-            Self::solve_real(&mut *self.real, mass, cr, d0s);
-            Self::solve_complex(&mut *self.cplx, mass, cc, d1s, d2s, &mut self.rhs_c);
+            let kv = Self::kv_of(sys, &self.kv);
+            linear::solve_real(&mut *self.real, mass, kv, cr, d0s);
+            linear::solve_complex(&mut *self.cplx, mass, kv, cc, d1s, d2s, &mut self.rhs_c);
             let mut dw_norm: f64 = 0.0;
             for d in [&*d0s, &*d1s, &*d2s] {
                 for (x, iw) in d.iter().zip(&self.inv_w) {
@@ -423,12 +396,37 @@ impl Radau5 {
         self.t = t_bound;
         self.have_sol = true;
         self.f[..m].copy_from_slice(&self.z[m..]);
-        sys.accel_stiffness(&self.z[..m], &mut self.acc, &mut self.k);
+        let (u, v) = self.z.split_at(m);
+        self.diss = (self.diss.1, self.diss.1 + dt * self.p0);
+        self.p0 = sys.accel_stiffness(u, v, &mut self.acc, &mut self.k, &mut self.kv);
         self.f[m..].copy_from_slice(&self.acc);
         self.stats.rhs_evals += 1;
         self.stats.jac_evals += 1;
         self.stats.steps += 1;
         self.stats.bead_steps += m as u64;
+    }
+
+    /// The dissipated energy `E_d` as one more (error-controlled) state component, over the
+    /// step of size `h` whose converged stages are in `zs`: its stage increments
+    /// `D_i = h Σ_j a_ij P_j` (`P_j` the power at the stages; `D_3` is the Radau quadrature of
+    /// order 5) and its error estimate `(P_0 + Σ e_i D_i / h)/(μ_r/h)` (the filter of the state's
+    /// estimate, with `∂P/∂z` neglected as in the simplified Newton). Returns `(D_3, weighted
+    /// error)`. Inside a step the clipped force can vanish while the power does not
+    /// (`P = −F_el δ̇`), which the state's error estimate cannot see.
+    fn dissipation_error(&mut self, sys: &dyn System, h: f64, cr: f64) -> (f64, f64) {
+        let m = self.m;
+        for i in 0..3 {
+            for ((y, z), d) in self.ytmp_d.iter_mut().zip(&self.z).zip(&self.zs[i]) {
+                *y = z + d;
+            }
+            let (u, v) = self.ytmp_d.split_at(m);
+            self.ps[i] = sys.accel(u, v, &mut self.acc);
+        }
+        let d: [f64; 3] =
+            std::array::from_fn(|i| h * (0..3).map(|j| RADAU_A[i][j] * self.ps[j]).sum::<f64>());
+        let err = (self.p0 + (E[0] * d[0] + E[1] * d[1] + E[2] * d[2]) / h) / cr;
+        let w = self.tol.weight_e(self.diss.1, self.diss.1 + d[2]);
+        (d[2], (err / w).abs())
     }
 
     /// Initial guess of the stages from the previous step's collocation polynomial.
@@ -473,7 +471,8 @@ impl Integrator for Radau5 {
         self.z[m..].copy_from_slice(v);
         self.z_old.copy_from_slice(&self.z);
         self.f[..m].copy_from_slice(v);
-        sys.accel_stiffness(u, &mut self.f[m..], &mut self.k);
+        self.p0 = sys.accel_stiffness(u, v, &mut self.f[m..], &mut self.k, &mut self.kv);
+        self.diss = (0.0, 0.0);
         self.stats.rhs_evals += 1;
         self.stats.jac_evals += 1;
         self.have_sol = false;
@@ -548,7 +547,13 @@ impl Integrator for Radau5 {
             }
             let mass = sys.mass();
             let cr = MU_REAL / h;
-            Self::solve_real(&mut *self.real, mass, cr, &mut self.err);
+            linear::solve_real(
+                &mut *self.real,
+                mass,
+                Self::kv_of(sys, &self.kv),
+                cr,
+                &mut self.err,
+            );
             let mut err_norm = self.weights_norm(&self.err, &self.z, &self.ytmp);
             let safety =
                 0.9 * (2 * NEWTON_MAXITER + 1) as f64 / (2 * NEWTON_MAXITER + n_iter) as f64;
@@ -565,10 +570,19 @@ impl Integrator for Radau5 {
                         (E[0] * self.zs[0][j] + E[1] * self.zs[1][j] + E[2] * self.zs[2][j]) / h;
                     self.err[j] = fe[j] + ze;
                 }
-                Self::solve_real(&mut *self.real, mass, cr, &mut self.err);
+                let kv = Self::kv_of(sys, &self.kv);
+                linear::solve_real(&mut *self.real, mass, kv, cr, &mut self.err);
                 err_norm = self.weights_norm(&self.err, &self.z, &self.ytmp);
                 self.dw[0] = tmp;
                 self.dw[1] = fe;
+            }
+            // after the state's (second) estimate, which replaces err_norm
+            let damped = sys.dissipative();
+            let mut d_step = 0.0;
+            if damped {
+                let (d, e) = self.dissipation_error(sys, h, cr);
+                d_step = d;
+                err_norm = err_norm.max(e);
             }
             if err_norm.is_nan() || err_norm > 1.0 {
                 let factor = if err_norm.is_finite() {
@@ -590,6 +604,9 @@ impl Integrator for Radau5 {
             if rejected {
                 factor = factor.min(1.0);
             }
+            if damped {
+                self.diss = (self.diss.1, self.diss.1 + d_step);
+            }
             // dense output Q = Z^T P, then advance
             for j in 0..n {
                 let (z0, z1, z2) = (self.zs[0][j], self.zs[1][j], self.zs[2][j]);
@@ -604,9 +621,11 @@ impl Integrator for Radau5 {
             self.have_sol = true;
             // F and stiffness at the new point (one evaluation gives both)
             self.f[..m].copy_from_slice(&self.z[m..]);
-            sys.accel_stiffness(&self.z[..m], &mut self.acc, &mut self.ktmp);
+            let (u, v) = self.z.split_at(m);
+            self.p0 = sys.accel_stiffness(u, v, &mut self.acc, &mut self.ktmp, &mut self.kvtmp);
             self.f[m..].copy_from_slice(&self.acc);
             std::mem::swap(&mut self.k, &mut self.ktmp);
+            std::mem::swap(&mut self.kv, &mut self.kvtmp);
             self.stats.rhs_evals += 1;
             self.stats.jac_evals += 1;
             self.stats.steps += 1;
@@ -669,6 +688,10 @@ impl Integrator for Radau5 {
         self.stats.steps
     }
 
+    fn dissipated(&self) -> (f64, f64) {
+        self.diss
+    }
+
     fn save(&self) -> IntegratorState {
         IntegratorState {
             t: self.t,
@@ -685,9 +708,12 @@ impl Integrator for Radau5 {
                 self.q[0].clone(),
                 self.q[1].clone(),
                 self.q[2].clone(),
+                self.kv.clone(),
+                vec![self.p0],
             ],
             stats: self.stats.clone(),
             auto: None,
+            dissipated: self.diss,
         }
     }
 
@@ -698,7 +724,7 @@ impl Integrator for Radau5 {
         self.h_abs_old = s.h_old;
         self.err_old = s.err_old;
         self.have_sol = s.have_sol;
-        let dst: [&mut Vec<f64>; 7] = {
+        let dst: [&mut Vec<f64>; 8] = {
             let [q0, q1, q2] = &mut self.q;
             [
                 &mut self.z,
@@ -708,12 +734,15 @@ impl Integrator for Radau5 {
                 q0,
                 q1,
                 q2,
+                &mut self.kv,
             ]
         };
         for (d, v) in dst.into_iter().zip(&s.vecs) {
             d.copy_from_slice(v);
         }
+        self.p0 = s.vecs.get(8).map_or(0.0, |p| p[0]);
         self.stats = s.stats.clone();
+        self.diss = s.dissipated;
     }
 }
 

@@ -108,7 +108,7 @@ impl Integrator for Verlet {
         self.z[..m].copy_from_slice(u);
         self.z[m..].copy_from_slice(v);
         self.z_old.copy_from_slice(&self.z);
-        sys.accel(u, &mut self.acc);
+        sys.accel(u, v, &mut self.acc);
         self.stats.rhs_evals += 1;
         self.acc_old.copy_from_slice(&self.acc);
         self.t = t;
@@ -159,7 +159,9 @@ impl Integrator for Verlet {
             v[i] += 0.5 * h * self.acc_old[i];
             u[i] += h * v[i];
         }
-        sys.accel(u, &mut self.acc);
+        // Conservative systems only (dissipative ones are refused: the half-step velocity
+        // would make the damping force first-order).
+        sys.accel(u, v, &mut self.acc);
         for i in 0..m {
             v[i] += 0.5 * h * self.acc[i];
         }
@@ -229,6 +231,7 @@ impl Integrator for Verlet {
             ],
             stats: self.stats.clone(),
             auto: None,
+            dissipated: (0.0, 0.0),
         }
     }
 

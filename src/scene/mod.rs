@@ -191,6 +191,7 @@
 //! | `wall_reflection` | Solitary wave (n = 2.5, 60 beads) reflected by a rigid right wall with the chain's contact law |
 //! | `gravity_on_wall` | Six beads resting on a left wall under gravity g = 1 (static overlaps), top bead pushed down with v = 0.5: persistent contacts |
 
+mod damping;
 pub mod error;
 pub(crate) mod hard;
 mod keys;

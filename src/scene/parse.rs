@@ -141,6 +141,12 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
             "prefactor",
             "precompression",
             "radius",
+            "law",
+            "damping",
+            "damping_si",
+            "restitution",
+            "impact_speed",
+            "impact_speed_si",
         ],
     )?;
     let units_t = table(
@@ -554,6 +560,8 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
                 "precompression",
                 "hard",
                 "restitution",
+                "damping",
+                "damping_si",
             ]
         } else {
             &[
@@ -562,6 +570,7 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
                 "precompression",
                 "hard",
                 "restitution",
+                "damping",
             ]
         };
         check_keys(ctx, &k, wt, allowed)?;
@@ -603,6 +612,18 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
             restitution: restitution_w,
         });
     }
+    let damping = super::damping::parse(
+        ctx,
+        chain_t,
+        walls_t,
+        &walls,
+        super::damping::ChainArrays {
+            mass: &mass,
+            exponent: &exponent,
+            prefactor: &prefactor,
+        },
+        scales,
+    )?;
     let [left_wall, right_wall] = walls;
 
     // Run settings.
@@ -685,6 +706,7 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
             left_wall,
             right_wall,
             hard,
+            damping,
         },
         u0,
         v0,

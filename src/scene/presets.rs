@@ -118,6 +118,16 @@ static PRESETS: &[PresetInfo] = &[
         description: "Newton's cradle with hard elastic contacts: bead 0 hits five touching beads at rest; the last bead leaves with the striker's velocity (hybrid engine only)",
         toml: include_str!("../../data/scenes/newtons_cradle_hard.toml"),
     },
+    PresetInfo {
+        name: "damped_striker",
+        description: "Striker chain of 100 Hertz beads with viscoelastic contacts (pair restitution 0.9 at impact speed 1): a decaying pulse, energy balance with the dissipated energy",
+        toml: include_str!("../../data/scenes/damped_striker.toml"),
+    },
+    PresetInfo {
+        name: "damped_column",
+        description: "Ten beads falling under gravity g = 1 onto a wall with viscoelastic contacts (pair restitution 0.6 at impact speed 1): they come to rest as a column",
+        toml: include_str!("../../data/scenes/damped_column.toml"),
+    },
 ];
 
 /// Every preset, the default (`striker`) first.

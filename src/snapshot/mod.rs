@@ -6,7 +6,7 @@
 //! [`SnapshotWriter`] streams frames to disk as a run produces them; [`Snapshot`] opens a file
 //! and reads any frame by seeking, without loading the others.
 //!
-//! # Byte layout (format version 2; version 1 differences below)
+//! # Byte layout (format version 3; versions 1 and 2 differences below)
 //!
 //! All integers are fixed-width little-endian (never `usize` on disk); all floats are IEEE-754
 //! binary64 little-endian.
@@ -14,7 +14,7 @@
 //! ```text
 //! offset  size  field
 //! 0       8     magic  b"BEADCHN\0"
-//! 8       4     format version, u32 (= 2)
+//! 8       4     format version, u32 (= 3)
 //! 12      ...   sections, back to back
 //! ```
 //!
@@ -46,7 +46,10 @@
 //! appends each block at once, so neither holds the whole log: a run's memory does not grow
 //! with its number of events, and an unfinished file holds the events up to its last block.
 //!
-//! *Version 1* (still read): no EVENT BLOCK or EVENT INDEX sections; the whole log is one
+//! *Version 2* (still read): as version 3, but the `Chain` inside the HEADER has no `damping`
+//! field (dissipative contact laws came with version 3; the frozen layout is in `legacy.rs`).
+//!
+//! *Version 1* (still read): as version 2, and no EVENT BLOCK or EVENT INDEX sections; the whole log is one
 //! `EVNT` (EVENTS) section, bincode of `Vec<`[`EventRecord`]`>` (possibly empty), written after
 //! the last frame, and `events_offset` of the INDEX points to it.
 //!
@@ -103,6 +106,7 @@
 //! link is refused (rules in [`crate::files`]).
 
 pub mod ckpt;
+mod legacy;
 mod reader;
 pub mod size;
 mod writer;
@@ -119,7 +123,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// The 8 magic bytes every snapshot starts with.
 pub const MAGIC: [u8; 8] = *b"BEADCHN\0";
 /// Format version written by this build (and the newest it reads; version 1 is still read).
-pub const FORMAT_VERSION: u32 = 2;
+pub const FORMAT_VERSION: u32 = 3;
 /// Bytes before the first section: magic + version.
 pub const PREAMBLE_LEN: u64 = 12;
 /// Bytes of a section header: tag + length + CRC.

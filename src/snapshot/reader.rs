@@ -131,8 +131,8 @@ impl Snapshot {
             ));
         }
         let payload = raw.read_payload(&head, "HEADER")?;
-        let header: Header =
-            decode_exact(&payload).map_err(|d| raw.corrupt("HEADER", head.offset, d))?;
+        let header: Header = super::legacy::decode_header(version, &payload)
+            .map_err(|d| raw.corrupt("HEADER", head.offset, d))?;
         let frame_len = frame_payload_len(header.n_beads)
             .filter(|&l| l < MAX_PLAUSIBLE_LEN)
             .ok_or_else(|| {

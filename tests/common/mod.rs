@@ -24,6 +24,7 @@ pub fn striker(n: usize, exp: f64, a: f64, v0: f64, until: f64) -> Scene {
             left_wall: None,
             right_wall: None,
             hard: None,
+            damping: None,
         },
         u0: vec![0.0; n],
         v0: v,

@@ -36,13 +36,25 @@ impl System for ClusterSys<'_> {
     fn mass(&self) -> &[f64] {
         self.mass
     }
-    fn accel(&self, u: &[f64], acc: &mut [f64]) {
-        self.chain.accel(self.lo, u, acc);
+    fn accel(&self, u: &[f64], v: &[f64], acc: &mut [f64]) -> f64 {
+        let p = self.chain.accel_v(self.lo, u, v, acc);
         self.pin(acc);
+        p
     }
-    fn accel_stiffness(&self, u: &[f64], acc: &mut [f64], k: &mut [f64]) {
-        self.chain.accel_stiffness(self.lo, u, acc, k);
+    fn accel_stiffness(
+        &self,
+        u: &[f64],
+        v: &[f64],
+        acc: &mut [f64],
+        k: &mut [f64],
+        kv: &mut [f64],
+    ) -> f64 {
+        let p = self.chain.accel_stiffness_v(self.lo, u, v, acc, k, kv);
         self.pin(acc);
+        p
+    }
+    fn dissipative(&self) -> bool {
+        self.chain.is_dissipative()
     }
 }
 

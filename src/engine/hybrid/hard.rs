@@ -43,7 +43,7 @@ impl Hybrid<'_> {
                 let z = cl.integ.state();
                 let mut acc = vec![0.0; m];
                 // real masses: the force a pinned bead feels
-                self.chain.accel(cl.lo, &z[..m], &mut acc);
+                self.chain.accel_v(cl.lo, &z[..m], &z[m..], &mut acc);
                 acc[i - cl.lo]
             }
         }

@@ -160,6 +160,8 @@ pub struct Hybrid<'a> {
     /// Scratch of [`Hybrid::form_group`].
     pools: Vec<stick::Pool>,
     next_frame: u64,
+    /// Energy dissipated by ended cluster integrations ([`Hybrid::dissipated_at`]).
+    dissipated: f64,
     bu: Vec<f64>,
     bv: Vec<f64>,
     bz: Vec<f64>,
@@ -179,6 +181,7 @@ pub fn run_from(
         Some(s) => h.restore(s),
     }
     let (u, v) = h.run_loop(obs)?;
+    let dissipated = h.dissipated_at(cfg.until);
     let chain = &scene.chain;
     let mut stats = h.stats.clone();
     let mut implicit_steps = h.implicit_steps;
@@ -206,6 +209,7 @@ pub fn run_from(
         largest_cluster: h.largest as u64,
         late_merges: h.late_merges,
         implicit_steps,
+        dissipated,
         u,
         v,
     })
@@ -253,6 +257,7 @@ impl<'a> Hybrid<'a> {
             stuck: vec![false; n.saturating_sub(1)],
             pools: Vec::with_capacity(n + 2),
             next_frame: 0,
+            dissipated: 0.0,
             bu: vec![0.0; n],
             bv: vec![0.0; n],
             bz: vec![0.0; 2 * n],
@@ -418,6 +423,9 @@ impl<'a> Hybrid<'a> {
                         self.bv[i] = v;
                     }
                     self.flush_events(obs)?;
+                    if self.chain.is_dissipative() {
+                        obs.dissipated(t, self.dissipated_at(t))?;
+                    }
                     obs.frame(t, &self.bu, &self.bv)?;
                     if t >= self.cfg.until {
                         return Ok((self.bu.clone(), self.bv.clone()));
@@ -582,6 +590,19 @@ impl<'a> Hybrid<'a> {
                 .push(Key::Cluster(slot), prio(t1, 2, lo, Key::Cluster(slot)));
         }
         Ok(())
+    }
+
+    /// Energy dissipated by damped contacts up to `t`: the ended integrations plus every live
+    /// cluster's integral up to `t` (which its last step covers, as for frames).
+    fn dissipated_at(&self, t: f64) -> f64 {
+        let mut e = self.dissipated;
+        if self.chain.is_dissipative() {
+            for cl in self.clusters.iter().flatten() {
+                let sys = cl.sys(self.chain, &self.stuck);
+                e += crate::integrate::dissipated_at(&*cl.integ, &sys, t.min(cl.integ.t()));
+            }
+        }
+        e
     }
 
     /// Does any contact of the cluster open at its current state (see module docs)?

@@ -105,6 +105,11 @@ impl Hybrid<'_> {
     /// Removes a cluster (its counters go to the run totals).
     pub(super) fn remove_cluster(&mut self, slot: u32) -> Cluster {
         let cl = self.clusters[slot as usize].take().expect("live cluster");
+        if self.chain.is_dissipative() {
+            let sys = cl.sys(self.chain, &self.stuck);
+            let t = cl.t_now.min(cl.integ.t());
+            self.dissipated += crate::integrate::dissipated_at(&*cl.integ, &sys, t);
+        }
         self.queue.remove(&Key::Cluster(slot));
         self.stats.add(cl.integ.stats());
         self.implicit_steps += cl.integ.implicit_steps();
@@ -277,10 +282,12 @@ impl Hybrid<'_> {
             // A few ulps after the step start: too short to integrate (the stage times would
             // coincide); the continuous output is exact to rounding there.
             cl.integ.dense(t, z);
+            self.dissipated += crate::integrate::dissipated_at(&*cl.integ, &sys, t);
             cl.integ.reset(&sys, t, &z[..m], &z[m..]);
             return Ok(());
         }
         cl.integ.dense(t0, z);
+        self.dissipated += cl.integ.dissipated().0;
         cl.integ.reset(&sys, t0, &z[..m], &z[m..]);
         if t > t0 {
             cl.integ.set_step_size(t - t0);

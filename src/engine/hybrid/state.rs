@@ -70,6 +70,7 @@ impl Hybrid<'_> {
             pinned: self.pinned,
             stuck: self.stuck.clone(),
             next_frame: self.next_frame,
+            dissipated: self.dissipated,
         }
     }
 
@@ -131,6 +132,7 @@ impl Hybrid<'_> {
         self.pinned = s.pinned;
         self.stuck.clone_from(&s.stuck);
         self.next_frame = s.next_frame;
+        self.dissipated = s.dissipated;
         for c in 0..self.n.saturating_sub(1) {
             self.schedule_free_pair(c);
         }

@@ -236,7 +236,7 @@ impl Hybrid<'_> {
         let m = cl.m();
         let z = cl.integ.state();
         let mut acc = vec![0.0; m];
-        self.chain.accel(cl.lo, &z[..m], &mut acc);
+        self.chain.accel_v(cl.lo, &z[..m], &z[m..], &mut acc);
         let mass = &self.chain.mass[cl.lo..cl.hi];
         let stuck = &self.stuck[cl.lo..cl.hi - 1];
         let mut a = 0;
@@ -316,7 +316,7 @@ impl Hybrid<'_> {
         let z = cl.integ.state();
         let m = cl.m();
         let mut acc = vec![0.0; m];
-        self.chain.accel(cl.lo, &z[..m], &mut acc);
+        self.chain.accel_v(cl.lo, &z[..m], &z[m..], &mut acc);
         if cl.rigid {
             let (mass, stuck) = (&self.chain.mass[cl.lo..], &self.stuck[cl.lo..cl.hi - 1]);
             super::cluster::rigid_accel(mass, stuck, [false; 2], &mut acc);

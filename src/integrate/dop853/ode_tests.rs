@@ -15,12 +15,21 @@ impl System for Oscillator {
     fn mass(&self) -> &[f64] {
         &[1.0]
     }
-    fn accel(&self, u: &[f64], acc: &mut [f64]) {
+    fn accel(&self, u: &[f64], _v: &[f64], acc: &mut [f64]) -> f64 {
         acc[0] = -u[0];
+        0.0
     }
-    fn accel_stiffness(&self, u: &[f64], acc: &mut [f64], k: &mut [f64]) {
+    fn accel_stiffness(
+        &self,
+        u: &[f64],
+        _v: &[f64],
+        acc: &mut [f64],
+        k: &mut [f64],
+        _kv: &mut [f64],
+    ) -> f64 {
         acc[0] = -u[0];
         k.fill(0.0);
+        0.0
     }
 }
 
@@ -36,16 +45,25 @@ impl System for Blowup {
     fn mass(&self) -> &[f64] {
         &[1.0]
     }
-    fn accel(&self, u: &[f64], acc: &mut [f64]) {
+    fn accel(&self, u: &[f64], _v: &[f64], acc: &mut [f64]) -> f64 {
         acc[0] = if self.nan_above && u[0] > 1e6 {
             f64::NAN
         } else {
             2.0 * u[0].powi(3)
         };
+        0.0
     }
-    fn accel_stiffness(&self, u: &[f64], acc: &mut [f64], k: &mut [f64]) {
-        self.accel(u, acc);
+    fn accel_stiffness(
+        &self,
+        u: &[f64],
+        v: &[f64],
+        acc: &mut [f64],
+        k: &mut [f64],
+        _kv: &mut [f64],
+    ) -> f64 {
+        self.accel(u, v, acc);
         k.fill(0.0);
+        0.0
     }
 }
 

@@ -18,6 +18,11 @@
 //! whole chain (dense engine) and a single contact cluster (hybrid engine). Contacts leaving the
 //! range are ignored, except walls, which act when the range contains the chain end.
 
+pub mod damped;
+pub mod law;
+pub mod restitution;
+
+pub use damped::{Damping, DampingLaw};
 use serde::{Deserialize, Serialize};
 
 /// A rigid wall at one end of the chain.
@@ -68,6 +73,9 @@ pub struct Chain {
     pub right_wall: Option<Wall>,
     /// Hard contacts, if the scene declares any.
     pub hard: Option<HardContacts>,
+    /// Dissipative contact law and coefficients, if the scene declares damping (see
+    /// [`law`]); `None` is the paper's conservative power law.
+    pub damping: Option<Damping>,
 }
 
 /// Floor of the overlap at which the stiffness of an `n < 2` contact is evaluated for the
@@ -310,6 +318,15 @@ impl Chain {
         }
     }
 
+    /// [`Self::regularise_stiffness`] for either precompression setting.
+    fn regularise_any(&self, lo: usize, u: &[f64], floor: f64, k: &mut [f64]) {
+        if self.precompression.is_some() {
+            self.regularise_stiffness::<true>(lo, u, floor, k)
+        } else {
+            self.regularise_stiffness::<false>(lo, u, floor, k)
+        }
+    }
+
     /// Potential energy stored in the contacts (and walls) of the whole chain, plus the field
     /// potential `−Σ W_i u_i`.
     pub fn potential_energy(&self, u: &[f64]) -> f64 {
@@ -520,6 +537,7 @@ mod tests {
             left_wall: None,
             right_wall: None,
             hard: None,
+            damping: None,
         }
     }
 

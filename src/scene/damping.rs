@@ -1,0 +1,283 @@
+//! Scene keys of dissipative contacts: `[chain] law`, `damping` / `damping_si`, or
+//! `restitution` with `impact_speed` / `impact_speed_si`, and `damping` / `damping_si` of a
+//! wall (see [`crate::model::law`] for the laws).
+//!
+//! - `law = "power"` (default) is the paper's conservative law; no damping key is allowed.
+//! - `law = "viscoelastic"`: `damping` is Kuwabara–Kono's `A` (a time; `damping_si` in s).
+//! - `law = "linear_dashpot"`: `damping` is `c` (force per velocity; `damping_si` in N·s/m).
+//! - Instead of `damping`, `restitution = e` and `impact_speed = v` give every contact the
+//!   coefficient for which a head-on collision of its two beads at relative speed `v` rebounds
+//!   with `e` ([`crate::model::law::restitution`]: the collision is solved numerically, to the
+//!   law's own clipped force, so `e` is exact for this model at `v`).
+//! - A soft wall takes the coefficient of the contact next to it unless its table gives
+//!   `damping` (`damping_si`).
+//!
+//! A law whose coefficients are all 0 is the power law: the scene declares no damping and runs
+//! the conservative kernel (bit-identical results).
+
+use super::error::SceneError;
+use super::keys::{exclusive, get, kp, opt_num, opt_spec, opt_str};
+use super::units::UnitScales;
+use super::values::{number, Ctx, Per};
+use crate::model::restitution;
+use crate::model::{Damping, DampingLaw, Wall};
+use toml::Table;
+
+/// The resolved chain arrays the damping keys depend on.
+pub(crate) struct ChainArrays<'a> {
+    pub mass: &'a [f64],
+    pub exponent: &'a [f64],
+    pub prefactor: &'a [f64],
+}
+
+/// Parses the damping keys of `[chain]` and the wall tables; `None` for a conservative scene.
+pub(crate) fn parse(
+    ctx: &Ctx,
+    chain_t: Option<&Table>,
+    walls_t: Option<&Table>,
+    walls: &[Option<Wall>; 2],
+    arrays: ChainArrays,
+    scales: Option<UnitScales>,
+) -> Result<Option<Damping>, SceneError> {
+    let law = match opt_str(ctx, chain_t, "chain", "law")? {
+        None | Some("power") => None,
+        Some("viscoelastic") => Some(DampingLaw::Viscoelastic),
+        Some("linear_dashpot") => Some(DampingLaw::LinearDashpot),
+        Some(s) => {
+            return Err(ctx.err(
+                "[chain].law",
+                format!("expected \"power\", \"viscoelastic\" or \"linear_dashpot\", got \"{s}\""),
+            ))
+        }
+    };
+    let keys = [
+        "damping",
+        "damping_si",
+        "restitution",
+        "impact_speed",
+        "impact_speed_si",
+    ];
+    let Some(law) = law else {
+        for k in keys {
+            if get(chain_t, k).is_some() {
+                return Err(ctx.err(
+                    &kp("chain", k),
+                    "needs a dissipative law ([chain] law = \"viscoelastic\" or \"linear_dashpot\")",
+                ));
+            }
+        }
+        for side in ["left", "right"] {
+            for k in ["damping", "damping_si"] {
+                if wall_key(walls_t, side, k).is_some() {
+                    return Err(ctx.err(
+                        &format!("[walls.{side}].{k}"),
+                        "needs a dissipative law ([chain] law = \"viscoelastic\" or \"linear_dashpot\")",
+                    ));
+                }
+            }
+        }
+        return Ok(None);
+    };
+    let contact = contact_coefficients(ctx, chain_t, law, &arrays, scales)?;
+    let mut wall = [0.0; 2];
+    for (s, side) in ["left", "right"].iter().enumerate() {
+        let key = format!("[walls.{side}]");
+        let plain =
+            wall_key(walls_t, side, "damping").map(|v| number(ctx, &format!("{key}.damping"), v));
+        let si = wall_key(walls_t, side, "damping_si")
+            .map(|v| number(ctx, &format!("{key}.damping_si"), v));
+        let value = match (plain.transpose()?, si.transpose()?) {
+            (Some(_), Some(_)) => {
+                return Err(ctx.err(
+                    &format!("{key}.damping_si"),
+                    "give either `damping` or `damping_si`, not both",
+                ))
+            }
+            (Some(g), None) => g,
+            (None, Some(g)) => to_computer(ctx, &format!("{key}.damping_si"), law, g, scales)?,
+            (None, None) => {
+                let c = if s == 0 { 0 } else { contact.len() - 1 };
+                contact[c]
+            }
+        };
+        check_coefficient(ctx, &format!("{key}.damping"), value)?;
+        let hard = walls[s].as_ref().is_some_and(|w| w.restitution.is_some());
+        if hard && plain_given(walls_t, side) {
+            return Err(ctx.err(
+                &format!("{key}.damping"),
+                "a hard wall has a restitution, not a damping",
+            ));
+        }
+        wall[s] = value;
+    }
+    if contact.iter().chain(&wall).all(|g| *g == 0.0) {
+        return Ok(None);
+    }
+    Ok(Some(Damping {
+        law,
+        contact,
+        left_wall: wall[0],
+        right_wall: wall[1],
+    }))
+}
+
+fn plain_given(walls_t: Option<&Table>, side: &str) -> bool {
+    wall_key(walls_t, side, "damping").is_some() || wall_key(walls_t, side, "damping_si").is_some()
+}
+
+fn wall_key<'a>(walls_t: Option<&'a Table>, side: &str, key: &str) -> Option<&'a toml::Value> {
+    walls_t
+        .and_then(|w| w.get(side))
+        .and_then(|t| t.as_table())
+        .and_then(|t| t.get(key))
+}
+
+/// Per-contact coefficients from `damping`, `damping_si`, or `restitution` + `impact_speed`.
+fn contact_coefficients(
+    ctx: &Ctx,
+    chain_t: Option<&Table>,
+    law: DampingLaw,
+    arrays: &ChainArrays,
+    scales: Option<UnitScales>,
+) -> Result<Vec<f64>, SceneError> {
+    let nc = arrays.exponent.len();
+    exclusive(ctx, chain_t, "chain", "damping", "damping_si")?;
+    exclusive(ctx, chain_t, "chain", "damping", "restitution")?;
+    exclusive(ctx, chain_t, "chain", "damping_si", "restitution")?;
+    exclusive(ctx, chain_t, "chain", "impact_speed", "impact_speed_si")?;
+    if scales.is_none() {
+        for k in ["damping_si", "impact_speed_si"] {
+            if get(chain_t, k).is_some() {
+                return Err(ctx.err(
+                    &kp("chain", k),
+                    "only allowed in a physical scene ([units] system = \"physical\")",
+                ));
+            }
+        }
+    }
+    if let Some(e) = opt_num(ctx, chain_t, "chain", "restitution")? {
+        return from_restitution(ctx, chain_t, law, arrays, scales, e);
+    }
+    for k in ["impact_speed", "impact_speed_si"] {
+        if get(chain_t, k).is_some() {
+            return Err(ctx.err(&kp("chain", k), "only used with [chain].restitution"));
+        }
+    }
+    let (spec, key, si) = match (
+        opt_spec(ctx, chain_t, "chain", "damping")?,
+        opt_spec(ctx, chain_t, "chain", "damping_si")?,
+    ) {
+        (Some(s), _) => (s, "[chain].damping", false),
+        (None, Some(s)) => (s, "[chain].damping_si", true),
+        (None, None) => {
+            return Err(ctx.err(
+                "[chain].damping",
+                format!(
+                    "missing: law \"{}\" needs `damping` (or `restitution` with `impact_speed`)",
+                    law.name()
+                ),
+            ))
+        }
+    };
+    let mut g = spec.resolve(ctx, key, nc, Per::Contact, 0.0)?;
+    for (c, x) in g.iter_mut().enumerate() {
+        if si {
+            *x = to_computer(ctx, key, law, *x, scales)?;
+        }
+        if !(x.is_finite() && *x >= 0.0) {
+            return Err(ctx.index_err(
+                key,
+                Per::Contact,
+                c,
+                format!("must be a finite number >= 0, got {x}"),
+            ));
+        }
+    }
+    Ok(g)
+}
+
+/// Coefficients that give restitution `e` at impact speed `v` for every contact.
+fn from_restitution(
+    ctx: &Ctx,
+    chain_t: Option<&Table>,
+    law: DampingLaw,
+    arrays: &ChainArrays,
+    scales: Option<UnitScales>,
+    e: f64,
+) -> Result<Vec<f64>, SceneError> {
+    if !(e > 0.0 && e <= 1.0) {
+        return Err(ctx.err("[chain].restitution", format!("must be in (0, 1], got {e}")));
+    }
+    let v = match (opt_num(ctx, chain_t, "chain", "impact_speed")?, opt_num(ctx, chain_t, "chain", "impact_speed_si")?, scales) {
+        (Some(v), _, _) => v,
+        (None, Some(v), Some(sc)) => sc.velocity(v),
+        _ => {
+            return Err(ctx.err(
+                "[chain].impact_speed",
+                "missing: `restitution` is measured at an impact speed (the relative speed of the two beads)",
+            ))
+        }
+    };
+    if !(v > 0.0 && v.is_finite()) {
+        return Err(ctx.err("[chain].impact_speed", format!("must be > 0, got {v}")));
+    }
+    let mut out = Vec::with_capacity(arrays.exponent.len());
+    let mut memo: Vec<(f64, f64)> = Vec::new(); // (n, dimensionless coefficient)
+    for c in 0..arrays.exponent.len() {
+        let n = arrays.exponent[c];
+        if n < 2.0 {
+            return Err(ctx.index_err(
+                "[chain].restitution",
+                Per::Contact,
+                c,
+                format!("needs exponent >= 2 (the damping force of exponent {n} is unbounded at first touch); give `damping` instead"),
+            ));
+        }
+        let x = match memo.iter().find(|(m, _)| *m == n) {
+            Some((_, x)) => *x,
+            None => {
+                let x = restitution::dimensionless_coefficient(law, n, e);
+                memo.push((n, x));
+                x
+            }
+        };
+        let mu = arrays.mass[c] * arrays.mass[c + 1] / (arrays.mass[c] + arrays.mass[c + 1]);
+        out.push(restitution::coefficient(
+            law,
+            n,
+            arrays.prefactor[c],
+            mu,
+            v,
+            x,
+        ));
+    }
+    Ok(out)
+}
+
+/// Computer units of an SI damping coefficient: `A` in s → `A/β`; `c` in kg/s → `c β/m0`.
+fn to_computer(
+    ctx: &Ctx,
+    key: &str,
+    law: DampingLaw,
+    g: f64,
+    scales: Option<UnitScales>,
+) -> Result<f64, SceneError> {
+    let Some(sc) = scales else {
+        return Err(ctx.err(
+            key,
+            "only allowed in a physical scene ([units] system = \"physical\")",
+        ));
+    };
+    Ok(match law {
+        DampingLaw::Viscoelastic => sc.time(g),
+        DampingLaw::LinearDashpot => g * sc.time / sc.mass,
+    })
+}
+
+fn check_coefficient(ctx: &Ctx, key: &str, g: f64) -> Result<(), SceneError> {
+    if g.is_finite() && g >= 0.0 {
+        Ok(())
+    } else {
+        Err(ctx.err(key, format!("must be a finite number >= 0, got {g}")))
+    }
+}
