@@ -180,3 +180,45 @@ fn resume_can_extend_the_end_time() {
     assert_eq!(out.u, reference.u);
     assert_eq!(out.v, reference.v);
 }
+
+#[test]
+fn damped_resume_is_bit_identical_including_the_dissipated_energy() {
+    use beadchain::model::{Damping, DampingLaw};
+    for (engine, method) in [
+        (Engine::Dense, Method::Radau5),
+        (Engine::Hybrid, Method::Radau5),
+        (Engine::Hybrid, Method::Dop853),
+        (Engine::Hybrid, Method::Auto),
+    ] {
+        let (mut s, cfg) = scene_and_cfg(engine, method);
+        s.chain.damping = Some(Damping {
+            law: DampingLaw::Viscoelastic,
+            contact: vec![0.02; 39],
+            left_wall: 0.0,
+            right_wall: 0.0,
+        });
+        let mut full = probe(u64::MAX, false);
+        let reference = engine::run(&s, &cfg, &mut full).expect("runs");
+        assert!(
+            reference.dissipated > 1e-3,
+            "{engine:?}/{method:?}: dissipates"
+        );
+        for frac in [0.3, 0.8] {
+            let at = ((full.polls as f64) * frac) as u64 + 1;
+            let mut first = probe(at, true);
+            engine::run(&s, &cfg, &mut first).expect_err("stopped");
+            let (state, _) = first.saved.take().expect("checkpoint");
+            let out =
+                engine::resume(&s, &cfg, &state, &mut probe(u64::MAX, false)).expect("resumes");
+            assert_eq!(out.u, reference.u, "{engine:?}/{method:?} at {frac}");
+            assert_eq!(out.v, reference.v, "{engine:?}/{method:?} at {frac}");
+            assert_eq!(
+                out.dissipated.to_bits(),
+                reference.dissipated.to_bits(),
+                "{engine:?}/{method:?} at {frac}: {} vs {}",
+                out.dissipated,
+                reference.dissipated
+            );
+        }
+    }
+}

@@ -294,3 +294,43 @@ fn verlet_refuses_damped_scenes() {
         "{err}"
     );
 }
+
+#[test]
+fn damped_column_comes_to_rest_on_its_wall() {
+    // Soft damped contacts end every collision in finite time: no inelastic collapse, a
+    // bounded run (the step budget of the test config), and the column at rest at the end.
+    let sc = beadchain::scene::preset("damped_column").expect("preset");
+    for method in [Method::Auto, Method::Radau5] {
+        let mut c = cfg(Engine::Hybrid, method, 1e-8, sc.run.until);
+        c.every = sc.run.every;
+        let (out, rec) = common::run(&sc, &c);
+        let ke = |v: &[f64]| sc.chain.kinetic_energy(v);
+        let peak = rec.v.iter().map(|v| ke(v)).fold(0.0_f64, f64::max);
+        let last = ke(&out.v);
+        // at rest: kinetic energy below 1e-9 of its peak (measured 5e-14 with auto)
+        assert!(
+            last <= 1e-9 * peak,
+            "{method:?}: KE {last:e} of peak {peak:e}"
+        );
+        // all the potential energy released by the fall was dissipated (abs 1e-7 of it)
+        assert!(out.dissipated > 0.0);
+        let bal = out.energy_final + out.dissipated - out.energy_initial;
+        assert!(
+            bal.abs() <= 1e-7 * out.dissipated,
+            "{method:?}: balance {bal:e}"
+        );
+    }
+}
+
+#[test]
+fn damped_striker_preset_agrees_between_engines() {
+    let sc = beadchain::scene::preset("damped_striker").expect("preset");
+    let until = sc.run.until;
+    let (d, _) = common::run(&sc, &cfg(Engine::Dense, Method::Dop853, 1e-11, until));
+    let (h, _) = common::run(&sc, &cfg(Engine::Hybrid, Method::Auto, 1e-9, until));
+    let err = common::vel_error(&h, &d);
+    // rel 1e-6 of the largest velocity (rtol 1e-9); the pulse keeps 5 % of the energy
+    assert!(err <= 1e-6, "velocity error {err:e}");
+    assert!((h.dissipated - d.dissipated).abs() <= 1e-7 * d.energy_initial);
+    assert!(h.energy_final < 0.1 * h.energy_initial, "the pulse decays");
+}

@@ -167,7 +167,11 @@ impl Chain {
         let (mut d_max, mut d_soft) = (0.0_f64, f64::INFINITY);
         for c in 0..m - 1 {
             let g = lo + c;
-            let delta = pre.map_or(0.0, |p| p[g]) + u[c] - u[c + 1];
+            // same rounding as the conservative kernel: (u_c − u_{c+1}) + Δ
+            let delta = match pre {
+                Some(p) => u[c] - u[c + 1] + p[g],
+                None => u[c] - u[c + 1],
+            };
             let e = make(self.exponent[g], self.prefactor[g], d.contact[g])
                 .eval(delta, v[c] - v[c + 1]);
             power += e.power;

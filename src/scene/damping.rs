@@ -237,6 +237,17 @@ fn from_restitution(
             Some((_, x)) => *x,
             None => {
                 let x = restitution::dimensionless_coefficient(law, n, e);
+                if x.is_nan() {
+                    return Err(ctx.index_err(
+                        "[chain].restitution",
+                        Per::Contact,
+                        c,
+                        format!(
+                            "{e} is below what law \"{}\" reaches with exponent {n}",
+                            law.name()
+                        ),
+                    ));
+                }
                 memo.push((n, x));
                 x
             }
