@@ -36,7 +36,7 @@ impl Control {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum EngineState {
     /// Dense engine.
-    Dense(DenseState),
+    Dense(Box<DenseState>),
     /// Hybrid engine.
     Hybrid(Box<HybridState>),
 }
@@ -45,7 +45,7 @@ impl EngineState {
     /// Simulation time the state is at (the engine's clock).
     pub fn time(&self) -> f64 {
         match self {
-            EngineState::Dense(d) => d.integ.t,
+            EngineState::Dense(d) => d.clock,
             EngineState::Hybrid(h) => h.t,
         }
     }
@@ -60,6 +60,10 @@ pub struct DenseState {
     pub next_frame: u64,
     /// Time of the last frame written.
     pub last_frame_t: f64,
+    /// The engine clock (at most `integ.t`: an advance may stop inside the last step).
+    pub clock: f64,
+    /// Energy dissipated before the integrator's last restart (a velocity change).
+    pub dissipated: f64,
 }
 
 /// One cluster of the hybrid engine.

@@ -3,6 +3,7 @@
 //! output at the requested times.
 
 use super::checkpoint::{DenseState, EngineState};
+use super::stepper::{check_target, Engine, State, Stop};
 use super::{EngineError, Observer, RunConfig, RunOutcome};
 use crate::integrate::auto::Auto;
 use crate::integrate::dop853::Dop853;
@@ -30,81 +31,211 @@ pub fn run_from(
     from: Option<&DenseState>,
     obs: &mut dyn Observer,
 ) -> Result<RunOutcome, EngineError> {
-    let chain = &scene.chain;
-    let n = chain.len();
-    let sys = ChainRange::whole(chain);
-    let tol = Tolerances {
-        rtol: cfg.rtol,
-        atol: cfg.atol,
-        scales: chain.scales(&scene.u0, &scene.v0),
-        v_frame: 0.0,
-    };
-    let start = Instant::now();
-    let mut integ = make_integrator(cfg, n, tol);
-    let mut next = 1u64;
-    let mut last_frame_t = 0.0;
-    match from {
-        None => {
-            integ.reset(&sys, 0.0, &scene.u0, &scene.v0);
-            if chain.is_dissipative() {
+    let mut e = DenseEngine::new(scene, cfg, from);
+    match e.advance(cfg.until, obs)? {
+        Stop::Reached { .. } => Ok(e.outcome()),
+        Stop::Requested { t } => Err(EngineError::Interrupted(t)),
+    }
+}
+
+/// The dense engine as an [`Engine`].
+pub struct DenseEngine<'a> {
+    scene: &'a Scene,
+    cfg: &'a RunConfig,
+    integ: Box<dyn Integrator>,
+    /// Index of the next frame to emit.
+    next: u64,
+    last_frame_t: f64,
+    /// Engine clock (≤ `integ.t()`).
+    clock: f64,
+    /// Whether frame 0 still has to be emitted.
+    fresh: bool,
+    /// Energy dissipated before the integrator's last restart.
+    diss_base: f64,
+    /// Counters and implicit steps of integrators replaced by [`Engine::set_velocities`].
+    stats_base: (crate::integrate::Stats, u64),
+    start: Instant,
+    buf: Vec<f64>,
+}
+
+impl<'a> DenseEngine<'a> {
+    /// A dense engine at `t = 0`, or at a checkpointed state.
+    pub fn new(scene: &'a Scene, cfg: &'a RunConfig, from: Option<&DenseState>) -> Self {
+        let chain = &scene.chain;
+        let n = chain.len();
+        let tol = Tolerances {
+            rtol: cfg.rtol,
+            atol: cfg.atol,
+            scales: chain.scales(&scene.u0, &scene.v0),
+            v_frame: 0.0,
+        };
+        let mut e = Self {
+            scene,
+            cfg,
+            integ: make_integrator(cfg, n, tol),
+            next: 1,
+            last_frame_t: 0.0,
+            clock: 0.0,
+            fresh: true,
+            diss_base: 0.0,
+            stats_base: Default::default(),
+            start: Instant::now(),
+            buf: vec![0.0; 2 * n],
+        };
+        match from {
+            None => {
+                let sys = ChainRange::whole(chain);
+                e.integ.reset(&sys, 0.0, &scene.u0, &scene.v0);
+            }
+            Some(d) => {
+                e.integ.load(&d.integ);
+                e.next = d.next_frame;
+                e.last_frame_t = d.last_frame_t;
+                e.clock = d.clock;
+                e.diss_base = d.dissipated;
+                e.fresh = false;
+            }
+        }
+        e
+    }
+
+    fn sys(&self) -> ChainRange<'a> {
+        ChainRange::whole(&self.scene.chain)
+    }
+
+    /// Dissipated energy at `t` (within the last step).
+    fn dissipated(&self, t: f64) -> f64 {
+        self.diss_base + dissipated_at(&*self.integ, &self.sys(), t)
+    }
+
+    /// Emits the frames due up to `min(integ.t(), until)`.
+    fn frames(&mut self, until: f64, obs: &mut dyn Observer) -> Result<(), EngineError> {
+        let n = self.scene.chain.len();
+        loop {
+            let tf = self.cfg.frame_time(self.next);
+            if tf > self.integ.t() || tf > until || self.last_frame_t >= self.cfg.until {
+                return Ok(());
+            }
+            self.integ.dense(tf, &mut self.buf);
+            if self.scene.chain.is_dissipative() {
+                obs.dissipated(tf, self.dissipated(tf))?;
+            }
+            obs.frame(tf, &self.buf[..n], &self.buf[n..])?;
+            self.last_frame_t = tf;
+            self.next += 1;
+        }
+    }
+}
+
+impl Engine for DenseEngine<'_> {
+    fn advance(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Stop, EngineError> {
+        check_target(until, self.cfg.until)?;
+        let scene = self.scene;
+        if self.fresh {
+            if scene.chain.is_dissipative() {
                 obs.dissipated(0.0, 0.0)?;
             }
             obs.frame(0.0, &scene.u0, &scene.v0)?;
+            self.fresh = false;
         }
-        Some(d) => {
-            integ.load(&d.integ);
-            next = d.next_frame;
-            last_frame_t = d.last_frame_t;
+        self.frames(until, obs)?;
+        while self.integ.t() < until {
+            let stop = super::poll_stop(obs, self.integ.t(), || self.save())?;
+            if stop {
+                return Ok(Stop::Requested { t: self.clock });
+            }
+            let sys = self.sys();
+            self.integ.step(&sys as &dyn System, self.cfg.until)?;
+            self.clock = self.integ.t().min(until);
+            if let Some(max) = self.cfg.max_steps {
+                if self.integ.stats().steps >= max {
+                    return Err(crate::integrate::IntegrationError::Budget(max).into());
+                }
+            }
+            self.frames(until, obs)?;
+        }
+        self.clock = self.clock.max(until.min(self.integ.t()));
+        Ok(Stop::Reached { t: self.clock })
+    }
+
+    fn time(&self) -> f64 {
+        self.clock
+    }
+
+    fn state(&self) -> State {
+        let n = self.scene.chain.len();
+        let mut z = vec![0.0; 2 * n];
+        if self.clock == self.integ.t() {
+            z.copy_from_slice(self.integ.state());
+        } else {
+            self.integ.dense(self.clock, &mut z);
+        }
+        let v = z.split_off(n);
+        State {
+            t: self.clock,
+            u: z,
+            v,
         }
     }
-    let mut buf = vec![0.0; 2 * n];
-    while integ.t() < cfg.until {
-        super::poll(obs, integ.t(), || {
-            EngineState::Dense(DenseState {
-                integ: integ.save(),
-                next_frame: next,
-                last_frame_t,
-            })
-        })?;
-        integ.step(&sys as &dyn System, cfg.until)?;
-        if let Some(max) = cfg.max_steps {
-            if integ.stats().steps >= max {
-                return Err(crate::integrate::IntegrationError::Budget(max).into());
-            }
+
+    fn set_velocities(&mut self, v: &[f64]) -> Result<(), EngineError> {
+        let n = self.scene.chain.len();
+        if v.len() != n || !v.iter().all(|x| x.is_finite()) {
+            return Err(EngineError::Config(format!(
+                "set_velocities: expected {n} finite velocities, got {} values",
+                v.len()
+            )));
         }
-        loop {
-            let tf = cfg.frame_time(next);
-            if tf > integ.t() || last_frame_t >= cfg.until {
-                break;
-            }
-            integ.dense(tf, &mut buf);
-            if chain.is_dissipative() {
-                obs.dissipated(tf, dissipated_at(&*integ, &sys, tf))?;
-            }
-            obs.frame(tf, &buf[..n], &buf[n..])?;
-            last_frame_t = tf;
-            next += 1;
+        let s = self.state();
+        self.diss_base = self.dissipated(self.clock);
+        self.stats_base.0.add(self.integ.stats());
+        self.stats_base.1 += self.integ.implicit_steps();
+        // the tolerances' scales follow the new state (a kicked chain at rest had none)
+        let tol = Tolerances {
+            rtol: self.cfg.rtol,
+            atol: self.cfg.atol,
+            scales: self.scene.chain.scales(&s.u, v),
+            v_frame: 0.0,
+        };
+        self.integ = make_integrator(self.cfg, n, tol);
+        let sys = self.sys();
+        self.integ.reset(&sys, self.clock, &s.u, v);
+        Ok(())
+    }
+
+    fn outcome(&self) -> RunOutcome {
+        let chain = &self.scene.chain;
+        let (scene, s) = (self.scene, self.state());
+        let mut stats = self.stats_base.0.clone();
+        stats.add(self.integ.stats());
+        RunOutcome {
+            stats,
+            t_end: self.clock,
+            wall_seconds: self.start.elapsed().as_secs_f64(),
+            energy_initial: chain.energy(&scene.u0, &scene.v0),
+            energy_final: chain.energy(&s.u, &s.v),
+            energy_scale: chain
+                .energy_scale(&scene.u0, &scene.v0)
+                .max(chain.energy_scale(&s.u, &s.v)),
+            momentum_initial: chain.momentum(&scene.v0),
+            momentum_final: chain.momentum(&s.v),
+            events_by_kind: Vec::new(),
+            largest_cluster: chain.len() as u64,
+            late_merges: 0,
+            implicit_steps: self.stats_base.1 + self.integ.implicit_steps(),
+            dissipated: self.dissipated(self.clock),
+            u: s.u,
+            v: s.v,
         }
     }
-    let z = integ.state();
-    let (u, v) = (z[..n].to_vec(), z[n..].to_vec());
-    Ok(RunOutcome {
-        stats: integ.stats().clone(),
-        t_end: integ.t(),
-        wall_seconds: start.elapsed().as_secs_f64(),
-        energy_initial: chain.energy(&scene.u0, &scene.v0),
-        energy_final: chain.energy(&u, &v),
-        energy_scale: chain
-            .energy_scale(&scene.u0, &scene.v0)
-            .max(chain.energy_scale(&u, &v)),
-        momentum_initial: chain.momentum(&scene.v0),
-        momentum_final: chain.momentum(&v),
-        events_by_kind: Vec::new(),
-        largest_cluster: n as u64,
-        late_merges: 0,
-        implicit_steps: integ.implicit_steps(),
-        dissipated: integ.dissipated().1,
-        u,
-        v,
-    })
+
+    fn save(&self) -> EngineState {
+        EngineState::Dense(Box::new(DenseState {
+            integ: self.integ.save(),
+            next_frame: self.next,
+            last_frame_t: self.last_frame_t,
+            clock: self.clock,
+            dissipated: self.diss_base,
+        }))
+    }
 }

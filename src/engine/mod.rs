@@ -13,19 +13,21 @@
 pub mod checkpoint;
 pub mod dense;
 pub mod hybrid;
+pub mod stepper;
 
 pub use checkpoint::{Control, EngineState};
+pub use stepper::{restore, start, Engine, State, Stop};
 
 use crate::integrate::{default_atol, IntegrationError, Method, Stats, DEFAULT_RTOL};
 use crate::linalg::SolverKind;
-use crate::scene::{Engine, Scene};
+use crate::scene::{Engine as EngineKind, Scene};
 use serde::{Deserialize, Serialize};
 
 /// Everything an engine needs besides the scene.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunConfig {
     /// Which engine.
-    pub engine: Engine,
+    pub engine: EngineKind,
     /// Integration method (for the hybrid engine: of the clusters).
     pub method: Method,
     /// Relative tolerance.
@@ -117,19 +119,16 @@ pub trait Observer {
     }
 }
 
-/// Asks the observer and acts: returns `Err(Interrupted)` after a stop.
-pub(crate) fn poll(
+/// Asks the observer and acts (checkpoint when asked); `Ok(true)` when it asked to stop.
+pub(crate) fn poll_stop(
     obs: &mut dyn Observer,
     t: f64,
     save: impl FnOnce() -> EngineState,
-) -> Result<(), EngineError> {
+) -> Result<bool, EngineError> {
     match obs.control(t) {
-        Control::Continue => Ok(()),
-        Control::Checkpoint => obs.checkpoint(&save()),
-        Control::Stop => {
-            obs.checkpoint(&save())?;
-            Err(EngineError::Interrupted(t))
-        }
+        Control::Continue => Ok(false),
+        Control::Checkpoint => obs.checkpoint(&save()).map(|_| false),
+        Control::Stop => obs.checkpoint(&save()).map(|_| true),
     }
 }
 
@@ -270,47 +269,42 @@ impl RunOutcome {
     }
 }
 
-/// Continues a run from a checkpointed state (same scene; `cfg.until` may be later).
+/// Continues a run from a checkpointed state (same scene; `cfg.until` may be later) to
+/// `cfg.until`. A stop requested by the observer comes back as
+/// [`EngineError::Interrupted`]; drive an [`Engine`] ([`restore`]) to get it as a [`Stop`].
 pub fn resume(
     scene: &Scene,
     cfg: &RunConfig,
     state: &EngineState,
     obs: &mut dyn Observer,
 ) -> Result<RunOutcome, EngineError> {
-    check_config(scene, cfg)?;
-    if state.time() > cfg.until {
-        return Err(EngineError::Config(format!(
-            "the checkpoint is at t = {}, after until = {}",
-            state.time(),
-            cfg.until
-        )));
-    }
-    match (cfg.engine, state) {
-        (Engine::Dense, EngineState::Dense(d)) => dense::run_from(scene, cfg, Some(d), obs),
-        (Engine::Hybrid, EngineState::Hybrid(h)) => hybrid::run_from(scene, cfg, Some(h), obs),
-        _ => Err(EngineError::Config(
-            "the checkpoint was written by the other engine".into(),
-        )),
-    }
+    finish(restore(scene, cfg, state)?, cfg, obs)
 }
 
-/// Runs a scene with the given configuration.
+/// Runs a scene with the given configuration to `cfg.until` (see [`resume`] for stops).
 pub fn run(
     scene: &Scene,
     cfg: &RunConfig,
     obs: &mut dyn Observer,
 ) -> Result<RunOutcome, EngineError> {
-    check_config(scene, cfg)?;
-    match cfg.engine {
-        Engine::Dense => dense::run_from(scene, cfg, None, obs),
-        Engine::Hybrid => hybrid::run_from(scene, cfg, None, obs),
+    finish(start(scene, cfg)?, cfg, obs)
+}
+
+fn finish(
+    mut e: Box<dyn Engine + '_>,
+    cfg: &RunConfig,
+    obs: &mut dyn Observer,
+) -> Result<RunOutcome, EngineError> {
+    match e.advance(cfg.until, obs)? {
+        Stop::Reached { .. } => Ok(e.outcome()),
+        Stop::Requested { t } => Err(EngineError::Interrupted(t)),
     }
 }
 
 /// Checks a run configuration's tolerances and times (the engines call it; the CLI calls it
 /// before it creates any output file).
 pub fn check_config(scene: &Scene, cfg: &RunConfig) -> Result<(), EngineError> {
-    if cfg.engine == Engine::Dense && scene.chain.has_hard() {
+    if cfg.engine == EngineKind::Dense && scene.chain.has_hard() {
         return Err(EngineError::Config(
             "the scene declares hard contacts or walls, which only the hybrid engine handles (use --engine hybrid)"
                 .into(),

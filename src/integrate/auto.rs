@@ -53,6 +53,8 @@ pub struct AutoState {
     pub pending: bool,
     /// Accepted steps taken by the implicit method so far.
     pub implicit_steps: u64,
+    /// Energy dissipated in the phases before the current one (since the last reset).
+    pub diss_base: f64,
 }
 
 /// DOP853 and Radau IIA behind one [`Integrator`], switched by the rule of the module docs.
@@ -68,8 +70,6 @@ pub struct Auto {
     k: Vec<f64>,
     /// Scratch: damping Jacobian (`m + 1`).
     kv: Vec<f64>,
-    /// Energy dissipated in the phases before the current one (since the last reset).
-    diss_base: f64,
 }
 
 impl Auto {
@@ -88,7 +88,6 @@ impl Auto {
             acc: vec![0.0; m],
             k: vec![0.0; m + 1],
             kv: vec![0.0; m + 1],
-            diss_base: 0.0,
         }
     }
 
@@ -138,7 +137,7 @@ impl Auto {
             self.dop.state()
         };
         self.zbuf.copy_from_slice(z);
-        self.diss_base += self.active().dissipated().1;
+        self.mode.diss_base += self.active().dissipated().1;
         self.mode.implicit = !self.mode.implicit;
         self.mode.streak = 0;
         self.mode.since = 0;
@@ -211,7 +210,7 @@ impl Integrator for Auto {
     fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]) {
         let before = self.active().stats().clone();
         self.active_mut().reset(sys, t, u, v);
-        self.diss_base = 0.0;
+        self.mode.diss_base = 0.0;
         self.mode.pending = false;
         let now = self.active().stats().clone();
         add_diff(&mut self.stats, &now, &before);
@@ -278,21 +277,19 @@ impl Integrator for Auto {
 
     fn dissipated(&self) -> (f64, f64) {
         let (a, b) = self.active().dissipated();
-        (self.diss_base + a, self.diss_base + b)
+        (self.mode.diss_base + a, self.mode.diss_base + b)
     }
 
     fn save(&self) -> IntegratorState {
         let mut s = self.active().save();
         s.stats = self.stats.clone();
         s.auto = Some(self.mode);
-        s.dissipated = self.dissipated();
         s
     }
 
     fn load(&mut self, s: &IntegratorState) {
         self.mode = s.auto.unwrap_or_default();
         self.active_mut().load(s);
-        self.diss_base = 0.0;
         self.stats = s.stats.clone();
     }
 }

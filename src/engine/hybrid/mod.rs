@@ -43,10 +43,12 @@ mod hard;
 mod opening;
 mod process;
 mod state;
+mod stepping;
 mod stick;
 
-use super::{EngineError, Observer, RunConfig, RunOutcome};
-use crate::engine::checkpoint::HybridState;
+pub use stepping::HybridEngine;
+
+use super::{EngineError, Observer, RunConfig};
 use crate::integrate::{IntegrationError, Stats, Tolerances};
 use crate::model::Chain;
 use crate::scene::Scene;
@@ -56,7 +58,6 @@ use free::Free;
 use ordered_float::OrderedFloat;
 use priority_queue::PriorityQueue;
 use std::cmp::Reverse;
-use std::time::Instant;
 
 /// Owner value of a free bead.
 const FREE: u32 = u32::MAX;
@@ -160,59 +161,13 @@ pub struct Hybrid<'a> {
     /// Scratch of [`Hybrid::form_group`].
     pools: Vec<stick::Pool>,
     next_frame: u64,
+    /// The last frame (at the run's end time) has been emitted.
+    finished: bool,
     /// Energy dissipated by ended cluster integrations ([`Hybrid::dissipated_at`]).
     dissipated: f64,
     bu: Vec<f64>,
     bv: Vec<f64>,
     bz: Vec<f64>,
-}
-
-/// Runs a scene with the hybrid engine, from the start or from a checkpointed state.
-pub fn run_from(
-    scene: &Scene,
-    cfg: &RunConfig,
-    from: Option<&HybridState>,
-    obs: &mut dyn Observer,
-) -> Result<RunOutcome, EngineError> {
-    let start = Instant::now();
-    let mut h = Hybrid::new(scene, cfg);
-    match from {
-        None => h.init(&scene.u0, &scene.v0),
-        Some(s) => h.restore(s),
-    }
-    let (u, v) = h.run_loop(obs)?;
-    let dissipated = h.dissipated_at(cfg.until);
-    let chain = &scene.chain;
-    let mut stats = h.stats.clone();
-    let mut implicit_steps = h.implicit_steps;
-    for c in h.clusters.iter().flatten() {
-        stats.add(c.integ.stats());
-        implicit_steps += c.integ.implicit_steps();
-    }
-    let names = ["close", "open", "hard_collision", "wall_close", "wall_open"];
-    Ok(RunOutcome {
-        stats,
-        t_end: cfg.until,
-        wall_seconds: start.elapsed().as_secs_f64(),
-        energy_initial: chain.energy(&scene.u0, &scene.v0),
-        energy_final: chain.energy(&u, &v),
-        energy_scale: chain
-            .energy_scale(&scene.u0, &scene.v0)
-            .max(chain.energy_scale(&u, &v)),
-        momentum_initial: chain.momentum(&scene.v0),
-        momentum_final: chain.momentum(&v),
-        events_by_kind: names
-            .iter()
-            .zip(h.counts)
-            .map(|(n, c)| (n.to_string(), c))
-            .collect(),
-        largest_cluster: h.largest as u64,
-        late_merges: h.late_merges,
-        implicit_steps,
-        dissipated,
-        u,
-        v,
-    })
 }
 
 impl<'a> Hybrid<'a> {
@@ -257,6 +212,7 @@ impl<'a> Hybrid<'a> {
             stuck: vec![false; n.saturating_sub(1)],
             pools: Vec::with_capacity(n + 2),
             next_frame: 0,
+            finished: false,
             dissipated: 0.0,
             bu: vec![0.0; n],
             bv: vec![0.0; n],
@@ -351,7 +307,9 @@ impl<'a> Hybrid<'a> {
         }
     }
 
-    fn init(&mut self, u0: &[f64], v0: &[f64]) {
+    /// Starts at `t0` from states `u0`, `v0` of every bead (free beads and clusters from the
+    /// contacts that are closed or closing); the next frame is `self.next_frame`.
+    fn init(&mut self, t0: f64, u0: &[f64], v0: &[f64]) {
         let n = self.n;
         let mut lo = 0;
         while lo < n {
@@ -368,13 +326,13 @@ impl<'a> Hybrid<'a> {
             }
             if hi - lo == 1 && !self.wall_holds(lo, u0[lo], v0[lo]) {
                 self.free[lo] = Free {
-                    t0: 0.0,
+                    t0,
                     u0: u0[lo],
                     v0: v0[lo],
                     g: self.g[lo],
                 };
             } else {
-                self.make_cluster(lo, hi, 0.0, &u0[lo..hi], &v0[lo..hi]);
+                self.make_cluster(lo, hi, t0, &u0[lo..hi], &v0[lo..hi]);
             }
             lo = hi;
         }
@@ -383,7 +341,8 @@ impl<'a> Hybrid<'a> {
         }
         self.schedule_wall(0);
         self.schedule_wall(1);
-        self.queue.push(Key::Frame, prio(0.0, 0, 0, Key::Frame));
+        let tf = self.cfg.frame_time(self.next_frame);
+        self.queue.push(Key::Frame, prio(tf, 0, 0, Key::Frame));
     }
 
     /// Does a wall hold single bead `i` (contact closed or closing)?
@@ -402,13 +361,30 @@ impl<'a> Hybrid<'a> {
         holds
     }
 
-    fn run_loop(&mut self, obs: &mut dyn Observer) -> Result<(Vec<f64>, Vec<f64>), EngineError> {
+    /// Processes the queue up to `until` (entries at `until` included); the clock ends at
+    /// `until`. Stops early when the observer asks.
+    fn advance_to(
+        &mut self,
+        until: f64,
+        obs: &mut dyn Observer,
+    ) -> Result<super::Stop, EngineError> {
         loop {
-            super::poll(obs, self.clock, || {
+            let stop = super::poll_stop(obs, self.clock, || {
                 super::EngineState::Hybrid(Box::new(self.save()))
             })?;
+            if stop {
+                return Ok(super::Stop::Requested { t: self.clock });
+            }
             if self.events.len() >= super::EVENT_BLOCK {
                 self.flush_events(obs)?;
+            }
+            match self.queue.peek() {
+                None => break,
+                Some((_, Reverse((t, _, _, _)))) if t.0 > until => {
+                    self.clock = self.clock.max(until);
+                    return Ok(super::Stop::Reached { t: until });
+                }
+                Some(_) => {}
             }
             let Some((key, Reverse((t, _, _, _)))) = self.queue.pop() else {
                 break;
@@ -428,7 +404,8 @@ impl<'a> Hybrid<'a> {
                     }
                     obs.frame(t, &self.bu, &self.bv)?;
                     if t >= self.cfg.until {
-                        return Ok((self.bu.clone(), self.bv.clone()));
+                        self.finished = true;
+                        return Ok(super::Stop::Reached { t });
                     }
                     self.next_frame += 1;
                     let tf = self.cfg.frame_time(self.next_frame);

@@ -1,0 +1,122 @@
+//! The steppable engine: one [`Engine`] trait for the dense and the hybrid engine, after
+//! diffsol's `OdeSolverMethod` (a step returns *why* it stopped) and argmin's executor (the
+//! engine owns the loop, observers watch it, stopping is a reason, not an error).
+//!
+//! ```no_run
+//! # use beadchain::engine::{self, Recorder, RunConfig, Stop};
+//! # let scene = beadchain::scene::preset("striker").unwrap();
+//! let cfg = RunConfig::from_scene(&scene);
+//! let mut e = engine::start(&scene, &cfg).unwrap();
+//! let mut frames = Recorder::default();
+//! e.advance(40.0, &mut frames).unwrap();          // frames up to t = 40 reach the observer
+//! let mid = e.state();                             // every bead at t = 40
+//! let mut v = mid.v.clone();
+//! v[99] = -0.5;                                    // kick the last bead
+//! e.set_velocities(&v).unwrap();
+//! assert_eq!(e.advance(cfg.until, &mut frames).unwrap(), Stop::Reached { t: cfg.until });
+//! let outcome = e.outcome();                       // counters, energies, final state
+//! ```
+//!
+//! Advancing in pieces gives the same bytes as one advance to the end (steps are bounded by the
+//! run's end time `cfg.until`, never by the intermediate targets), until a state is changed.
+
+use super::checkpoint::EngineState;
+use super::{EngineError, Observer, RunConfig, RunOutcome};
+use crate::scene::{Engine as EngineKind, Scene};
+use serde::{Deserialize, Serialize};
+
+/// Why [`Engine::advance`] returned.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Stop {
+    /// The engine reached the requested time `t`.
+    Reached {
+        /// The time reached.
+        t: f64,
+    },
+    /// The observer asked to stop ([`super::Control::Stop`]) at `t`, after a checkpoint.
+    Requested {
+        /// The engine clock when it stopped.
+        t: f64,
+    },
+}
+
+/// Every bead's displacement and velocity at time `t`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct State {
+    /// Time.
+    pub t: f64,
+    /// Displacements, one per bead.
+    pub u: Vec<f64>,
+    /// Velocities, one per bead.
+    pub v: Vec<f64>,
+}
+
+/// A running simulation of one scene.
+pub trait Engine {
+    /// Advances to `until` (at most the run's end time `cfg.until`), handing frames, events and
+    /// checkpoints to `obs`. Frames after `until` are not emitted before the next advance.
+    fn advance(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Stop, EngineError>;
+    /// The engine clock: the time [`Engine::state`] describes.
+    fn time(&self) -> f64;
+    /// Every bead at [`Engine::time`] (free beads from their analytic flight, cluster beads
+    /// from the continuous output).
+    fn state(&self) -> State;
+    /// Gives every bead the velocity `v` at [`Engine::time`] (displacements unchanged); the
+    /// integration restarts there.
+    fn set_velocities(&mut self, v: &[f64]) -> Result<(), EngineError>;
+    /// Counters, energies and the state at [`Engine::time`].
+    fn outcome(&self) -> RunOutcome;
+    /// The state to continue from exactly (checkpoints).
+    fn save(&self) -> EngineState;
+}
+
+/// Starts an engine on `scene` (the configuration is checked first).
+pub fn start<'a>(
+    scene: &'a Scene,
+    cfg: &'a RunConfig,
+) -> Result<Box<dyn Engine + 'a>, EngineError> {
+    super::check_config(scene, cfg)?;
+    Ok(match cfg.engine {
+        EngineKind::Dense => Box::new(super::dense::DenseEngine::new(scene, cfg, None)),
+        EngineKind::Hybrid => Box::new(super::hybrid::HybridEngine::new(scene, cfg, None)),
+    })
+}
+
+/// An engine continuing from a checkpointed state (same scene; `cfg.until` may be later).
+pub fn restore<'a>(
+    scene: &'a Scene,
+    cfg: &'a RunConfig,
+    state: &EngineState,
+) -> Result<Box<dyn Engine + 'a>, EngineError> {
+    super::check_config(scene, cfg)?;
+    if state.time() > cfg.until {
+        return Err(EngineError::Config(format!(
+            "the checkpoint is at t = {}, after until = {}",
+            state.time(),
+            cfg.until
+        )));
+    }
+    Ok(match (cfg.engine, state) {
+        (EngineKind::Dense, EngineState::Dense(d)) => {
+            Box::new(super::dense::DenseEngine::new(scene, cfg, Some(d.as_ref())))
+        }
+        (EngineKind::Hybrid, EngineState::Hybrid(h)) => {
+            Box::new(super::hybrid::HybridEngine::new(scene, cfg, Some(h)))
+        }
+        _ => {
+            return Err(EngineError::Config(
+                "the checkpoint was written by the other engine".into(),
+            ))
+        }
+    })
+}
+
+/// Checks an advance target against the clock and the run's end time.
+pub(crate) fn check_target(until: f64, end: f64) -> Result<(), EngineError> {
+    if until.is_nan() || until > end {
+        return Err(EngineError::Config(format!(
+            "advance to t = {until} is beyond the run's end time {end} (set it in the run configuration)"
+        )));
+    }
+    Ok(())
+}
