@@ -138,14 +138,15 @@ impl Selection {
         }
     }
 
-    /// The stored beads as `--beads` would spell them (`10:20`, `0:100:10`, `3,10,20`), or
-    /// `all`; long lists are shortened to their first items and a count.
-    pub fn beads_text(&self) -> String {
+    /// The stored beads (of a chain of `n`) as `--beads` would spell them (`10:20`,
+    /// `0:100:10`, `3,10,20`), or `all`; long lists are shortened to their first items and a
+    /// count.
+    pub fn beads_text(&self, n: u64) -> String {
         let Some(b) = &self.beads else {
             return "all".into();
         };
         let runs = runs(b);
-        let shown: Vec<String> = runs.iter().take(6).map(run_text).collect();
+        let shown: Vec<String> = runs.iter().take(6).map(|r| run_text(r, n)).collect();
         if runs.len() > shown.len() {
             format!("{},… ({} items)", shown.join(","), runs.len())
         } else {
@@ -157,7 +158,7 @@ impl Selection {
     pub fn describe(&self, n: u64) -> String {
         format!(
             "beads {} ({} of {n}), fields {}",
-            self.beads_text(),
+            self.beads_text(n),
             self.bead_count(n),
             self.fields.name()
         )
@@ -186,8 +187,9 @@ fn runs(b: &[u64]) -> Vec<(u64, u64, u64)> {
     out
 }
 
-fn run_text(&(first, step, count): &(u64, u64, u64)) -> String {
-    let end = first + step * (count - 1) + 1;
+/// `first:end:step` with the half-open end one step after the last bead (at most `n`).
+fn run_text(&(first, step, count): &(u64, u64, u64), n: u64) -> String {
+    let end = (first + step * count).min(n);
     match (count, step) {
         (1, _) => first.to_string(),
         (_, 1) => format!("{first}:{end}"),
