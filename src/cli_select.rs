@@ -36,12 +36,15 @@ impl OutputArgs {
     /// The selection for a chain of `n` beads; `what` (the scene argument) prefixes errors.
     pub fn selection(&self, what: &str, n: usize) -> Result<Selection> {
         let beads = match &self.beads {
-            Some(spec) => parse_beads(spec, n as u64)
-                .map_err(|e| anyhow::anyhow!("{what}: --beads: {e}"))?,
+            Some(spec) => {
+                parse_beads(spec, n as u64).map_err(|e| anyhow::anyhow!("{what}: --beads: {e}"))?
+            }
             None => None,
         };
         let fields = match &self.fields {
-            Some(spec) => Fields::parse(spec).map_err(|e| anyhow::anyhow!("{what}: --fields: {e}"))?,
+            Some(spec) => {
+                Fields::parse(spec).map_err(|e| anyhow::anyhow!("{what}: --fields: {e}"))?
+            }
             None => Fields::Both,
         };
         if let Some(k) = self.frames_max.filter(|&k| k < 2) {

@@ -233,7 +233,11 @@ pub fn inspect_with(snap: &Snapshot, chain: &Chain, damaged: &[(usize, String)])
     let _ = writeln!(s, "scene:       {} — {}", h.scene.name, h.scene.description);
     let _ = writeln!(s, "beads:       {}", h.n_beads);
     if !h.output.is_full() {
-        let _ = writeln!(s, "stored:      {} (run --beads/--fields)", h.output.describe(h.n_beads));
+        let _ = writeln!(
+            s,
+            "stored:      {} (run --beads/--fields)",
+            h.output.describe(h.n_beads)
+        );
     }
     if let Some(k) = h.output.frames_max {
         let _ = writeln!(s, "frames max:  {k}");

@@ -8,8 +8,8 @@ use beadchain::integrate::{Method, Stats};
 use beadchain::scene::Engine;
 use beadchain::snapshot::select::parse_beads;
 use beadchain::snapshot::{
-    EventKind, EventRecord, Fields, Frame, Header, RunSummary, Selection, Snapshot,
-    SnapshotWriter, FORMAT_VERSION,
+    EventKind, EventRecord, Fields, Frame, Header, RunSummary, Selection, Snapshot, SnapshotWriter,
+    FORMAT_VERSION,
 };
 use common::bc;
 use rand::{Rng, SeedableRng};
@@ -83,12 +83,17 @@ fn golden_v2_fixture() -> (Header, Vec<Frame>, Vec<EventRecord>, RunSummary) {
 #[test]
 #[ignore]
 fn write_golden_v2() {
-    assert_eq!(FORMAT_VERSION, 2, "only the format-2 writer writes the v2 golden file");
+    assert_eq!(
+        FORMAT_VERSION, 2,
+        "only the format-2 writer writes the v2 golden file"
+    );
     let (h, frames, events, summary) = golden_v2_fixture();
     let mut w = SnapshotWriter::create(&golden_v2_path(), &h).unwrap();
-    w.write_frame(frames[0].t, &frames[0].u, &frames[0].v).unwrap();
+    w.write_frame(frames[0].t, &frames[0].u, &frames[0].v)
+        .unwrap();
     w.write_events(&events[..1]).unwrap();
-    w.write_frame(frames[1].t, &frames[1].u, &frames[1].v).unwrap();
+    w.write_frame(frames[1].t, &frames[1].u, &frames[1].v)
+        .unwrap();
     w.finish(&events[1..], &summary).unwrap();
     let s = Snapshot::open(&golden_v2_path()).unwrap();
     assert_eq!(s.header().format_version, 2);
@@ -146,7 +151,10 @@ fn golden_v3_selection() -> Selection {
 #[test]
 #[ignore]
 fn write_golden_v3() {
-    assert_eq!(FORMAT_VERSION, 3, "only the format-3 writer writes the v3 golden file");
+    assert_eq!(
+        FORMAT_VERSION, 3,
+        "only the format-3 writer writes the v3 golden file"
+    );
     let (mut h, frames, events, summary) = golden_v2_fixture();
     h.crate_version = "golden-v3".into();
     h.output = golden_v3_selection();
@@ -201,7 +209,9 @@ fn stderr(o: &Output) -> String {
 
 /// `beadchain run striker` (the 100-bead preset) to t = 20 with frames every 1, plus `extra`.
 fn run_striker(dir: &Path, out: &str, extra: &[&str]) -> Output {
-    let mut args = vec!["run", "striker", "--until", "20", "--every", "1", "-q", "--out", out];
+    let mut args = vec![
+        "run", "striker", "--until", "20", "--every", "1", "-q", "--out", out,
+    ];
     args.extend_from_slice(extra);
     bc(dir, &args)
 }
@@ -266,7 +276,11 @@ fn selected_frames_equal_columns_of_a_full_run() {
 fn file_size_shrinks_by_the_stored_values() {
     let d = tempfile::tempdir().unwrap();
     ok(&run_striker(d.path(), "full.snap", &[]));
-    ok(&run_striker(d.path(), "sub.snap", &["--beads", "0:100:4", "--fields", "u"]));
+    ok(&run_striker(
+        d.path(),
+        "sub.snap",
+        &["--beads", "0:100:4", "--fields", "u"],
+    ));
     let full = std::fs::read(d.path().join("full.snap")).unwrap();
     let sub = std::fs::read(d.path().join("sub.snap")).unwrap();
     // 21 frames; a frame stores 2·100 values in full, 25·1 with the selection: every other
@@ -294,14 +308,22 @@ fn size_limit_counts_only_the_stored_values() {
     let limit = ["--max-output-bytes", "20000"];
     let o = run_striker(d.path(), "full.snap", &limit);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("(22 frames of 100 beads"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("(22 frames of 100 beads"),
+        "{}",
+        stderr(&o)
+    );
     assert!(!d.path().join("full.snap").exists());
     let mut args = limit.to_vec();
     args.extend(["--beads", "0:10", "--fields", "v"]);
     ok(&run_striker(d.path(), "sub.snap", &args));
     let size = std::fs::metadata(d.path().join("sub.snap")).unwrap().len();
     assert!(size < 20000, "{size}");
-    let o = run_striker(d.path(), "sub2.snap", &["--max-output-bytes", "10000", "--beads", "0:10"]);
+    let o = run_striker(
+        d.path(),
+        "sub2.snap",
+        &["--max-output-bytes", "10000", "--beads", "0:10"],
+    );
     assert_eq!(o.status.code(), Some(2));
     assert!(
         stderr(&o).contains("(22 frames of 20 stored values of 100 beads"),
@@ -340,13 +362,25 @@ fn frame_count_matches_what_the_engines_write() {
 /// A 3000-bead striker run with checkpoints, storing every 100th bead's velocity.
 fn resume_args() -> Vec<&'static str> {
     vec![
-        "run", "s.toml", "--out", "o.snap", "-q", "--checkpoint-every", "10", "--beads",
-        "0:3000:100", "--fields", "v", "--frames-max", "600",
+        "run",
+        "s.toml",
+        "--out",
+        "o.snap",
+        "-q",
+        "--checkpoint-every",
+        "10",
+        "--beads",
+        "0:3000:100",
+        "--fields",
+        "v",
+        "--frames-max",
+        "600",
     ]
 }
 
 fn resume_scene(dir: &Path) {
-    let scene = "[chain]\nbeads = 3000\n[initial]\nstriker = 1.0\n[run]\nuntil = 2500.0\nevery = 5.0\n";
+    let scene =
+        "[chain]\nbeads = 3000\n[initial]\nstriker = 1.0\n[run]\nuntil = 2500.0\nevery = 5.0\n";
     std::fs::write(dir.join("s.toml"), scene).unwrap();
 }
 
@@ -404,7 +438,10 @@ fn resume_continues_with_the_selection() {
         );
         ok(&bc(d.path(), &["resume", "o.snap.ckpt"]));
         let got = std::fs::read(d.path().join("o.snap")).unwrap();
-        assert!(got == want, "the resumed output differs from the run never interrupted");
+        assert!(
+            got == want,
+            "the resumed output differs from the run never interrupted"
+        );
         resumed += 1;
     }
     assert!(resumed >= 1, "no run was interrupted before it finished");
@@ -428,7 +465,13 @@ fn parse_npy(b: &[u8]) -> (Vec<usize>, Vec<f64>) {
     assert_eq!(&b[..8], b"\x93NUMPY\x01\x00");
     let hl = u16le(b, 8);
     let dict = std::str::from_utf8(&b[10..10 + hl]).unwrap();
-    let shape = dict.split("'shape': (").nth(1).unwrap().split(')').next().unwrap();
+    let shape = dict
+        .split("'shape': (")
+        .nth(1)
+        .unwrap()
+        .split(')')
+        .next()
+        .unwrap();
     let shape: Vec<usize> = shape
         .split(',')
         .map(str::trim)
@@ -464,7 +507,11 @@ fn parse_zip(b: &[u8]) -> BTreeMap<String, Vec<u8>> {
 /// A striker run storing beads 10, 12, …, 18 and 95 (field u), and the full run beside it.
 fn subset_and_full(d: &Path) -> (Snapshot, Snapshot) {
     ok(&run_striker(d, "full.snap", &[]));
-    ok(&run_striker(d, "sub.snap", &["--beads", "95,10:20:2", "--fields", "u"]));
+    ok(&run_striker(
+        d,
+        "sub.snap",
+        &["--beads", "95,10:20:2", "--fields", "u"],
+    ));
     let open = |n: &str| Snapshot::open(&d.join(n)).unwrap();
     (open("sub.snap"), open("full.snap"))
 }
@@ -477,14 +524,27 @@ fn export_of_a_subset_labels_the_real_bead_indices() {
     let (_, full) = subset_and_full(d.path());
     let last = full.frame(20).unwrap();
     // wide CSV: columns t,u10,u12,…,u95; values equal the full run's columns bit for bit
-    let o = bc(d.path(), &["export", "sub.snap", "--layout", "wide", "--frame", "last"]);
+    let o = bc(
+        d.path(),
+        &["export", "sub.snap", "--layout", "wide", "--frame", "last"],
+    );
     ok(&o);
     let text = String::from_utf8(o.stdout).unwrap();
     let mut lines = text.lines();
     assert_eq!(lines.next(), Some("t,u10,u12,u14,u16,u18,u95"));
-    let row: Vec<f64> = lines.next().unwrap().split(',').map(|x| x.parse().unwrap()).collect();
-    let want: Vec<f64> = std::iter::once(20.0).chain(SUB_BEADS.map(|i| last.u[i])).collect();
-    assert_eq!(row.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), want.iter().map(|x| x.to_bits()).collect::<Vec<_>>());
+    let row: Vec<f64> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let want: Vec<f64> = std::iter::once(20.0)
+        .chain(SUB_BEADS.map(|i| last.u[i]))
+        .collect();
+    assert_eq!(
+        row.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+        want.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+    );
     // long CSV: frame,t,bead,u with the real index in `bead`
     let o = bc(d.path(), &["export", "sub.snap", "--frame", "last"]);
     ok(&o);
@@ -495,30 +555,54 @@ fn export_of_a_subset_labels_the_real_bead_indices() {
     for (r, i) in rows[1..].iter().zip(SUB_BEADS) {
         let c: Vec<&str> = r.split(',').collect();
         assert_eq!(&c[..3], &["20", "20", &i.to_string()[..]]);
-        assert_eq!(c[3].parse::<f64>().unwrap().to_bits(), last.u[i].to_bits(), "bead {i}");
+        assert_eq!(
+            c[3].parse::<f64>().unwrap().to_bits(),
+            last.u[i].to_bits(),
+            "bead {i}"
+        );
     }
     // wide NPY: (F, 1 + 6)
-    ok(&bc(d.path(), &["export", "sub.snap", "--layout", "wide", "--out", "w.npy"]));
+    ok(&bc(
+        d.path(),
+        &["export", "sub.snap", "--layout", "wide", "--out", "w.npy"],
+    ));
     let (shape, data) = parse_npy(&std::fs::read(d.path().join("w.npy")).unwrap());
     assert_eq!(shape, [21, 7]);
     for k in 0..21 {
         let f = full.frame(k).unwrap();
-        let want: Vec<u64> = std::iter::once(f.t).chain(SUB_BEADS.map(|i| f.u[i])).map(f64::to_bits).collect();
+        let want: Vec<u64> = std::iter::once(f.t)
+            .chain(SUB_BEADS.map(|i| f.u[i]))
+            .map(f64::to_bits)
+            .collect();
         let got: Vec<u64> = data[7 * k..7 * k + 7].iter().map(|x| x.to_bits()).collect();
         assert_eq!(got, want, "frame {k}");
     }
     // long NPY: (rows, 4) = frame, t, bead, u
-    ok(&bc(d.path(), &["export", "sub.snap", "--out", "l.npy", "--frame", "0"]));
+    ok(&bc(
+        d.path(),
+        &["export", "sub.snap", "--out", "l.npy", "--frame", "0"],
+    ));
     let (shape, data) = parse_npy(&std::fs::read(d.path().join("l.npy")).unwrap());
     assert_eq!(shape, [6, 4]);
-    assert_eq!(data.chunks(4).map(|r| r[2] as usize).collect::<Vec<_>>(), SUB_BEADS);
+    assert_eq!(
+        data.chunks(4).map(|r| r[2] as usize).collect::<Vec<_>>(),
+        SUB_BEADS
+    );
     // NPZ: t, u (F, 6), beads (6,), chain arrays whole; no v
     ok(&bc(d.path(), &["export", "sub.snap", "--out", "w.npz"]));
     let z = parse_zip(&std::fs::read(d.path().join("w.npz")).unwrap());
     let names: Vec<&str> = z.keys().map(String::as_str).collect();
     assert_eq!(
         names,
-        ["beads.npy", "exponent.npy", "mass.npy", "precompression.npy", "prefactor.npy", "t.npy", "u.npy"]
+        [
+            "beads.npy",
+            "exponent.npy",
+            "mass.npy",
+            "precompression.npy",
+            "prefactor.npy",
+            "t.npy",
+            "u.npy"
+        ]
     );
     let (shape, b) = parse_npy(&z["beads.npy"]);
     assert_eq!((shape, b), (vec![6], SUB_BEADS.map(|i| i as f64).to_vec()));
@@ -532,7 +616,8 @@ fn export_of_a_subset_labels_the_real_bead_indices() {
 fn analyze_and_plot_refuse_a_subset_naming_what_is_missing() {
     let d = tempfile::tempdir().unwrap();
     subset_and_full(d.path());
-    let stored = "sub.snap: frames store beads 10:20:2,95 (6 of 100), fields u only (run --beads/--fields)";
+    let stored =
+        "sub.snap: frames store beads 10:20:2,95 (6 of 100), fields u only (run --beads/--fields)";
     let o = bc(d.path(), &["analyze", "sub.snap"]);
     assert_eq!(o.status.code(), Some(2));
     assert_eq!(
@@ -556,15 +641,26 @@ fn inspect_reports_the_selection() {
     let o = bc(d.path(), &["inspect", "sub.snap"]);
     ok(&o);
     let text = String::from_utf8(o.stdout).unwrap();
-    assert!(text.contains("format:      version 3 (this build reads 1..=3), complete"), "{text}");
     assert!(
-        text.contains("stored:      beads 10:20:2,95 (6 of 100), fields u (run --beads/--fields)\n"),
+        text.contains("format:      version 3 (this build reads 1..=3), complete"),
         "{text}"
     );
-    assert!(text.contains("energy:      not available: sub.snap: frames store"), "{text}");
+    assert!(
+        text.contains(
+            "stored:      beads 10:20:2,95 (6 of 100), fields u (run --beads/--fields)\n"
+        ),
+        "{text}"
+    );
+    assert!(
+        text.contains("energy:      not available: sub.snap: frames store"),
+        "{text}"
+    );
     assert!(text.contains("frames:      21\n"), "{text}");
     let full = String::from_utf8(bc(d.path(), &["inspect", "full.snap"]).stdout).unwrap();
-    assert!(!full.contains("stored:") && full.contains("energy:      first frame"), "{full}");
+    assert!(
+        !full.contains("stored:") && full.contains("energy:      first frame"),
+        "{full}"
+    );
 }
 
 // ---- --frames-max ------------------------------------------------------------------------------
@@ -577,24 +673,60 @@ fn frames_max_refuses_a_run_that_writes_more_and_names_the_every_that_fits() {
     assert_eq!(o.status.code(), Some(2));
     let e = stderr(&o);
     let prefix = "beadchain: error: striker: --frames-max: the run would write 21 frames (--until = 20, every = 1), more than --frames-max 10; use --every ";
-    assert!(e.starts_with(prefix) && e.ends_with(" or larger, or raise --frames-max\n"), "{e}");
-    assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 0, "nothing written");
-    let every: f64 = e[prefix.len()..].split(' ').next().unwrap().parse().unwrap();
+    assert!(
+        e.starts_with(prefix) && e.ends_with(" or larger, or raise --frames-max\n"),
+        "{e}"
+    );
+    assert_eq!(
+        std::fs::read_dir(d.path()).unwrap().count(),
+        0,
+        "nothing written"
+    );
+    let every: f64 = e[prefix.len()..]
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
     // The suggestion is until/(K−1) = 20/9 to within 1 ulp, and it fits exactly.
     let rel = (every - 20.0 / 9.0).abs() / (20.0 / 9.0);
-    assert!(rel <= 2.3e-16, "every {every} (relative deviation {rel:e}, tolerance 2.3e-16)");
+    assert!(
+        rel <= 2.3e-16,
+        "every {every} (relative deviation {rel:e}, tolerance 2.3e-16)"
+    );
     assert_eq!(frame_count(20.0, Some(every)), 10.0);
     let shorter = every * (1.0 - 1e-12);
-    assert_eq!(frame_count(20.0, Some(shorter)), 11.0, "nothing smaller fits");
+    assert_eq!(
+        frame_count(20.0, Some(shorter)),
+        11.0,
+        "nothing smaller fits"
+    );
     let e_text = every.to_string();
-    let args = ["run", "striker", "--until", "20", "--every", &e_text, "-q", "--out", "o.snap", "--frames-max", "10"];
+    let args = [
+        "run",
+        "striker",
+        "--until",
+        "20",
+        "--every",
+        &e_text,
+        "-q",
+        "--out",
+        "o.snap",
+        "--frames-max",
+        "10",
+    ];
     ok(&bc(d.path(), &args));
     let s = Snapshot::open(&d.path().join("o.snap")).unwrap();
     assert_eq!(s.frame_count(), 10);
     assert_eq!(s.selection().frames_max, Some(10));
     // The boundary: exactly K frames is allowed.
     ok(&run_striker(d.path(), "p.snap", &["--frames-max", "21"]));
-    assert_eq!(Snapshot::open(&d.path().join("p.snap")).unwrap().frame_count(), 21);
+    assert_eq!(
+        Snapshot::open(&d.path().join("p.snap"))
+            .unwrap()
+            .frame_count(),
+        21
+    );
 }
 
 // ---- bad input ---------------------------------------------------------------------------------
@@ -618,8 +750,16 @@ fn bad_selections_are_one_line_errors_naming_the_option() {
         let d = tempfile::tempdir().unwrap();
         let o = run_striker(d.path(), "o.snap", args);
         assert_eq!(o.status.code(), Some(2), "{args:?}");
-        assert_eq!(stderr(&o), format!("beadchain: error: striker: {msg}\n"), "{args:?}");
-        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 0, "{args:?}: nothing written");
+        assert_eq!(
+            stderr(&o),
+            format!("beadchain: error: striker: {msg}\n"),
+            "{args:?}"
+        );
+        assert_eq!(
+            std::fs::read_dir(d.path()).unwrap().count(),
+            0,
+            "{args:?}: nothing written"
+        );
     }
 }
 
@@ -660,4 +800,50 @@ fn bead_lists_parse_sorted_and_print_back() {
             assert_eq!(parse_beads(&text, n).unwrap(), Some(list), "{text}");
         }
     }
+}
+
+// ---- invalid selections in the library ---------------------------------------------------------
+
+#[test]
+fn writer_refuses_an_invalid_selection_and_reader_calls_it_corrupt() {
+    let d = tempfile::tempdir().unwrap();
+    let (mut h, ..) = golden_v2_fixture();
+    for bad in [vec![2, 0], vec![], vec![0, 3]] {
+        h.output.beads = Some(bad.clone());
+        let p = d.path().join("bad.snap");
+        let e = SnapshotWriter::create(&p, &h).err().expect("refused");
+        assert!(
+            e.to_string().contains("encoding section HEADER"),
+            "{bad:?}: {e}"
+        );
+        assert_eq!(
+            std::fs::read_dir(d.path()).unwrap().count(),
+            0,
+            "{bad:?}: nothing written"
+        );
+    }
+    // The golden v3 file with its two stored beads swapped (checksum recomputed).
+    let mut b = std::fs::read(golden_v3_path()).unwrap();
+    let len = header_len(&b) as usize;
+    let end = 28 + len; // preamble 12 + section header 16 + payload
+                        // payload tail: beads Some(len 2, 0, 2) | fields u32 | frames_max Some(5)
+    let beads_at = end - 13 - 16;
+    let (x, y) = (
+        b[beads_at..beads_at + 8].to_vec(),
+        b[beads_at + 8..beads_at + 16].to_vec(),
+    );
+    b[beads_at..beads_at + 8].copy_from_slice(&y);
+    b[beads_at + 8..beads_at + 16].copy_from_slice(&x);
+    let mut crc = crc32fast::Hasher::new();
+    crc.update(&b[12..24]);
+    crc.update(&b[28..end]);
+    let crc = crc.finalize();
+    b[24..28].copy_from_slice(&crc.to_le_bytes());
+    let p = d.path().join("swapped.snap");
+    std::fs::write(&p, &b).unwrap();
+    let e = Snapshot::open(&p).expect_err("corrupt").to_string();
+    assert!(
+        e.ends_with("corrupt section HEADER at byte 12: the output selection's beads are not strictly increasing"),
+        "{e}"
+    );
 }

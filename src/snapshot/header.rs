@@ -68,7 +68,8 @@ pub fn read_header(path: &Path) -> Result<Header, SnapshotError> {
     let mut f = std::fs::File::open(path).map_err(|e| io("opening snapshot", e))?;
     let file_len = f.metadata().map_err(|e| io("reading file size", e))?.len();
     let mut pre = [0u8; (PREAMBLE_LEN + SECTION_HEADER_LEN) as usize];
-    f.read_exact(&mut pre).map_err(|e| io("reading the HEADER", e))?;
+    f.read_exact(&mut pre)
+        .map_err(|e| io("reading the HEADER", e))?;
     if pre[..8] != MAGIC {
         return Err(SnapshotError::NotSnapshot {
             path: path.to_path_buf(),

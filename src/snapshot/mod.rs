@@ -523,7 +523,6 @@ pub(crate) fn section_hasher(tag: u32, len: u64) -> crc32fast::Hasher {
     h
 }
 
-
 /// A fresh temporary sibling path `.<name>.tmp-<pid>-<k>` for atomic writes to `path`.
 pub(crate) fn temp_sibling(path: &Path) -> Result<PathBuf, SnapshotError> {
     static COUNTER: AtomicU64 = AtomicU64::new(0);

@@ -2,10 +2,10 @@
 //! damaged) and reads single frames by seeking. Rules in the [parent module](super).
 
 use super::{
-    decode_exact, section_hasher, section_name, EventRecord, Frame, Header,
-    RunSummary, SnapshotError, END_SECTION_LEN, FORMAT_VERSION, MAGIC, PREAMBLE_LEN,
-    SECTION_HEADER_LEN, TAG_END, TAG_EVENTS, TAG_EVENT_BLOCK, TAG_EVENT_INDEX, TAG_FRAME,
-    TAG_HEADER, TAG_INDEX, TAG_STATS,
+    decode_exact, section_hasher, section_name, EventRecord, Frame, Header, RunSummary,
+    SnapshotError, END_SECTION_LEN, FORMAT_VERSION, MAGIC, PREAMBLE_LEN, SECTION_HEADER_LEN,
+    TAG_END, TAG_EVENTS, TAG_EVENT_BLOCK, TAG_EVENT_INDEX, TAG_FRAME, TAG_HEADER, TAG_INDEX,
+    TAG_STATS,
 };
 use events::{check_scan_against_event_index, event_log};
 use frames::{check_scan_against_index, read_frame_at};
@@ -465,15 +465,7 @@ fn scan(
         match h.tag {
             TAG_FRAME => {
                 let number = c.offsets.len() as u64;
-                read_frame_at(
-                    raw,
-                    pos,
-                    &name,
-                    number,
-                    shape,
-                    frame_len,
-                    &mut frame,
-                )?;
+                read_frame_at(raw, pos, &name, number, shape, frame_len, &mut frame)?;
                 // Frames are written in strictly increasing time: a repeated or earlier time
                 // means sections were duplicated or reordered, and numbering on would put
                 // frames at the wrong index.

@@ -208,7 +208,9 @@ pub fn parse_beads(spec: &str, n: u64) -> Result<Option<Vec<u64>>, String> {
         let item = item.trim();
         let (a, b, step) = parse_item(item, n)?;
         if a >= b {
-            return Err(format!("'{item}' selects no bead (A:B is half-open: A < B)"));
+            return Err(format!(
+                "'{item}' selects no bead (A:B is half-open: A < B)"
+            ));
         }
         list.extend((a..b).step_by(step as usize));
     }
@@ -216,7 +218,11 @@ pub fn parse_beads(spec: &str, n: u64) -> Result<Option<Vec<u64>>, String> {
     if let Some(w) = list.windows(2).find(|w| w[0] == w[1]) {
         return Err(format!("bead {} is selected twice", w[0]));
     }
-    Ok(if list.len() as u64 == n { None } else { Some(list) })
+    Ok(if list.len() as u64 == n {
+        None
+    } else {
+        Some(list)
+    })
 }
 
 /// One item: `(A, B, STEP)` of the half-open range it selects.

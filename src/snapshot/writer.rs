@@ -14,9 +14,9 @@
 
 use super::select::{Fields, Selection};
 use super::{
-    encode, section_hasher, sync_parent_dir, temp_sibling, EventRecord, Header,
-    RunSummary, SnapshotError, FORMAT_VERSION, MAGIC, TAG_END, TAG_EVENT_BLOCK, TAG_EVENT_INDEX,
-    TAG_FRAME, TAG_HEADER, TAG_INDEX, TAG_STATS,
+    encode, section_hasher, sync_parent_dir, temp_sibling, EventRecord, Header, RunSummary,
+    SnapshotError, FORMAT_VERSION, MAGIC, TAG_END, TAG_EVENT_BLOCK, TAG_EVENT_INDEX, TAG_FRAME,
+    TAG_HEADER, TAG_INDEX, TAG_STATS,
 };
 use crate::files::OutputKind;
 use std::fs::{File, OpenOptions};
@@ -59,6 +59,8 @@ impl SnapshotWriter {
     /// A character device or FIFO is written in place instead (see [`crate::files`]); a
     /// symbolic link to a file is refused; stale temporaries of dead runs are removed first.
     pub fn create(path: &Path, header: &Header) -> Result<Self, SnapshotError> {
+        // Checked before the temporary file exists (an early return would leave it behind).
+        let frame_len = frame_len(path, header)?;
         let stream = crate::files::classify_output(path)? == OutputKind::Stream;
         let (tmp, file) = if stream {
             let f = OpenOptions::new()
@@ -84,7 +86,6 @@ impl SnapshotWriter {
                 })?;
             (tmp, f)
         };
-        let frame_len = frame_len(path, header)?;
         let mut w = SnapshotWriter {
             path: path.to_path_buf(),
             tmp,
@@ -335,7 +336,11 @@ fn bead_list(sel: &Selection) -> Option<Vec<usize>> {
 }
 
 /// The stored values of `xs`: none when `on` is false, else every value or those at `beads`.
-fn stored<'a>(xs: &'a [f64], beads: Option<&'a [usize]>, on: bool) -> impl Iterator<Item = f64> + 'a {
+fn stored<'a>(
+    xs: &'a [f64],
+    beads: Option<&'a [usize]>,
+    on: bool,
+) -> impl Iterator<Item = f64> + 'a {
     let (all, pick): (&[f64], &[usize]) = match (on, beads) {
         (false, _) => (&[], &[]),
         (true, None) => (xs, &[]),
