@@ -36,8 +36,8 @@ pub fn frame_count(until: f64, every: Option<f64>) -> f64 {
         }
         Some(dt) => {
             let q = (until.max(0.0) / dt).ceil();
-            if !(q < 1e15) {
-                return q + 1.0;
+            if q.is_nan() || q >= 1e15 {
+                return q + 1.0; // beyond exact integer steps: any cap is exceeded anyway
             }
             // The last frame is the first k with k·dt ≥ until, in the engines' arithmetic.
             let mut k = q as u64;
