@@ -575,3 +575,27 @@ fn a_rejected_selection_never_overwrites_an_existing_snapshot() {
     assert_eq!(o.status.code(), Some(2));
     assert_eq!(std::fs::read(d.path().join("o.snap")).unwrap(), b"previous");
 }
+
+/// The size note before a large run (≥ 16 MiB) counts the stored values only: 10⁴ beads ×
+/// 202 frames is 31.4 MiB in full (`tests/cli_values.rs`), 16.0 MiB with `u` only (noted), and
+/// 0.2 MiB for every 100th bead's `v` (not noted). `--max-steps 1` stops the runs at once.
+#[test]
+fn size_note_counts_only_the_stored_values() {
+    let d = tempfile::tempdir().unwrap();
+    let scene =
+        "[chain]\nbeads = 10000\n[initial]\nstriker = 1.0\n[run]\nuntil = 20.0\nevery = 0.1\n";
+    std::fs::write(d.path().join("big.toml"), scene).unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["run", "big.toml", "--out", "big.snap", "--max-steps", "1"];
+        args.extend_from_slice(extra);
+        stderr(&bc(d.path(), &args))
+    };
+    let e = run(&["--fields", "u"]);
+    assert!(
+        e.contains("beadchain: note: the snapshot will be about 16.0 MiB (202 frames storing beads all (10000 of 10000), fields u)\n"),
+        "{e}"
+    );
+    let e = run(&["--beads", "0:10000:100", "--fields", "v"]);
+    assert!(!e.contains("note:"), "{e}");
+    assert!(!d.path().join("big.snap").exists());
+}
