@@ -326,7 +326,8 @@ fn cmd_run(a: RunArgs) -> Result<i32> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{}.snap", scene.name)));
-    let sel = a.output.selection(&a.common.scene, scene.chain.len())?;
+    let n = scene.chain.len();
+    let sel = (a.output).selection(&a.common.scene, n, scene.run.output.as_ref())?;
     check_run_files(&a, &scene, &cfg, &sel, &out_path)?;
     let created_by = std::env::args().collect::<Vec<_>>().join(" ");
     let mut header = Header::new(
@@ -392,7 +393,12 @@ fn check_run_files(
         "[run].until"
     };
     let span = (cfg.until, cfg.every);
-    crate::cli_select::check_frames_max(what, sel, span, "--frames-max", until_key)?;
+    let cap_key = if a.output.frames_max.is_some() {
+        "--frames-max"
+    } else {
+        "[output].frames_max"
+    };
+    crate::cli_select::check_frames_max(what, sel, span, (cap_key, cap_key), until_key)?;
     let n = scene.chain.len();
     a.limit.check(
         what,

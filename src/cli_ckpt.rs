@@ -260,7 +260,8 @@ pub fn cmd_resume(
         "[run].until"
     };
     let span = (cfg.until, cfg.every);
-    crate::cli_select::check_frames_max(&what, &sel, span, "--until", until_key)?;
+    let keys = ("--until", "--frames-max");
+    crate::cli_select::check_frames_max(&what, &sel, span, keys, until_key)?;
     let n = ck.scene.chain.len();
     limit.check(
         &what,

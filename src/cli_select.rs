@@ -33,19 +33,21 @@ pub struct OutputArgs {
 }
 
 impl OutputArgs {
-    /// The selection for a chain of `n` beads; `what` (the scene argument) prefixes errors.
-    pub fn selection(&self, what: &str, n: usize) -> Result<Selection> {
+    /// The selection for a chain of `n` beads: each option given overrides the scene's
+    /// `[output]` key (`scene`); `what` (the scene argument) prefixes errors.
+    pub fn selection(&self, what: &str, n: usize, scene: Option<&Selection>) -> Result<Selection> {
+        let base = scene.cloned().unwrap_or_default();
         let beads = match &self.beads {
             Some(spec) => {
                 parse_beads(spec, n as u64).map_err(|e| anyhow::anyhow!("{what}: --beads: {e}"))?
             }
-            None => None,
+            None => base.beads,
         };
         let fields = match &self.fields {
             Some(spec) => {
                 Fields::parse(spec).map_err(|e| anyhow::anyhow!("{what}: --fields: {e}"))?
             }
-            None => Fields::Both,
+            None => base.fields,
         };
         if let Some(k) = self.frames_max.filter(|&k| k < 2) {
             bail!(
@@ -55,19 +57,20 @@ impl OutputArgs {
         Ok(Selection {
             beads,
             fields,
-            frames_max: self.frames_max,
+            frames_max: self.frames_max.or(base.frames_max),
         })
     }
 }
 
 /// Refuses a run to `until` with interval `every` that would write more frames than the
-/// selection's `frames_max`. `key` names the value at fault (`--frames-max` for `run`,
-/// `--until` for `resume`), `until_key` where `until` came from.
+/// selection's `frames_max`. `key` names the value at fault (`--frames-max` or
+/// `[output].frames_max` for `run`, `--until` for `resume`), `cap_key` where the cap came from,
+/// `until_key` where `until` came from.
 pub fn check_frames_max(
     what: &str,
     sel: &Selection,
     (until, every): (f64, Option<f64>),
-    key: &str,
+    (key, cap_key): (&str, &str),
     until_key: &str,
 ) -> Result<()> {
     let Some(k) = sel.frames_max else {
@@ -79,7 +82,7 @@ pub fn check_frames_max(
     }
     let dt = every_that_fits(until, k);
     bail!(
-        "{what}: {key}: the run would write {} frames ({until_key} = {}, every = {}), more than --frames-max {k}; use --every {} or larger, or raise --frames-max",
+        "{what}: {key}: the run would write {} frames ({until_key} = {}, every = {}), more than {cap_key} {k}; use --every {} or larger, or raise {cap_key}",
         count_text(count),
         short(until),
         every.map_or("none".into(), short),

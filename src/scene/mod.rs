@@ -194,6 +194,7 @@
 pub mod error;
 pub(crate) mod hard;
 mod keys;
+mod output;
 pub mod parse;
 pub mod presets;
 pub mod show;
@@ -246,6 +247,10 @@ pub struct RunSettings {
     pub method: Option<Method>,
     /// Engine.
     pub engine: Option<Engine>,
+    /// The `[output]` table (output selection of `run`; see `output.rs`). Not serialized: the
+    /// snapshot header records the selection a run used.
+    #[serde(skip)]
+    pub output: Option<crate::snapshot::Selection>,
 }
 
 /// A fully resolved scene: every per-bead and per-contact array expanded.
