@@ -1,7 +1,7 @@
 //! Output selection (issue 14), the snapshot side: the selection in the header (format version
 //! 3), old formats still read (golden files in `data/golden/`), invalid selections refused, the
-//! `--beads` grammar and the exact frame count behind `--frames-max`. The command line is tested
-//! in `tests/output_selection.rs`.
+//! `--beads` grammar, the exact frame count behind `--frames-max`, and the `[output]` scene keys.
+//! The command-line options are tested in `tests/output_selection.rs`.
 
 mod common;
 
@@ -12,8 +12,10 @@ use beadchain::snapshot::{
     EventKind, EventRecord, Fields, Frame, Header, RunSummary, Selection, Snapshot, SnapshotWriter,
     FORMAT_VERSION,
 };
+use common::bc;
 use rand::{Rng, SeedableRng};
 use std::path::{Path, PathBuf};
+use std::process::Output;
 
 // ---- golden file of format version 2 ------------------------------------------------------
 
@@ -293,4 +295,89 @@ fn writer_refuses_an_invalid_selection_and_reader_calls_it_corrupt() {
         e.ends_with("corrupt section HEADER at byte 12: the output selection's beads are not strictly increasing"),
         "{e}"
     );
+}
+
+fn ok(o: &Output) {
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+// ---- scene keys: [output] ----------------------------------------------------------------------
+
+const OUTPUT_SCENE: &str = "[chain]\nbeads = 4\n[initial]\nstriker = 1.0\n[run]\nuntil = 2.0\nevery = 0.5\n[output]\nbeads = [2, 0]\nfields = \"v\"\nframes_max = 5\n";
+
+#[test]
+fn scene_output_keys_select_and_options_override_them() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("s.toml"), OUTPUT_SCENE).unwrap();
+    ok(&bc(d.path(), &["run", "s.toml", "-q", "--out", "a.snap"]));
+    let a = Snapshot::open(&d.path().join("a.snap")).unwrap();
+    assert_eq!(a.selection().beads, Some(vec![0, 2]));
+    assert_eq!(
+        (a.selection().fields, a.selection().frames_max),
+        (Fields::V, Some(5))
+    );
+    assert_eq!(a.frame_count(), 5);
+    let args = [
+        "run", "s.toml", "-q", "--out", "b.snap", "--beads", "1:", "--fields", "u",
+    ];
+    ok(&bc(d.path(), &args));
+    let b = Snapshot::open(&d.path().join("b.snap")).unwrap();
+    assert_eq!(b.selection().beads, Some(vec![1, 2, 3]));
+    assert_eq!(
+        (b.selection().fields, b.selection().frames_max),
+        (Fields::U, Some(5))
+    );
+    let o = bc(
+        d.path(),
+        &[
+            "run",
+            "s.toml",
+            "-q",
+            "--out",
+            "c.snap",
+            "--frames-max",
+            "4",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        stderr(&o),
+        "beadchain: error: s.toml: --frames-max: the run would write 5 frames ([run].until = 2, every = 0.5), more than --frames-max 4; use --every 0.6666666666666666 or larger, or raise --frames-max\n"
+    );
+    assert!(!d.path().join("c.snap").exists());
+}
+
+#[test]
+fn bad_scene_output_keys_are_one_line_errors_naming_the_key() {
+    let cases = [
+        ("beads = [2, 0]", "beads = \"9\"", "[output].beads: bead 9 is out of range: the chain has 4 beads (indices 0 to 3)"),
+        ("beads = [2, 0]", "beads = [0, -1]", "[output].beads: expected a bead index, a string such as \"0:100:10\" or an array of bead indices, got an array with an invalid item"),
+        ("beads = [2, 0]", "beads = [1, 1]", "[output].beads: bead 1 is selected twice"),
+        ("beads = [2, 0]", "beads = 1.5", "[output].beads: expected a bead index, a string such as \"0:100:10\" or an array of bead indices, got a number"),
+        ("fields = \"v\"", "fields = \"w\"", "[output].fields: unknown field 'w': expected u, v or u,v (displacements, velocities)"),
+        ("frames_max = 5", "frames_max = 1", "[output].frames_max: must be an integer >= 2 (a run writes its first and its last frame), got 1"),
+        ("frames_max = 5", "frame_max = 5", "[output].frame_max: unknown key (expected one of: beads, fields, frames_max)"),
+        ("frames_max = 5", "frames_max = 4", "[output].frames_max: the run would write 5 frames ([run].until = 2, every = 0.5), more than [output].frames_max 4; use --every 0.6666666666666666 or larger, or raise [output].frames_max"),
+    ];
+    for (from, to, msg) in cases {
+        let d = tempfile::tempdir().unwrap();
+        std::fs::write(d.path().join("s.toml"), OUTPUT_SCENE.replace(from, to)).unwrap();
+        let o = bc(d.path(), &["run", "s.toml", "-q", "--out", "o.snap"]);
+        assert_eq!(o.status.code(), Some(2), "{to}");
+        assert_eq!(
+            stderr(&o),
+            format!("beadchain: error: s.toml: {msg}\n"),
+            "{to}"
+        );
+        assert!(!d.path().join("o.snap").exists(), "{to}");
+    }
 }
