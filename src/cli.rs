@@ -8,7 +8,7 @@ use beadchain::integrate::Method;
 use beadchain::linalg::SolverKind;
 use beadchain::progress::RunProgress;
 use beadchain::scene::{self, Engine, Scene};
-use beadchain::snapshot::{Header, Snapshot, SnapshotWriter};
+use beadchain::snapshot::{Header, Selection, Snapshot, SnapshotWriter};
 use clap::{Parser, Subcommand, ValueEnum};
 use std::io::Write;
 use std::path::PathBuf;
@@ -201,6 +201,8 @@ struct RunArgs {
     timing: bool,
     #[command(flatten)]
     limit: crate::cli_files::SizeLimit,
+    #[command(flatten)]
+    output: crate::cli_select::OutputArgs,
 }
 
 #[derive(clap::Args, Debug)]
@@ -324,9 +326,11 @@ fn cmd_run(a: RunArgs) -> Result<i32> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{}.snap", scene.name)));
-    check_run_files(&a, &scene, &cfg, &out_path)?;
+    let n = scene.chain.len();
+    let sel = (a.output).selection(&a.common.scene, n, scene.run.output.as_ref())?;
+    check_run_files(&a, &scene, &cfg, &sel, &out_path)?;
     let created_by = std::env::args().collect::<Vec<_>>().join(" ");
-    let header = Header::new(
+    let mut header = Header::new(
         scene.clone(),
         cfg.engine,
         cfg.method,
@@ -334,7 +338,8 @@ fn cmd_run(a: RunArgs) -> Result<i32> {
         cfg.atol,
         created_by,
     );
-    note_output_size(&a, &scene, &cfg);
+    note_output_size(&a, &scene, &cfg, &sel);
+    header.output = sel;
     let writer = SnapshotWriter::create(&out_path, &header)?;
     let ckpt = cli_ckpt::ckpt_path(&out_path);
     let sink =
@@ -362,11 +367,12 @@ fn cmd_run(a: RunArgs) -> Result<i32> {
 }
 
 /// Everything `run` checks before it touches a file: the checkpoint interval, the output is no
-/// input, a stream output takes no checkpoints, and the estimated output size.
+/// input, a stream output takes no checkpoints, `--frames-max`, and the estimated output size.
 fn check_run_files(
     a: &RunArgs,
     scene: &Scene,
     cfg: &RunConfig,
+    sel: &Selection,
     out_path: &std::path::Path,
 ) -> Result<()> {
     use beadchain::files::{classify_output, OutputKind};
@@ -386,9 +392,17 @@ fn check_run_files(
     } else {
         "[run].until"
     };
+    let span = (cfg.until, cfg.every);
+    let cap_key = if a.output.frames_max.is_some() {
+        "--frames-max"
+    } else {
+        "[output].frames_max"
+    };
+    crate::cli_select::check_frames_max(what, sel, span, (cap_key, cap_key), until_key)?;
+    let n = scene.chain.len();
     a.limit.check(
         what,
-        scene.chain.len(),
+        (n, sel.values_per_frame(n as u64).unwrap_or(u64::MAX)),
         (0.0, cfg.until, cfg.every),
         0,
         until_key,
@@ -400,18 +414,24 @@ const NOTE_OUTPUT_BYTES: f64 = 16.0 * 1024.0 * 1024.0;
 
 /// Prints the snapshot size estimate on stderr before a run whose output is large (not with
 /// `-q`): a long run's disk use is known before it is spent.
-fn note_output_size(a: &RunArgs, scene: &Scene, cfg: &RunConfig) {
+fn note_output_size(a: &RunArgs, scene: &Scene, cfg: &RunConfig, sel: &Selection) {
     use beadchain::snapshot::size::{
-        count_text, frame_count_estimate, human_bytes, output_bytes_estimate,
+        count_text, frame_count_estimate, human_bytes, output_bytes_estimate_values,
     };
     let frames = frame_count_estimate(0.0, cfg.until, cfg.every);
-    let bytes = output_bytes_estimate(scene.chain.len(), frames);
+    let n = scene.chain.len();
+    let values = sel.values_per_frame(n as u64).unwrap_or(u64::MAX) as f64;
+    let bytes = output_bytes_estimate_values(n, values, frames);
     if bytes >= NOTE_OUTPUT_BYTES && !a.common.quiet {
+        let of = if sel.is_full() {
+            format!("of {n} beads")
+        } else {
+            format!("storing {}", sel.describe(n as u64))
+        };
         eprintln!(
-            "beadchain: note: the snapshot will be about {} ({} frames of {} beads)",
+            "beadchain: note: the snapshot will be about {} ({} frames {of})",
             human_bytes(bytes),
             count_text(frames),
-            scene.chain.len()
         );
     }
 }

@@ -125,6 +125,7 @@ fn analyze(args: &AnalyzeArgs) -> Result<Analysis> {
     for w in snap.warnings() {
         eprintln!("beadchain: warning: {w}");
     }
+    snap.require_full("analyze needs every bead and both fields (energies, leading wave)")?;
     let chain = snap.header().scene.chain.clone();
     let n = chain.len();
     let mut frames: Vec<Frame> = Vec::with_capacity(snap.frame_count());

@@ -229,6 +229,8 @@ fn locate(file: &Path, mark: &mut beadchain::snapshot::WriterMark) {
 
 /// `beadchain resume FILE.ckpt [--until T] [--checkpoint-every DT]`. Every argument is checked
 /// before the unfinished output is touched, so a rejected `--until` leaves the run resumable.
+/// The run continues with the output selection (`run --beads/--fields/--frames-max`) stored
+/// in the unfinished output's header; the checkpoint itself holds the full engine state.
 pub fn cmd_resume(
     file: &Path,
     until: Option<f64>,
@@ -250,16 +252,23 @@ pub fn cmd_resume(
         }
         cfg.until = t;
     }
+    // The output selection (beads, fields, frame cap) is the unfinished output's own header's.
+    let sel = beadchain::snapshot::read_header(&ck.writer.temp)?.output;
+    let until_key = if until.is_some() {
+        "--until"
+    } else {
+        "[run].until"
+    };
+    let span = (cfg.until, cfg.every);
+    let keys = ("--until", "--frames-max");
+    crate::cli_select::check_frames_max(&what, &sel, span, keys, until_key)?;
+    let n = ck.scene.chain.len();
     limit.check(
         &what,
-        ck.scene.chain.len(),
+        (n, sel.values_per_frame(n as u64).unwrap_or(u64::MAX)),
         (ck.engine.time(), cfg.until, cfg.every),
         ck.writer.offsets.len(),
-        if until.is_some() {
-            "--until"
-        } else {
-            "[run].until"
-        },
+        until_key,
     )?;
     let writer = SnapshotWriter::reopen(&ck.writer)?;
     let out_path = ck.writer.path.clone();

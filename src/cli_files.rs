@@ -14,7 +14,8 @@
 use anyhow::{bail, Result};
 use beadchain::files::same_file;
 use beadchain::snapshot::size::{
-    count_text, frame_count_estimate, human_bytes, output_bytes_estimate, DEFAULT_MAX_OUTPUT_BYTES,
+    count_text, frame_count_estimate, human_bytes, output_bytes_estimate_values,
+    DEFAULT_MAX_OUTPUT_BYTES,
 };
 use std::path::{Path, PathBuf};
 
@@ -39,23 +40,29 @@ impl SizeLimit {
         }
     }
 
-    /// Refuses a run of `n_beads` from `t0` to `until` with interval `every` writing
-    /// `frames_before` frames already, if its snapshot would exceed the limit. `what` names the
-    /// file (scene or checkpoint), `until_key` the option or key that set the end time.
+    /// Refuses a run of `n_beads` (frames of `values` stored numbers: `2 N`, or fewer with an
+    /// output selection) from `t0` to `until` with interval `every` writing `frames_before`
+    /// frames already, if its snapshot would exceed the limit. `what` names the file (scene or
+    /// checkpoint), `until_key` the option or key that set the end time.
     pub fn check(
         &self,
         what: &str,
-        n_beads: usize,
+        (n_beads, values): (usize, u64),
         (t0, until, every): (f64, f64, Option<f64>),
         frames_before: usize,
         until_key: &str,
     ) -> Result<()> {
         let frames = frame_count_estimate(t0, until, every) + frames_before as f64;
-        let bytes = output_bytes_estimate(n_beads, frames);
+        let bytes = output_bytes_estimate_values(n_beads, values as f64, frames);
         let limit = self.bytes();
+        let of = if values == 2 * n_beads as u64 {
+            format!("{n_beads} beads")
+        } else {
+            format!("{values} stored values of {n_beads} beads")
+        };
         if bytes > limit as f64 {
             bail!(
-                "{what}: [run].every: the output would be about {} ({} frames of {n_beads} beads: {until_key} = {}, every = {}), above the limit of {}: raise [run].every (or --every), lower {until_key}, or pass --max-output-bytes N or --force",
+                "{what}: [run].every: the output would be about {} ({} frames of {of}: {until_key} = {}, every = {}), above the limit of {}: raise [run].every (or --every), lower {until_key}, or pass --max-output-bytes N or --force",
                 human_bytes(bytes),
                 count_text(frames),
                 short(until),
@@ -68,7 +75,7 @@ impl SizeLimit {
 }
 
 /// A number as `{}` in `1e-5 ≤ |x| < 1e16`, else as `{:e}` (`1e300`, not 301 digits).
-fn short(x: f64) -> String {
+pub fn short(x: f64) -> String {
     if x == 0.0 || (1e-5..1e16).contains(&x.abs()) {
         x.to_string()
     } else {

@@ -147,6 +147,7 @@ fn open(path: &Path) -> Result<Snapshot> {
     for w in snap.warnings() {
         eprintln!("beadchain: warning: {w}");
     }
+    snap.require_full("plot needs every bead and both fields")?;
     Ok(snap)
 }
 

@@ -93,23 +93,40 @@ impl fmt::Display for Num {
 }
 
 /// Writes the selected frames as CSV: header `frame,t,bead,u,v`, one row per bead and frame.
+/// A snapshot with an output selection gives its stored beads (the real index in `bead`) and
+/// only the stored fields' columns (`frame,t,bead,u` or `frame,t,bead,v`).
 pub fn export_csv(
     snap: &Snapshot,
     sel: FrameSel,
     out: &mut dyn Write,
 ) -> Result<(), SnapshotError> {
     let range = sel.range(snap)?;
+    let s = snap.selection();
+    let (hu, hv) = (s.fields.has_u(), s.fields.has_v());
     let mut w = BufWriter::with_capacity(1 << 16, out);
-    writeln!(w, "frame,t,bead,u,v")?;
+    writeln!(w, "frame,t,bead{}", long_columns(hu, hv))?;
     let mut f = Frame::default();
     for k in range {
         snap.read_frame_into(k, &mut f)?;
-        for (i, (u, v)) in f.u.iter().zip(&f.v).enumerate() {
-            writeln!(w, "{k},{},{i},{},{}", Num(f.t), Num(*u), Num(*v))?;
+        for j in 0..f.u.len().max(f.v.len()) {
+            write!(w, "{k},{},{}", Num(f.t), s.bead(j))?;
+            for x in [f.u.get(j), f.v.get(j)].into_iter().flatten() {
+                write!(w, ",{}", Num(*x))?;
+            }
+            writeln!(w)?;
         }
     }
     w.flush()?;
     Ok(())
+}
+
+/// The field columns of the long layout: `,u,v`, `,u` or `,v`.
+fn long_columns(u: bool, v: bool) -> &'static str {
+    match (u, v) {
+        (true, true) => ",u,v",
+        (true, false) => ",u",
+        _ => ",v",
+    }
 }
 
 /// The `.npy` v1.0 header for a little-endian float64 C-order array of `rows × cols`
@@ -119,21 +136,26 @@ pub fn npy_header(rows: u64, cols: u64) -> Vec<u8> {
 }
 
 /// Writes the selected frames as a NumPy `.npy` (v1.0) float64 array of shape `(rows, 5)` with
-/// the CSV's columns `frame, t, bead, u, v` (frame and bead as exact small integers).
+/// the CSV's columns `frame, t, bead, u, v` (frame and bead as exact small integers); `(rows, 4)`
+/// without the field an output selection left out.
 pub fn export_npy(
     snap: &Snapshot,
     sel: FrameSel,
     out: &mut dyn Write,
 ) -> Result<(), SnapshotError> {
     let range = sel.range(snap)?;
-    let rows = range.len() as u64 * snap.header().n_beads;
+    let s = snap.selection();
+    let rows = range.len() as u64 * s.bead_count(snap.header().n_beads);
     let mut w = BufWriter::with_capacity(1 << 16, out);
-    w.write_all(&npy_header(rows, 5))?;
+    w.write_all(&npy_header(rows, 3 + s.fields.count()))?;
     let mut f = Frame::default();
     for k in range {
         snap.read_frame_into(k, &mut f)?;
-        for (i, (u, v)) in f.u.iter().zip(&f.v).enumerate() {
-            for x in [k as f64, f.t, i as f64, *u, *v] {
+        for j in 0..f.u.len().max(f.v.len()) {
+            for x in [k as f64, f.t, s.bead(j) as f64] {
+                w.write_all(&x.to_le_bytes())?;
+            }
+            for x in [f.u.get(j), f.v.get(j)].into_iter().flatten() {
                 w.write_all(&x.to_le_bytes())?;
             }
         }
@@ -210,6 +232,16 @@ pub fn inspect_with(snap: &Snapshot, chain: &Chain, damaged: &[(usize, String)])
     let _ = writeln!(s, "command:     {}", h.created_by);
     let _ = writeln!(s, "scene:       {} — {}", h.scene.name, h.scene.description);
     let _ = writeln!(s, "beads:       {}", h.n_beads);
+    if !h.output.is_full() {
+        let _ = writeln!(
+            s,
+            "stored:      {} (run --beads/--fields)",
+            h.output.describe(h.n_beads)
+        );
+    }
+    if let Some(k) = h.output.frames_max {
+        let _ = writeln!(s, "frames max:  {k}");
+    }
     let _ = writeln!(
         s,
         "engine:      {}, method {}, rtol {:e}, atol {:e}, seed {}",
@@ -225,6 +257,8 @@ pub fn inspect_with(snap: &Snapshot, chain: &Chain, damaged: &[(usize, String)])
         let times = snap.frame_times();
         let _ = writeln!(s, "time span:   {} .. {}", Num(times[0]), Num(times[n - 1]));
         let energy = |k: usize| -> Result<(f64, f64), String> {
+            snap.require_full("the energy needs every bead and both fields")
+                .map_err(|e| e.to_string())?;
             let f = snap.frame(k).map_err(|e| e.to_string())?;
             if f.u.len() != chain.len() {
                 return Err(format!(
@@ -247,6 +281,9 @@ pub fn inspect_with(snap: &Snapshot, chain: &Chain, damaged: &[(usize, String)])
                 let rel =
                     crate::model::relative_energy_change(e0, e1, s0.max(s1)).copysign(e1 - e0);
                 let _ = writeln!(s, "energy change (relative): {rel:.3e}");
+            }
+            (Err(e), _) if !h.output.is_full() => {
+                let _ = writeln!(s, "energy:      not available: {e}");
             }
             (a, b) => {
                 for (which, r) in [("first", a), ("last", b)] {

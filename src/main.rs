@@ -36,6 +36,7 @@ mod cli_export;
 mod cli_files;
 mod cli_plot;
 mod cli_scene;
+mod cli_select;
 mod cli_sweep;
 
 use clap::{CommandFactory, FromArgMatches};

@@ -219,7 +219,7 @@ fn layout_matches_documentation() {
     let (_d, p, _) = sample();
     let bytes = std::fs::read(&p).unwrap();
     assert_eq!(&bytes[..8], b"BEADCHN\0");
-    assert_eq!(u32::from_le_bytes(bytes[8..12].try_into().unwrap()), 2);
+    assert_eq!(u32::from_le_bytes(bytes[8..12].try_into().unwrap()), 3); // format version 3
     let secs = sections(&bytes);
     let tags: Vec<&[u8; 4]> = secs.iter().map(|(_, t, _)| t).collect();
     let mut want = vec![b"HEAD"];

@@ -12,9 +12,15 @@
 //! - `.csv`: the same columns with header `t,u0,…,u{N−1},v0,…,v{N−1}`.
 //!
 //! Numbers are the snapshot's f64 values, bit for bit (NPY) or in shortest round-trip text (CSV).
+//!
+//! A snapshot with an output selection (`run --beads/--fields`: `M` beads, `q` = 1 or 2 fields)
+//! exports what it stores: `u`/`v` are `(F, M)` and a field not stored is left out; the `.npz`
+//! adds `beads` `(M,)` (the real bead indices, as float64); the `.npy` is `(F, 1+q·M)` in the
+//! order `t | u | v`; CSV columns are labelled with the real index (`u10,u11,…`). The chain arrays
+//! stay whole (`(N,)`, `(N−1,)`).
 
 use super::{FrameSel, Num};
-use crate::snapshot::{Frame, Snapshot, SnapshotError};
+use crate::snapshot::{Frame, Selection, Snapshot, SnapshotError};
 use std::io::{self, BufWriter, Write};
 
 /// Largest size of an entry or offset in a zip without ZIP64.
@@ -48,16 +54,27 @@ pub fn npz_entry_bytes(frames: u64, beads: u64) -> u64 {
 
 /// Size in bytes of the whole `.npz` for `frames × beads` (entries, headers, directory).
 pub fn npz_bytes(frames: u64, beads: u64) -> u64 {
+    npz_bytes_of(frames, beads, &Selection::default())
+}
+
+/// [`npz_bytes`] of a snapshot with output selection `sel` (chain of `beads` beads).
+pub fn npz_bytes_of(frames: u64, beads: u64, sel: &Selection) -> u64 {
+    let m = sel.bead_count(beads);
     let n1 = beads.saturating_sub(1);
-    let entries: [(&str, &[u64]); 7] = [
-        ("t.npy", &[frames]),
-        ("u.npy", &[frames, beads]),
-        ("v.npy", &[frames, beads]),
-        ("mass.npy", &[beads]),
-        ("exponent.npy", &[n1]),
-        ("prefactor.npy", &[n1]),
-        ("precompression.npy", &[n1]),
-    ];
+    let mut entries: Vec<(&str, Vec<u64>)> = vec![("t.npy", vec![frames])];
+    if sel.fields.has_u() {
+        entries.push(("u.npy", vec![frames, m]));
+    }
+    if sel.fields.has_v() {
+        entries.push(("v.npy", vec![frames, m]));
+    }
+    if sel.beads.is_some() {
+        entries.push(("beads.npy", vec![m]));
+    }
+    entries.push(("mass.npy", vec![beads]));
+    for name in ["exponent.npy", "prefactor.npy", "precompression.npy"] {
+        entries.push((name, vec![n1]));
+    }
     entries
         .iter()
         .map(|(name, shape)| {
@@ -68,16 +85,17 @@ pub fn npz_bytes(frames: u64, beads: u64) -> u64 {
         + 22
 }
 
-/// Writes the selected frames as one `(F, 2N+1)` float64 `.npy` array (see module docs).
+/// Writes the selected frames as one `(F, 2N+1)` float64 `.npy` array (`(F, 1+q·M)` for an
+/// output selection; see module docs).
 pub fn export_npy_wide(
     snap: &Snapshot,
     sel: FrameSel,
     out: &mut dyn Write,
 ) -> Result<(), SnapshotError> {
     let range = sel.range(snap)?;
-    let n = snap.header().n_beads;
+    let cols = stored_values(snap);
     let mut w = BufWriter::with_capacity(1 << 16, out);
-    w.write_all(&npy_header_shape(&[range.len() as u64, 2 * n + 1]))?;
+    w.write_all(&npy_header_shape(&[range.len() as u64, cols + 1]))?;
     let mut f = Frame::default();
     for k in range {
         snap.read_frame_into(k, &mut f)?;
@@ -90,6 +108,12 @@ pub fn export_npy_wide(
     Ok(())
 }
 
+/// Numbers per frame besides `t` (`2 N` unless the snapshot stores a selection).
+fn stored_values(snap: &Snapshot) -> u64 {
+    let n = snap.header().n_beads;
+    snap.selection().values_per_frame(n).unwrap_or(u64::MAX)
+}
+
 /// Writes the selected frames as CSV, one row per frame: `t,u0,…,v0,…` (see module docs).
 pub fn export_csv_wide(
     snap: &Snapshot,
@@ -97,12 +121,13 @@ pub fn export_csv_wide(
     out: &mut dyn Write,
 ) -> Result<(), SnapshotError> {
     let range = sel.range(snap)?;
-    let n = snap.header().n_beads;
+    let s = snap.selection();
+    let m = s.bead_count(snap.header().n_beads) as usize;
     let mut w = BufWriter::with_capacity(1 << 16, out);
     w.write_all(b"t")?;
-    for c in ['u', 'v'] {
-        for i in 0..n {
-            write!(w, ",{c}{i}")?;
+    for (c, on) in [('u', s.fields.has_u()), ('v', s.fields.has_v())] {
+        for j in (0..m).filter(|_| on) {
+            write!(w, ",{c}{}", s.bead(j))?;
         }
     }
     writeln!(w)?;
@@ -135,8 +160,10 @@ pub fn export_npz(
 ) -> Result<(), SnapshotError> {
     let range = sel.range(snap)?;
     let n = snap.header().n_beads;
+    let s = snap.selection();
+    let m = s.bead_count(n);
     let frames = range.len() as u64;
-    let total = npz_bytes(frames, n);
+    let total = npz_bytes_of(frames, n, s);
     if total > ZIP_LIMIT {
         return Err(SnapshotError::Output(io::Error::other(format!(
             "the .npz would be {total} bytes, beyond the 4 GiB of a zip without ZIP64: select fewer frames (--frame) or write .npy"
@@ -153,7 +180,9 @@ pub fn export_npz(
     ] {
         let shape = match field {
             Field::T => vec![frames],
-            _ => vec![frames, n],
+            Field::U if !s.fields.has_u() => continue,
+            Field::V if !s.fields.has_v() => continue,
+            _ => vec![frames, m],
         };
         z.entry(name, |w| {
             w.write_all(&npy_header_shape(&shape))?;
@@ -167,6 +196,13 @@ pub fn export_npz(
                 }
             }
             Ok(())
+        })?;
+    }
+    if let Some(b) = &s.beads {
+        let idx: Vec<f64> = b.iter().map(|&i| i as f64).collect();
+        z.entry("beads.npy", |w| {
+            w.write_all(&npy_header_shape(&[m]))?;
+            Ok(write_f64s(w, &idx)?)
         })?;
     }
     for (name, xs) in [

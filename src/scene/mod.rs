@@ -195,6 +195,7 @@ mod damping;
 pub mod error;
 pub(crate) mod hard;
 mod keys;
+mod output;
 pub mod parse;
 pub mod presets;
 pub mod show;
@@ -247,6 +248,10 @@ pub struct RunSettings {
     pub method: Option<Method>,
     /// Engine.
     pub engine: Option<Engine>,
+    /// The `[output]` table (output selection of `run`; see `output.rs`). Not serialized: the
+    /// snapshot header records the selection a run used.
+    #[serde(skip)]
+    pub output: Option<crate::snapshot::Selection>,
 }
 
 /// A fully resolved scene: every per-bead and per-contact array expanded.

@@ -100,7 +100,7 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
         seed: 0,
     };
     const TABLES: &[&str] = &[
-        "scene", "chain", "initial", "run", "field", "walls", "units", "hard",
+        "scene", "chain", "initial", "run", "field", "walls", "units", "hard", "output",
     ];
     for (k, _) in root.iter() {
         if !TABLES.contains(&k.as_str()) {
@@ -675,6 +675,7 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
         atol: opt_num(ctx, run_t, "run", "atol")?,
         method,
         engine,
+        output: super::output::parse_output(ctx, root, nb)?,
     };
 
     let stem = Path::new(origin)

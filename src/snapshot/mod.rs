@@ -33,7 +33,7 @@
 //! | tag    | section | payload |
 //! |--------|---------|---------|
 //! | `HEAD` | HEADER  | bincode of [`Header`] (see *bincode* below). Exactly once, first. |
-//! | `FRAM` | FRAME   | frame number `k` u64 (0, 1, 2, … in file order), then `t` f64, then `u[0..N]` f64, then `v[0..N]` f64 (raw LE, no bincode); `L = 16 + 16 N` exactly, `N = Header::n_beads`. Zero or more, in time order. The number lets a reader reject frames that were moved, duplicated or dropped even where no INDEX survives. |
+//! | `FRAM` | FRAME   | frame number `k` u64 (0, 1, 2, … in file order), then `t` f64, then `u[i]` f64 for every stored bead `i`, then `v[i]` f64 for every stored bead (raw LE, no bincode); a field not stored is left out. `L = 16 + 8 M F` exactly for `M` stored beads and `F` stored fields ([`Header::output`], see [`select`]); every bead and both fields (`L = 16 + 16 N`, `N = Header::n_beads`) unless the run selected fewer. Zero or more, in time order. The number lets a reader reject frames that were moved, duplicated or dropped even where no INDEX survives. |
 //! | `EVTB` | EVENT BLOCK | `first` u64 (the log index of the block's first event: the number of events in the blocks before it), then bincode of `Vec<`[`EventRecord`]`>` (not empty): the next events of the log, in processing order. Zero or more, between the frames. The number lets a reader reject blocks that were moved, duplicated or dropped. |
 //! | `EVIX` | EVENT INDEX | `count` u64, then `count` × u64 byte offsets of the EVENT BLOCK sections in file order. `L = 8 + 8 count`. |
 //! | `STAT` | STATS   | bincode of [`RunSummary`]. |
@@ -46,8 +46,10 @@
 //! appends each block at once, so neither holds the whole log: a run's memory does not grow
 //! with its number of events, and an unfinished file holds the events up to its last block.
 //!
-//! *Version 2* (still read): as version 3, but the `Chain` inside the HEADER has no `damping`
-//! field (dissipative contact laws came with version 3; the frozen layout is in `legacy.rs`).
+//! *Version 2* (still read): the HEADER has no `output` field (bincode of the version-3
+//! [`Header`] without its last field), and the `Chain` inside it has no `damping` field
+//! (dissipative contact laws came with version 3); its frames hold every bead and both fields.
+//! Decoded in `header.rs` (frozen layouts); golden file `data/golden/v2.snap`.
 //!
 //! *Version 1* (still read): as version 2, and no EVENT BLOCK or EVENT INDEX sections; the whole log is one
 //! `EVNT` (EVENTS) section, bincode of `Vec<`[`EventRecord`]`>` (possibly empty), written after
@@ -76,7 +78,8 @@
 //! - Lengths are validated before anything is allocated: a section must fit in the rest of the
 //!   file, a FRAME must be exactly `16 + 16 N` bytes, an INDEX exactly `24 + 16 count`, and
 //!   bincode decoding runs under a byte limit proportional to the payload size. A corrupted
-//!   length is an error ([`SnapshotError::AbsurdLength`]), never a huge allocation.
+//!   length is an error ([`SnapshotError::AbsurdLength`]), never a huge allocation. A HEADER
+//!   whose output selection is not a strictly increasing bead list below `N` is corrupt.
 //! - A finished version-2 file reads its event log through the EVENT INDEX: every block it lists
 //!   must be an EVENT BLOCK section, in file order, before the EVENT INDEX; during a scan the
 //!   blocks are read as met, and a whole EVENT INDEX must list exactly the blocks scanned before
@@ -106,12 +109,15 @@
 //! link is refused (rules in [`crate::files`]).
 
 pub mod ckpt;
-mod legacy;
+mod header;
 mod reader;
+pub mod select;
 pub mod size;
 mod writer;
 
+pub use header::read_header;
 pub use reader::Snapshot;
+pub use select::{Fields, Selection};
 pub use writer::{SnapshotWriter, WriterMark};
 
 use crate::integrate::{Method, Stats};
@@ -122,7 +128,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The 8 magic bytes every snapshot starts with.
 pub const MAGIC: [u8; 8] = *b"BEADCHN\0";
-/// Format version written by this build (and the newest it reads; version 1 is still read).
+/// Format version written by this build (and the newest it reads; versions 1 and 2 are still
+/// read).
 pub const FORMAT_VERSION: u32 = 3;
 /// Bytes before the first section: magic + version.
 pub const PREAMBLE_LEN: u64 = 12;
@@ -186,6 +193,9 @@ pub struct Header {
     pub n_beads: u64,
     /// The command line that produced the file.
     pub created_by: String,
+    /// What the frames store: beads, fields, frame cap (format version 3; older files hold
+    /// every bead and both fields). See [`select`].
+    pub output: Selection,
 }
 
 impl Header {
@@ -209,18 +219,22 @@ impl Header {
             rtol,
             atol,
             created_by,
+            output: Selection::default(),
         }
     }
 }
 
 /// One output state: time and displacement/velocity of every bead.
+///
+/// Read from a snapshot with an [output selection](select), `u` and `v` hold the stored beads
+/// only (in the order of [`Selection::beads`]), and a field that is not stored is empty.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Frame {
     /// Time (computer units).
     pub t: f64,
-    /// Displacements `u_i`, length `N`.
+    /// Displacements `u_i`, length `N` (or the stored beads; empty when not stored).
     pub u: Vec<f64>,
-    /// Velocities `v_i`, length `N`.
+    /// Velocities `v_i`, length `N` (or the stored beads; empty when not stored).
     pub v: Vec<f64>,
 }
 
@@ -411,6 +425,14 @@ pub enum SnapshotError {
     /// turns this into [`SnapshotError::Io`] naming its file).
     #[error("writing output: {0}")]
     Output(#[from] std::io::Error),
+    /// The frames lack beads or fields a reader needs (an output selection, see [`select`]).
+    #[error("{}: {detail}", path.display())]
+    Partial {
+        /// File concerned.
+        path: PathBuf,
+        /// What is stored and who needs what.
+        detail: String,
+    },
     /// The output path is refused (a symbolic link; see [`crate::files::classify_output`]).
     #[error(transparent)]
     Refused(#[from] crate::files::OutputError),
@@ -500,11 +522,6 @@ pub(crate) fn section_hasher(tag: u32, len: u64) -> crc32fast::Hasher {
     h.update(&tag.to_le_bytes());
     h.update(&len.to_le_bytes());
     h
-}
-
-/// Payload length of a FRAME section for `n_beads` beads, `None` on overflow.
-pub(crate) fn frame_payload_len(n_beads: u64) -> Option<u64> {
-    n_beads.checked_mul(16)?.checked_add(16)
 }
 
 /// A fresh temporary sibling path `.<name>.tmp-<pid>-<k>` for atomic writes to `path`.

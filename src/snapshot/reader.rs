@@ -2,16 +2,18 @@
 //! damaged) and reads single frames by seeking. Rules in the [parent module](super).
 
 use super::{
-    decode_exact, frame_payload_len, section_hasher, section_name, EventRecord, Frame, Header,
-    RunSummary, SnapshotError, END_SECTION_LEN, FORMAT_VERSION, MAGIC, PREAMBLE_LEN,
-    SECTION_HEADER_LEN, TAG_END, TAG_EVENTS, TAG_EVENT_BLOCK, TAG_EVENT_INDEX, TAG_FRAME,
-    TAG_HEADER, TAG_INDEX, TAG_STATS,
+    decode_exact, section_hasher, section_name, EventRecord, Frame, Header, RunSummary,
+    SnapshotError, END_SECTION_LEN, FORMAT_VERSION, MAGIC, PREAMBLE_LEN, SECTION_HEADER_LEN,
+    TAG_END, TAG_EVENTS, TAG_EVENT_BLOCK, TAG_EVENT_INDEX, TAG_FRAME, TAG_HEADER, TAG_INDEX,
+    TAG_STATS,
 };
 use events::{check_scan_against_event_index, event_log};
+use frames::{check_scan_against_index, read_frame_at};
 use std::fs::File;
 use std::io::{Read, Seek, SeekFrom};
 
 mod events;
+mod frames;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
@@ -35,6 +37,8 @@ pub struct Snapshot {
     raw: Raw,
     header: Header,
     frame_len: u64,
+    /// Values of `u` and of `v` per frame (the output selection).
+    shape: Shape,
     offsets: Vec<u64>,
     times: Vec<f64>,
     events: Vec<EventRecord>,
@@ -42,6 +46,9 @@ pub struct Snapshot {
     complete: bool,
     warnings: Vec<String>,
 }
+
+/// Numbers of stored `u` and `v` values per frame.
+type Shape = (usize, usize);
 
 /// A parsed section header.
 #[derive(Clone, Copy, Debug)]
@@ -131,9 +138,9 @@ impl Snapshot {
             ));
         }
         let payload = raw.read_payload(&head, "HEADER")?;
-        let header: Header = super::legacy::decode_header(version, &payload)
+        let header = super::header::decode_header(version, &payload)
             .map_err(|d| raw.corrupt("HEADER", head.offset, d))?;
-        let frame_len = frame_payload_len(header.n_beads)
+        let frame_len = (header.output.frame_payload_len(header.n_beads))
             .filter(|&l| l < MAX_PLAUSIBLE_LEN)
             .ok_or_else(|| {
                 raw.corrupt(
@@ -142,6 +149,9 @@ impl Snapshot {
                     format!("bead count {} is absurd", header.n_beads),
                 )
             })?;
+        let m = header.output.bead_count(header.n_beads) as usize;
+        let f = header.output.fields;
+        let shape = (m * usize::from(f.has_u()), m * usize::from(f.has_v()));
         let first = head.end();
         let mut warnings = Vec::new();
         let (contents, complete) = match from_tail(&raw, first, frame_len, version) {
@@ -151,7 +161,8 @@ impl Snapshot {
                     "{}: {why}; scanned the sections from the start",
                     path.display()
                 ));
-                (scan(&raw, first, &header, frame_len, &mut warnings)?, false)
+                let sc = scan(&raw, first, shape, frame_len, &mut warnings)?;
+                (sc, false)
             }
             Err(fatal) => return Err(fatal),
         };
@@ -159,6 +170,7 @@ impl Snapshot {
             raw,
             header,
             frame_len,
+            shape,
             offsets: contents.offsets,
             times: contents.times,
             events: contents.events,
@@ -234,7 +246,7 @@ impl Snapshot {
             offset,
             &name,
             k as u64,
-            self.header.n_beads,
+            self.shape,
             self.frame_len,
             frame,
         )?;
@@ -267,89 +279,6 @@ impl Snapshot {
             count: self.offsets.len(),
         }
     }
-}
-
-/// Reads and verifies the FRAME section at `offset` into `frame` (t, u, v).
-fn read_frame_at(
-    raw: &Raw,
-    offset: u64,
-    name: &str,
-    number: u64,
-    n_beads: u64,
-    frame_len: u64,
-    frame: &mut Frame,
-) -> Result<(), SnapshotError> {
-    let head = raw
-        .read_head(offset, name)?
-        .ok_or_else(|| raw.truncated(format!("file ends inside {name} at byte {offset}")))?;
-    if head.tag != TAG_FRAME {
-        return Err(raw.corrupt(
-            name,
-            offset,
-            format!(
-                "tag {:#010x} ({}) where a frame should be",
-                head.tag,
-                section_name(head.tag)
-            ),
-        ));
-    }
-    if head.len != frame_len {
-        return Err(raw.absurd(
-            name,
-            offset,
-            format!(
-                "{} bytes, but a frame of {n_beads} beads has {frame_len}",
-                head.len
-            ),
-        ));
-    }
-    raw.check_fits(&head, name)?;
-    let n = n_beads as usize;
-    frame.u.resize(n, 0.0);
-    frame.v.resize(n, 0.0);
-    let mut t = 0.0;
-    let mut hasher = section_hasher(head.tag, head.len);
-    let mut buf = [0u8; CHUNK];
-    let mut file = raw.lock();
-    seek(&mut file, head.payload_start()).map_err(|e| raw.io(&format!("seeking to {name}"), e))?;
-    let mut j = 0usize; // index of the next value: 0 = frame number, 1 = t, then u, then v
-    let mut stored = u64::MAX;
-    let mut left = head.len;
-    while left > 0 {
-        let take = left.min(CHUNK as u64) as usize;
-        let chunk = &mut buf[..take];
-        file.read_exact(chunk)
-            .map_err(|e| raw.io(&format!("reading {name}"), e))?;
-        hasher.update(chunk);
-        for b in chunk.chunks_exact(8) {
-            let bytes = [b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]];
-            let x = f64::from_le_bytes(bytes);
-            if j == 0 {
-                stored = u64::from_le_bytes(bytes);
-            } else if j == 1 {
-                t = x;
-            } else if j <= n + 1 {
-                frame.u[j - 2] = x;
-            } else {
-                frame.v[j - 2 - n] = x;
-            }
-            j += 1;
-        }
-        left -= take as u64;
-    }
-    drop(file);
-    if hasher.finalize() != head.crc {
-        return Err(raw.checksum(name, offset));
-    }
-    if stored != number {
-        return Err(raw.corrupt(
-            name,
-            offset,
-            format!("holds frame number {stored}, expected {number} (frames moved, duplicated or dropped)"),
-        ));
-    }
-    frame.t = t;
-    Ok(())
 }
 
 /// Fast path for a finished file: END → INDEX → EVENTS, STATS.
@@ -479,7 +408,7 @@ fn indexed_section<T: serde::de::DeserializeOwned>(
 fn scan(
     raw: &Raw,
     first: u64,
-    header: &Header,
+    shape: Shape,
     frame_len: u64,
     warnings: &mut Vec<String>,
 ) -> Result<Contents, SnapshotError> {
@@ -512,8 +441,8 @@ fn scan(
                 &name,
                 pos,
                 format!(
-                    "{} bytes, but a frame of {} beads has {frame_len}",
-                    h.len, header.n_beads
+                    "{} bytes, but a frame of {} u and {} v values has {frame_len}",
+                    h.len, shape.0, shape.1
                 ),
             ));
         }
@@ -536,15 +465,7 @@ fn scan(
         match h.tag {
             TAG_FRAME => {
                 let number = c.offsets.len() as u64;
-                read_frame_at(
-                    raw,
-                    pos,
-                    &name,
-                    number,
-                    header.n_beads,
-                    frame_len,
-                    &mut frame,
-                )?;
+                read_frame_at(raw, pos, &name, number, shape, frame_len, &mut frame)?;
                 // Frames are written in strictly increasing time: a repeated or earlier time
                 // means sections were duplicated or reordered, and numbering on would put
                 // frames at the wrong index.
@@ -612,35 +533,6 @@ fn scan(
         pos = h.end();
     }
     Ok(c)
-}
-
-/// A whole INDEX met during a scan must list exactly the frames scanned before it (same count,
-/// same time bits); otherwise frame sections were removed, duplicated or reordered.
-fn check_scan_against_index(
-    raw: &Raw,
-    pos: u64,
-    payload: &[u8],
-    times: &[f64],
-) -> Result<(), SnapshotError> {
-    let len = payload.len() as u64;
-    let count = if len >= 24 { le_u64(payload, 0) } else { 0 };
-    if len < 24 || count.checked_mul(16).and_then(|x| x.checked_add(24)) != Some(len) {
-        return Err(raw.corrupt("INDEX", pos, "malformed INDEX payload".into()));
-    }
-    let count = count as usize;
-    let listed = (0..count).map(|i| le_u64(payload, 24 + 8 * (count + i)));
-    if count != times.len() || listed.zip(times).any(|(a, b)| a != b.to_bits()) {
-        return Err(raw.corrupt(
-            "INDEX",
-            pos,
-            format!(
-                "the INDEX lists {count} frames but the file holds {} frames before it, or at \
-                 other times (sections removed, duplicated or out of order)",
-                times.len()
-            ),
-        ));
-    }
-    Ok(())
 }
 
 impl Raw {

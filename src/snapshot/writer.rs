@@ -7,11 +7,16 @@
 //! through a fixed scratch buffer, once to compute the CRC and once to write, so the section
 //! header can precede the payload without seeking. An event block is encoded into a reused
 //! buffer (no allocation once it has grown to a block's size).
+//!
+//! The engine hands over every bead's `u` and `v`; the writer stores the beads and fields of
+//! the header's [output selection](super::select) only, read from the header again when a run
+//! resumes (so a resumed run continues with the same selection).
 
+use super::select::{Fields, Selection};
 use super::{
-    encode, frame_payload_len, section_hasher, sync_parent_dir, temp_sibling, EventRecord, Header,
-    RunSummary, SnapshotError, FORMAT_VERSION, MAGIC, TAG_END, TAG_EVENT_BLOCK, TAG_EVENT_INDEX,
-    TAG_FRAME, TAG_HEADER, TAG_INDEX, TAG_STATS,
+    encode, section_hasher, sync_parent_dir, temp_sibling, EventRecord, Header, RunSummary,
+    SnapshotError, FORMAT_VERSION, MAGIC, TAG_END, TAG_EVENT_BLOCK, TAG_EVENT_INDEX, TAG_FRAME,
+    TAG_HEADER, TAG_INDEX, TAG_STATS,
 };
 use crate::files::OutputKind;
 use std::fs::{File, OpenOptions};
@@ -33,6 +38,9 @@ pub struct SnapshotWriter {
     pos: u64,
     n_beads: u64,
     frame_len: u64,
+    /// Stored beads (`None`: every bead) and fields.
+    beads: Option<Vec<usize>>,
+    fields: Fields,
     offsets: Vec<u64>,
     times: Vec<f64>,
     event_blocks: Vec<u64>,
@@ -51,6 +59,8 @@ impl SnapshotWriter {
     /// A character device or FIFO is written in place instead (see [`crate::files`]); a
     /// symbolic link to a file is refused; stale temporaries of dead runs are removed first.
     pub fn create(path: &Path, header: &Header) -> Result<Self, SnapshotError> {
+        // Checked before the temporary file exists (an early return would leave it behind).
+        let frame_len = frame_len(path, header)?;
         let stream = crate::files::classify_output(path)? == OutputKind::Stream;
         let (tmp, file) = if stream {
             let f = OpenOptions::new()
@@ -76,11 +86,6 @@ impl SnapshotWriter {
                 })?;
             (tmp, f)
         };
-        let frame_len = frame_payload_len(header.n_beads).ok_or_else(|| SnapshotError::Encode {
-            path: path.to_path_buf(),
-            section: "HEADER",
-            detail: format!("bead count {} is too large", header.n_beads),
-        })?;
         let mut w = SnapshotWriter {
             path: path.to_path_buf(),
             tmp,
@@ -88,6 +93,8 @@ impl SnapshotWriter {
             pos: 0,
             n_beads: header.n_beads,
             frame_len,
+            beads: bead_list(&header.output),
+            fields: header.output.fields,
             offsets: Vec::new(),
             times: Vec::new(),
             event_blocks: Vec::new(),
@@ -122,7 +129,8 @@ impl SnapshotWriter {
         self.offsets.len() as u64
     }
 
-    /// Appends one frame (time `t`, displacements `u`, velocities `v`, each `n_beads` long).
+    /// Appends one frame (time `t`, displacements `u`, velocities `v` of every bead, each
+    /// `n_beads` long; the frame stores the selected beads and fields).
     pub fn write_frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), SnapshotError> {
         let n = self.n_beads;
         if u.len() as u64 != n || v.len() as u64 != n {
@@ -137,7 +145,8 @@ impl SnapshotWriter {
         let number = (self.offsets.len() as u64).to_le_bytes();
         let mut h = section_hasher(TAG_FRAME, self.frame_len);
         h.update(&number);
-        for_each_chunk(t, u, v, &mut self.scratch, |b| {
+        let sel = (self.beads.as_deref(), self.fields);
+        for_each_chunk(t, u, v, sel, &mut self.scratch, |b| {
             h.update(b);
             Ok(())
         })
@@ -148,7 +157,8 @@ impl SnapshotWriter {
         self.write_raw(&number)?;
         self.pos -= 8; // counted again below with the rest of the payload
         let out = self.out.as_mut().ok_or_else(finished_err)?;
-        for_each_chunk(t, u, v, &mut self.scratch, |b| out.write_all(b)).map_err(|e| {
+        let sel = (self.beads.as_deref(), self.fields);
+        for_each_chunk(t, u, v, sel, &mut self.scratch, |b| out.write_all(b)).map_err(|e| {
             SnapshotError::Io {
                 path: self.path.clone(),
                 action: format!("writing frame {}", self.offsets.len()),
@@ -306,20 +316,54 @@ pub(crate) fn section_header(tag: u32, len: u64, crc: u32) -> [u8; 16] {
     b
 }
 
-/// Feeds the little-endian bytes of `t, u.., v..` to `f` in chunks of at most `scratch.len()`
-/// bytes (a multiple of 8).
+/// The FRAME payload length of `header` (its output selection), or an encoding error.
+fn frame_len(path: &Path, header: &Header) -> Result<u64, SnapshotError> {
+    let bad = |detail: String| SnapshotError::Encode {
+        path: path.to_path_buf(),
+        section: "HEADER",
+        detail,
+    };
+    header.output.check(header.n_beads).map_err(bad)?;
+    (header.output.frame_payload_len(header.n_beads))
+        .ok_or_else(|| bad(format!("bead count {} is too large", header.n_beads)))
+}
+
+/// The stored bead indices as `usize` (`None`: every bead).
+fn bead_list(sel: &Selection) -> Option<Vec<usize>> {
+    sel.beads
+        .as_ref()
+        .map(|b| b.iter().map(|&i| i as usize).collect())
+}
+
+/// The stored values of `xs`: none when `on` is false, else every value or those at `beads`.
+fn stored<'a>(
+    xs: &'a [f64],
+    beads: Option<&'a [usize]>,
+    on: bool,
+) -> impl Iterator<Item = f64> + 'a {
+    let (all, pick): (&[f64], &[usize]) = match (on, beads) {
+        (false, _) => (&[], &[]),
+        (true, None) => (xs, &[]),
+        (true, Some(b)) => (&[], b),
+    };
+    all.iter().copied().chain(pick.iter().map(move |&i| xs[i]))
+}
+
+/// Feeds the little-endian bytes of `t`, the stored `u`, the stored `v` (selection `sel`) to
+/// `f` in chunks of at most `scratch.len()` bytes (a multiple of 8). Allocates nothing.
 fn for_each_chunk(
     t: f64,
     u: &[f64],
     v: &[f64],
+    (beads, fields): (Option<&[usize]>, Fields),
     scratch: &mut [u8],
     mut f: impl FnMut(&[u8]) -> std::io::Result<()>,
 ) -> std::io::Result<()> {
     let cap = scratch.len() / 8;
     let mut fill = 0;
     for x in std::iter::once(t)
-        .chain(u.iter().copied())
-        .chain(v.iter().copied())
+        .chain(stored(u, beads, fields.has_u()))
+        .chain(stored(v, beads, fields.has_v()))
     {
         scratch[8 * fill..8 * fill + 8].copy_from_slice(&x.to_le_bytes());
         fill += 1;
@@ -395,7 +439,8 @@ impl SnapshotWriter {
     }
 
     /// Reopens the temporary file of an interrupted run, cut back to `mark.len` (frames and event
-    /// blocks written after the mark are dropped), to continue writing.
+    /// blocks written after the mark are dropped), to continue writing. The output selection is
+    /// read from the file's own HEADER, so the run continues with it.
     pub fn reopen(mark: &WriterMark) -> Result<Self, SnapshotError> {
         let io = |action: &str, e: std::io::Error| SnapshotError::Io {
             path: mark.path.clone(),
@@ -424,11 +469,17 @@ impl SnapshotWriter {
         use std::io::Seek;
         out.seek(std::io::SeekFrom::Start(mark.len))
             .map_err(|e| io("seeking in", e))?;
-        let frame_len = frame_payload_len(mark.n_beads).ok_or_else(|| SnapshotError::Encode {
-            path: mark.path.clone(),
-            section: "HEADER",
-            detail: format!("bead count {} is too large", mark.n_beads),
-        })?;
+        let header = super::read_header(&mark.temp)?;
+        if header.n_beads != mark.n_beads {
+            return Err(io(
+                "resuming:",
+                std::io::Error::other(format!(
+                    "the temporary file's header has {} beads, the checkpoint {}",
+                    header.n_beads, mark.n_beads
+                )),
+            ));
+        }
+        let frame_len = frame_len(&mark.path, &header)?;
         Ok(SnapshotWriter {
             path: mark.path.clone(),
             tmp: mark.temp.clone(),
@@ -436,6 +487,8 @@ impl SnapshotWriter {
             pos: mark.len,
             n_beads: mark.n_beads,
             frame_len,
+            beads: bead_list(&header.output),
+            fields: header.output.fields,
             offsets: mark.offsets.clone(),
             times: mark.times.clone(),
             event_blocks: mark.event_blocks.clone(),

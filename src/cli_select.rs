@@ -1,0 +1,104 @@
+//! Output selection of `run` (issue 14): `--beads LIST`, `--fields u,v`, `--frames-max K`.
+//!
+//! The bead/field grammar and the snapshot side are in [`beadchain::snapshot::select`]. Every
+//! value is checked before anything is written (one-line error naming the option, exit 2).
+//!
+//! `--frames-max K` rule: a run that would write more than `K` frames is **refused** before it
+//! starts — never thinned silently. A run writes the frames `0, every, 2·every, …` below
+//! `until` and `until` itself ([`frame_count`]); the error gives the count and the smallest
+//! `--every` that fits (`until/(K−1)`, rounded up to a value that fits). The cap is stored in
+//! the snapshot header, so `resume --until T` is refused the same way.
+
+use crate::cli_files::short;
+use anyhow::{bail, Result};
+use beadchain::snapshot::select::parse_beads;
+use beadchain::snapshot::size::{count_text, frame_count};
+use beadchain::snapshot::{Fields, Selection};
+
+/// The output-selection options of `run`.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct OutputArgs {
+    /// Store only these beads in the frames: comma-separated 0-based indices I and half-open
+    /// ranges A:B (beads A..B-1) or A:B:STEP, e.g. `0:100`, `0:1000:10`, `3,10,20`, `500:`
+    /// [default: every bead]. Checkpoints still hold the full state.
+    #[arg(long, value_name = "LIST")]
+    pub beads: Option<String>,
+    /// Store only these fields: u (displacements), v (velocities) or u,v [default: u,v].
+    #[arg(long, value_name = "FIELDS")]
+    pub fields: Option<String>,
+    /// Refuse to start a run that would write more than K frames (K >= 2); the error names the
+    /// --every that fits. No silent thinning.
+    #[arg(long, value_name = "K")]
+    pub frames_max: Option<u64>,
+}
+
+impl OutputArgs {
+    /// The selection for a chain of `n` beads: each option given overrides the scene's
+    /// `[output]` key (`scene`); `what` (the scene argument) prefixes errors.
+    pub fn selection(&self, what: &str, n: usize, scene: Option<&Selection>) -> Result<Selection> {
+        let base = scene.cloned().unwrap_or_default();
+        let beads = match &self.beads {
+            Some(spec) => {
+                parse_beads(spec, n as u64).map_err(|e| anyhow::anyhow!("{what}: --beads: {e}"))?
+            }
+            None => base.beads,
+        };
+        let fields = match &self.fields {
+            Some(spec) => {
+                Fields::parse(spec).map_err(|e| anyhow::anyhow!("{what}: --fields: {e}"))?
+            }
+            None => base.fields,
+        };
+        if let Some(k) = self.frames_max.filter(|&k| k < 2) {
+            bail!(
+                "{what}: --frames-max: must be at least 2 (a run writes its first and its last frame), got {k}"
+            );
+        }
+        Ok(Selection {
+            beads,
+            fields,
+            frames_max: self.frames_max.or(base.frames_max),
+        })
+    }
+}
+
+/// Refuses a run to `until` with interval `every` that would write more frames than the
+/// selection's `frames_max`. `key` names the value at fault (`--frames-max` or
+/// `[output].frames_max` for `run`, `--until` for `resume`), `cap_key` where the cap came from,
+/// `until_key` where `until` came from.
+pub fn check_frames_max(
+    what: &str,
+    sel: &Selection,
+    (until, every): (f64, Option<f64>),
+    (key, cap_key): (&str, &str),
+    until_key: &str,
+) -> Result<()> {
+    let Some(k) = sel.frames_max else {
+        return Ok(());
+    };
+    let count = frame_count(until, every);
+    if count <= k as f64 {
+        return Ok(());
+    }
+    let dt = every_that_fits(until, k);
+    bail!(
+        "{what}: {key}: the run would write {} frames ({until_key} = {}, every = {}), more than {cap_key} {k}; use --every {} or larger, or raise {cap_key}",
+        count_text(count),
+        short(until),
+        every.map_or("none".into(), short),
+        short(dt),
+    )
+}
+
+/// The smallest `every` (to f64 rounding) with which a run to `until` writes at most `k ≥ 2`
+/// frames: `until/(k−1)`, stepped up by ulps until [`frame_count`] agrees.
+fn every_that_fits(until: f64, k: u64) -> f64 {
+    let mut dt = until / (k - 1) as f64;
+    for _ in 0..64 {
+        if frame_count(until, Some(dt)) <= k as f64 {
+            break;
+        }
+        dt = f64::from_bits(dt.to_bits() + 1);
+    }
+    dt
+}

@@ -1,0 +1,92 @@
+//! The `[output]` table of a scene (issue 14): the output selection of `beadchain run` as scene
+//! keys, with the grammar and rules of [`crate::snapshot::select`]:
+//!
+//! ```toml
+//! [output]
+//! beads = "0:100:10"   # or an array of bead indices, e.g. [3, 10, 20], or one index
+//! fields = "v"         # "u", "v" or "u,v"
+//! frames_max = 1000    # refuse a run that would write more frames
+//! ```
+//!
+//! `run --beads/--fields/--frames-max` override the keys one by one. The table is not stored
+//! in snapshots as such: the snapshot header records the selection the run used.
+
+use super::error::SceneError;
+use super::keys::{get, table};
+use super::values::{type_name, Ctx};
+use crate::snapshot::select::{parse_beads, Fields, Selection};
+use toml::{Table, Value};
+
+const BEADS_EXPECTED: &str =
+    "a bead index, a string such as \"0:100:10\" or an array of bead indices";
+const FIELDS_EXPECTED: &str = "a string such as \"u,v\" or an array of field names";
+
+/// The `[output]` table of a chain of `nb` beads (`None` when the scene has none).
+pub(crate) fn parse_output(
+    ctx: &Ctx,
+    root: &Table,
+    nb: usize,
+) -> Result<Option<Selection>, SceneError> {
+    let Some(t) = table(ctx, root, "output", &["beads", "fields", "frames_max"])? else {
+        return Ok(None);
+    };
+    let t = Some(t);
+    let beads = match get(t, "beads") {
+        None => None,
+        Some(v) => {
+            let spec = spec_text(ctx, "[output].beads", v, BEADS_EXPECTED, |x| match x {
+                Value::Integer(i) if *i >= 0 => Some(i.to_string()),
+                _ => None,
+            })?;
+            parse_beads(&spec, nb as u64).map_err(|e| ctx.err("[output].beads", e))?
+        }
+    };
+    let fields = match get(t, "fields") {
+        None => Fields::Both,
+        Some(v) => {
+            let spec = spec_text(ctx, "[output].fields", v, FIELDS_EXPECTED, |x| {
+                x.as_str().map(str::to_string)
+            })?;
+            Fields::parse(&spec).map_err(|e| ctx.err("[output].fields", e))?
+        }
+    };
+    let frames_max = match get(t, "frames_max") {
+        None => None,
+        Some(Value::Integer(k)) if *k >= 2 => Some(*k as u64),
+        Some(v) => {
+            return Err(ctx.err(
+                "[output].frames_max",
+                format!(
+                    "must be an integer >= 2 (a run writes its first and its last frame), got {v}"
+                ),
+            ))
+        }
+    };
+    Ok(Some(Selection {
+        beads,
+        fields,
+        frames_max,
+    }))
+}
+
+/// A string value as is, or an array whose items `item` turns into text, joined by commas, or
+/// one such item.
+fn spec_text(
+    ctx: &Ctx,
+    key: &str,
+    v: &Value,
+    expected: &str,
+    item: impl Fn(&Value) -> Option<String>,
+) -> Result<String, SceneError> {
+    let bad = |what: &str| ctx.err(key, format!("expected {expected}, got {what}"));
+    match v {
+        Value::String(s) => Ok(s.clone()),
+        Value::Array(a) => {
+            let items: Option<Vec<String>> = a.iter().map(&item).collect();
+            items
+                .map(|i| i.join(","))
+                .ok_or_else(|| bad("an array with an invalid item"))
+        }
+        other => item(other).ok_or_else(|| bad(type_name(other))),
+    }
+}
