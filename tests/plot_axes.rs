@@ -283,7 +283,7 @@ fn energy_interface_fits_each_side_separately() {
     fails(
         d,
         &[&e[..], &["40", "--from", "45"]].concat(),
-        "--interface 40",
+        "--interface 40: the fit range --from 45 --to 50 must contain beads on both sides",
     );
 }
 

@@ -104,7 +104,8 @@ fn fit_ranges(n: usize, opts: &EnergyOptions) -> Result<Vec<(usize, usize)>, Plo
     match opts.interface {
         None => Ok(vec![(from, to)]),
         Some(k) if from >= k || to < k => Err(PlotError::Input(format!(
-            "--interface {k}: the fit range --from {from} --to {to} must contain beads on both              sides (from < {k} <= to)"
+            "--interface {k}: the fit range --from {from} --to {to} must contain beads on both \
+             sides (from < {k} <= to)"
         ))),
         Some(k) => Ok(vec![(from, k - 1), (k, to)]),
     }

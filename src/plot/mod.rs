@@ -31,6 +31,7 @@ pub mod panels;
 pub mod profile;
 pub mod select;
 pub mod spacetime;
+pub mod svgimage;
 pub mod ticks;
 pub mod trace;
 pub mod units;
@@ -132,20 +133,20 @@ pub(crate) fn de<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>)
     e.to_string()
 }
 
-/// Renders `fig` as an SVG document.
+/// Renders `fig` as an SVG document (raster cells embedded as PNG images, [`svgimage`]).
 pub fn render_svg<F: Figure>(fig: &F) -> Result<String, PlotError> {
     let text = font::font_available();
     let mut s = String::new();
+    let images = std::rc::Rc::new(std::cell::RefCell::new(Vec::new()));
+    let err = |msg| PlotError::Draw { format: "SVG", msg };
     {
-        let root = SVGBackend::with_string(&mut s, fig.size()).into_drawing_area();
-        fig.draw(&root, text)
-            .map_err(|msg| PlotError::Draw { format: "SVG", msg })?;
-        root.present().map_err(|e| PlotError::Draw {
-            format: "SVG",
-            msg: de(e),
-        })?;
+        let svg = SVGBackend::with_string(&mut s, fig.size());
+        let root = svgimage::SvgImages::new(svg, images.clone()).into_drawing_area();
+        fig.draw(&root, text).map_err(err)?;
+        root.present().map_err(|e| err(de(e)))?;
     }
-    Ok(s)
+    let images = images.borrow();
+    svgimage::embed(&s, &images).map_err(err)
 }
 
 /// Renders `fig` into an RGB buffer (3 bytes per pixel, rows top to bottom); returns the buffer

@@ -49,7 +49,8 @@ pub fn profile(snap: &Snapshot, opts: &ProfileOptions) -> Result<Profile, PlotEr
         let t = f.t * un.time;
         series.push(Series {
             name: match opts.units {
-                Units::Computer => format!("t = {t} (frame {k})"),
+                // six significant digits (the frame number identifies it exactly)
+                Units::Computer => format!("t = {} (frame {k})", sig6(t)),
                 Units::Si => format!("t = {t:.4e} s (frame {k})"),
             },
             points: decimate(&pts, pw as usize),
@@ -64,4 +65,10 @@ pub fn profile(snap: &Snapshot, opts: &ProfileOptions) -> Result<Profile, PlotEr
         log_y: false,
         size: opts.size,
     })
+}
+
+/// `x` rounded to six significant digits, printed shortest (`993.682`, `20`).
+fn sig6(x: f64) -> String {
+    let r: f64 = format!("{x:.5e}").parse().unwrap_or(x);
+    format!("{r}")
 }
