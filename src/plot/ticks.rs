@@ -91,10 +91,16 @@ impl TickFmt {
             return "0".into();
         }
         let p = self.prec;
-        if self.sci {
+        let s = if self.sci {
             format!("{x:.p$e}")
         } else {
             format!("{x:.p$}")
+        };
+        // a value that rounds to zero (a colour bar's -1e-6 at 3 decimals) is `0`, not `-0.000`
+        if s.parse::<f64>() == Ok(0.0) {
+            "0".into()
+        } else {
+            s
         }
     }
 }
@@ -145,6 +151,7 @@ mod tests {
         // colour-bar values (not round): 0.1 % of the span
         let f = TickFmt::for_values(&[-0.109999998, 0.0, 0.054999999], 0.22, 1e-3);
         assert_eq!(f.label(-0.109999998), "-0.110");
+        assert_eq!(f.label(-1e-6), "0");
     }
 
     #[test]
