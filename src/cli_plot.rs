@@ -267,19 +267,13 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             units,
             out,
         } => {
-            let path = out.path(&snapshot, "profile");
-            check_out(&path, "snapshot", &snapshot)?;
-            let snap = open(&snapshot)?;
             let opts = plot::ProfileOptions {
                 times,
                 beads: beads.unwrap_or_default(),
                 units: units.get(),
                 size: out.size()?,
             };
-            let mut fig = profile::profile(&snap, &opts)?;
-            out.labels()
-                .apply(&mut fig.title, &mut fig.x_desc, &mut fig.y_desc);
-            written(&fig, &path)
+            chart(&snapshot, "profile", &out, |s| profile::profile(s, &opts))
         }
         PlotKind::Trace {
             snapshot,
@@ -288,19 +282,13 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             units,
             out,
         } => {
-            let path = out.path(&snapshot, "trace");
-            check_out(&path, "snapshot", &snapshot)?;
-            let snap = open(&snapshot)?;
             let opts = plot::TraceOptions {
                 beads,
                 t: t.unwrap_or_default(),
                 units: units.get(),
                 size: out.size()?,
             };
-            let mut fig = trace::trace(&snap, &opts)?;
-            out.labels()
-                .apply(&mut fig.title, &mut fig.x_desc, &mut fig.y_desc);
-            written(&fig, &path)
+            chart(&snapshot, "trace", &out, |s| trace::trace(s, &opts))
         }
         PlotKind::Energy {
             snapshot,
@@ -331,8 +319,6 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             cmap,
             out,
         } => {
-            let path = out.path(&csv, "map");
-            check_out(&path, "CSV file", &csv)?;
             let opts = MapOptions {
                 x,
                 y,
@@ -342,15 +328,36 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
                 cmap: Cmap::parse(&cmap)?,
                 size: out.size()?,
             };
-            let mut fig = Map::from_csv(&csv, &opts)?;
-            for w in &fig.warnings {
-                eprintln!("beadchain: warning: {w}");
-            }
-            out.labels()
-                .apply(&mut fig.title, &mut fig.x_desc, &mut fig.y_desc);
-            written(&fig, &path)
+            map(&csv, &opts, &out)
         }
     }
+}
+
+/// `plot profile` / `plot trace`: the line chart `build` makes of the snapshot, texts replaced.
+fn chart<F>(snapshot: &Path, kind: &str, out: &Out, build: F) -> Result<i32>
+where
+    F: FnOnce(&Snapshot) -> Result<plot::lines::LineChart, plot::PlotError>,
+{
+    let path = out.path(snapshot, kind);
+    check_out(&path, "snapshot", snapshot)?;
+    let snap = open(snapshot)?;
+    let mut fig = build(&snap)?;
+    out.labels()
+        .apply(&mut fig.title, &mut fig.x_desc, &mut fig.y_desc);
+    written(&fig, &path)
+}
+
+/// `plot map`: the CSV's heatmap, its skipped rows warned about.
+fn map(csv: &Path, opts: &MapOptions, out: &Out) -> Result<i32> {
+    let path = out.path(csv, "map");
+    check_out(&path, "CSV file", csv)?;
+    let mut fig = Map::from_csv(csv, opts)?;
+    for w in &fig.warnings {
+        eprintln!("beadchain: warning: {w}");
+    }
+    out.labels()
+        .apply(&mut fig.title, &mut fig.x_desc, &mut fig.y_desc);
+    written(&fig, &path)
 }
 
 /// `plot spacetime`: one map, or side-by-side panels for several snapshots.
