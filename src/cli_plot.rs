@@ -2,8 +2,8 @@
 
 use anyhow::Result;
 use beadchain::plot::{
-    self, energy, font, profile, trace, BeadRange, EnergyOptions, Map, MapOptions, Scale,
-    Spacetime, SpacetimeOptions, TimeRange,
+    self, energy, font, profile, trace, BeadRange, Cmap, EnergyOptions, Labels, Map, MapOptions,
+    Panels, Scale, Spacetime, SpacetimeOptions, TimeRange, Units,
 };
 use beadchain::snapshot::Snapshot;
 use clap::{Subcommand, ValueEnum};
@@ -18,10 +18,12 @@ pub struct PlotArgs {
 
 #[derive(Subcommand, Debug)]
 enum PlotKind {
-    /// Space-time velocity map: bead index x time, signed velocity (paper Figs. 3, 5, 10, 13).
+    /// Space-time velocity map: bead index x time, signed velocity (paper Figs. 3, 5, 10, 13);
+    /// several snapshots give side-by-side panels with one shared colour scale.
     Spacetime {
-        /// Snapshot file.
-        snapshot: PathBuf,
+        /// Snapshot file(s): one panel each.
+        #[arg(required = true)]
+        snapshots: Vec<PathBuf>,
         /// Beads A:B (inclusive; `A:` or `:B` open) [default: all].
         #[arg(long)]
         beads: Option<BeadRange>,
@@ -31,6 +33,11 @@ enum PlotKind {
         /// Colour scale: linear (v/max|v|) or log (sign*log10(|v|/max|v|), down to 1e-4).
         #[arg(long, value_enum, default_value = "linear")]
         scale: ScaleArg,
+        /// Colour map: coolwarm, bwr, viridis or gray.
+        #[arg(long, default_value = "coolwarm")]
+        cmap: String,
+        #[command(flatten)]
+        units: UnitsArg,
         #[command(flatten)]
         out: Out,
     },
@@ -38,12 +45,14 @@ enum PlotKind {
     Profile {
         /// Snapshot file.
         snapshot: PathBuf,
-        /// Times, comma-separated.
+        /// Times, comma-separated (in the axis units).
         #[arg(long, value_delimiter = ',', required = true)]
         times: Vec<f64>,
         /// Beads A:B (inclusive) [default: all].
         #[arg(long)]
         beads: Option<BeadRange>,
+        #[command(flatten)]
+        units: UnitsArg,
         #[command(flatten)]
         out: Out,
     },
@@ -54,9 +63,11 @@ enum PlotKind {
         /// Bead indices, comma-separated.
         #[arg(long, value_delimiter = ',', required = true)]
         beads: Vec<usize>,
-        /// Time window T0:T1 [default: the whole run].
+        /// Time window T0:T1 (in the axis units) [default: the whole run].
         #[arg(long)]
         t: Option<TimeRange>,
+        #[command(flatten)]
+        units: UnitsArg,
         #[command(flatten)]
         out: Out,
     },
@@ -70,9 +81,14 @@ enum PlotKind {
         /// Fit up to this peak bead [default: N - 10; N - 1 for chains of at most 40 beads].
         #[arg(long)]
         to: Option<usize>,
-        /// Logarithmic energy axis.
+        /// Logarithmic energy axis (ticks at decades).
         #[arg(long)]
         log: bool,
+        /// Interface bead K: fit beads < K and >= K separately (never across the interface).
+        #[arg(long)]
+        interface: Option<usize>,
+        #[command(flatten)]
+        units: UnitsArg,
         #[command(flatten)]
         out: Out,
     },
@@ -95,6 +111,9 @@ enum PlotKind {
         /// Draw the level line z = LEVEL (marching squares).
         #[arg(long)]
         contour: Option<f64>,
+        /// Colour map: viridis, gray, coolwarm or bwr.
+        #[arg(long, default_value = "viridis")]
+        cmap: String,
         #[command(flatten)]
         out: Out,
     },
@@ -104,6 +123,32 @@ enum PlotKind {
 enum ScaleArg {
     Linear,
     Log,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug, Default)]
+enum UnitsValue {
+    /// The simulation's computer units.
+    #[default]
+    Computer,
+    /// SI (s, m/s); physical scenes only.
+    Si,
+}
+
+/// `--units` of the snapshot plots.
+#[derive(clap::Args, Debug)]
+struct UnitsArg {
+    /// Axis units: computer (default) or si (physical scenes: s, m/s).
+    #[arg(long, value_enum, default_value = "computer")]
+    units: UnitsValue,
+}
+
+impl UnitsArg {
+    fn get(&self) -> Units {
+        match self.units {
+            UnitsValue::Computer => Units::Computer,
+            UnitsValue::Si => Units::Si,
+        }
+    }
 }
 
 /// Output options shared by every plot.
@@ -119,6 +164,15 @@ struct Out {
     /// Image height in pixels.
     #[arg(long, default_value_t = 650)]
     height: u32,
+    /// Figure title (several spacetime snapshots: the title above all panels).
+    #[arg(long)]
+    title: Option<String>,
+    /// x axis label (replaces the default, units included).
+    #[arg(long)]
+    xlabel: Option<String>,
+    /// y axis label (replaces the default, units included).
+    #[arg(long)]
+    ylabel: Option<String>,
 }
 
 impl Out {
@@ -131,6 +185,13 @@ impl Out {
             );
         }
         Ok((self.width, self.height))
+    }
+    fn labels(&self) -> Labels {
+        Labels {
+            title: self.title.clone(),
+            xlabel: self.xlabel.clone(),
+            ylabel: self.ylabel.clone(),
+        }
     }
     fn path(&self, input: &Path, kind: &str) -> PathBuf {
         self.out.clone().unwrap_or_else(|| {
@@ -178,15 +239,14 @@ fn written<F: plot::Figure>(fig: &F, out: &Path) -> Result<i32> {
 pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
     match args.kind {
         PlotKind::Spacetime {
-            snapshot,
+            snapshots,
             beads,
             t,
             scale,
+            cmap,
+            units,
             out,
         } => {
-            let path = out.path(&snapshot, "spacetime");
-            check_out(&path, "snapshot", &snapshot)?;
-            let snap = open(&snapshot)?;
             let opts = SpacetimeOptions {
                 beads: beads.unwrap_or_default(),
                 t: t.unwrap_or_default(),
@@ -194,73 +254,61 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
                     ScaleArg::Linear => Scale::Linear,
                     ScaleArg::Log => Scale::Log,
                 },
+                units: units.get(),
+                cmap: Cmap::parse(&cmap)?,
+                colorbar: true,
                 size: out.size()?,
             };
-            let fig = Spacetime::from_snapshot(&snap, &opts)?;
-            written(&fig, &path)
+            spacetime(&snapshots, &opts, &out)
         }
         PlotKind::Profile {
             snapshot,
             times,
             beads,
+            units,
             out,
         } => {
-            let path = out.path(&snapshot, "profile");
-            check_out(&path, "snapshot", &snapshot)?;
-            let snap = open(&snapshot)?;
             let opts = plot::ProfileOptions {
                 times,
                 beads: beads.unwrap_or_default(),
+                units: units.get(),
                 size: out.size()?,
             };
-            written(&profile::profile(&snap, &opts)?, &path)
+            chart(&snapshot, "profile", &out, |s| profile::profile(s, &opts))
         }
         PlotKind::Trace {
             snapshot,
             beads,
             t,
+            units,
             out,
         } => {
-            let path = out.path(&snapshot, "trace");
-            check_out(&path, "snapshot", &snapshot)?;
-            let snap = open(&snapshot)?;
             let opts = plot::TraceOptions {
                 beads,
                 t: t.unwrap_or_default(),
+                units: units.get(),
                 size: out.size()?,
             };
-            written(&trace::trace(&snap, &opts)?, &path)
+            chart(&snapshot, "trace", &out, |s| trace::trace(s, &opts))
         }
         PlotKind::Energy {
             snapshot,
             from,
             to,
             log,
+            interface,
+            units,
             out,
         } => {
-            let path = out.path(&snapshot, "energy");
-            check_out(&path, "snapshot", &snapshot)?;
-            let snap = open(&snapshot)?;
             let opts = EnergyOptions {
                 from,
                 to,
                 log,
+                interface,
+                units: units.get(),
                 size: out.size()?,
             };
-            let fig = energy::energy(&snap, &opts)?;
-            match &fig.fit {
-                Ok(f) => {
-                    outln!(
-                    "fit over peak beads {}..{}: gamma = {:.6e} +- {:.3e} ({} points, R^2 = {:.4})",
-                    fig.range.0, fig.range.1, f.gamma, f.gamma_stderr, f.n, f.r2
-                )
-                }
-                Err(e) => eprintln!(
-                    "beadchain: warning: no exponential fit over peak beads {}..{}: {e}",
-                    fig.range.0, fig.range.1
-                ),
-            }
-            written(&fig, &path)
+            energy_plot(&snapshot, &opts, &out)
         }
         PlotKind::Map {
             csv,
@@ -269,23 +317,100 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             z,
             log_z,
             contour,
+            cmap,
             out,
         } => {
-            let path = out.path(&csv, "map");
-            check_out(&path, "CSV file", &csv)?;
             let opts = MapOptions {
                 x,
                 y,
                 z,
                 log_z,
                 contour,
+                cmap: Cmap::parse(&cmap)?,
                 size: out.size()?,
             };
-            let fig = Map::from_csv(&csv, &opts)?;
-            for w in &fig.warnings {
-                eprintln!("beadchain: warning: {w}");
-            }
-            written(&fig, &path)
+            map(&csv, &opts, &out)
         }
     }
+}
+
+/// `plot profile` / `plot trace`: the line chart `build` makes of the snapshot, texts replaced.
+fn chart<F>(snapshot: &Path, kind: &str, out: &Out, build: F) -> Result<i32>
+where
+    F: FnOnce(&Snapshot) -> Result<plot::lines::LineChart, plot::PlotError>,
+{
+    let path = out.path(snapshot, kind);
+    check_out(&path, "snapshot", snapshot)?;
+    let snap = open(snapshot)?;
+    let mut fig = build(&snap)?;
+    out.labels()
+        .apply(&mut fig.title, &mut fig.x_desc, &mut fig.y_desc);
+    written(&fig, &path)
+}
+
+/// `plot map`: the CSV's heatmap, its skipped rows warned about.
+fn map(csv: &Path, opts: &MapOptions, out: &Out) -> Result<i32> {
+    let path = out.path(csv, "map");
+    check_out(&path, "CSV file", csv)?;
+    let mut fig = Map::from_csv(csv, opts)?;
+    for w in &fig.warnings {
+        eprintln!("beadchain: warning: {w}");
+    }
+    out.labels()
+        .apply(&mut fig.title, &mut fig.x_desc, &mut fig.y_desc);
+    written(&fig, &path)
+}
+
+/// `plot spacetime`: one map, or side-by-side panels for several snapshots.
+fn spacetime(snapshots: &[PathBuf], opts: &SpacetimeOptions, out: &Out) -> Result<i32> {
+    let first = &snapshots[0];
+    let path = out.path(first, "spacetime");
+    for s in snapshots {
+        check_out(&path, "snapshot", s)?;
+    }
+    let snaps = snapshots
+        .iter()
+        .map(|s| open(s))
+        .collect::<Result<Vec<_>>>()?;
+    let labels = out.labels();
+    if snaps.len() == 1 {
+        let mut fig = Spacetime::from_snapshot(&snaps[0], opts)?;
+        labels.apply(&mut fig.title, &mut fig.x_desc, &mut fig.y_desc);
+        return written(&fig, &path);
+    }
+    let mut fig = Panels::from_snapshots(&snaps, opts, labels.title.clone())?;
+    for p in &mut fig.panels {
+        let mut title = p.title.clone();
+        labels.apply(&mut title, &mut p.x_desc, &mut p.y_desc);
+    }
+    written(&fig, &path)
+}
+
+/// `plot energy`: the chart, and each fit printed (or why there is none).
+fn energy_plot(snapshot: &Path, opts: &EnergyOptions, out: &Out) -> Result<i32> {
+    let path = out.path(snapshot, "energy");
+    check_out(&path, "snapshot", snapshot)?;
+    let snap = open(snapshot)?;
+    let mut fig = energy::energy(&snap, opts)?;
+    for s in &fig.fits {
+        match &s.fit {
+            Ok(f) => outln!(
+                "fit over peak beads {}..{}: gamma = {:.6e} +- {:.3e} ({} points, R^2 = {:.4})",
+                s.from,
+                s.to,
+                f.gamma,
+                f.gamma_stderr,
+                f.n,
+                f.r2
+            ),
+            Err(e) => eprintln!(
+                "beadchain: warning: no exponential fit over peak beads {}..{}: {e}",
+                s.from, s.to
+            ),
+        }
+    }
+    let c = &mut fig.chart;
+    out.labels()
+        .apply(&mut c.title, &mut c.x_desc, &mut c.y_desc);
+    written(&fig, &path)
 }

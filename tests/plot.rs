@@ -6,8 +6,8 @@ mod common;
 
 use beadchain::integrate::Method;
 use beadchain::plot::{
-    self, contour::marching_squares, energy, profile, trace, BeadRange, EnergyOptions, Map,
-    MapOptions, Scale, Spacetime, SpacetimeOptions, TimeRange,
+    self, contour::marching_squares, energy, profile, trace, BeadRange, Cmap, EnergyOptions, Map,
+    MapOptions, Scale, Spacetime, SpacetimeOptions, TimeRange, Units,
 };
 use beadchain::scene::{Engine, Scene};
 use beadchain::snapshot::{Header, Snapshot, SnapshotWriter};
@@ -179,6 +179,7 @@ fn profile_trace_energy() {
         &plot::ProfileOptions {
             times: vec![10.0, 20.1],
             beads: BeadRange::default(),
+            units: Units::Computer,
             size: (900, 650),
         },
     )
@@ -199,6 +200,7 @@ fn profile_trace_energy() {
         &plot::TraceOptions {
             beads: vec![3, 30],
             t: "5:".parse().unwrap(),
+            units: Units::Computer,
             size: (900, 650),
         },
     )
@@ -216,7 +218,8 @@ fn profile_trace_energy() {
         },
     )
     .expect("energy");
-    let fit = e.fit.as_ref().expect("fit");
+    assert_eq!((e.fits.len(), e.fits[0].from, e.fits[0].to), (1, 10, 50));
+    let fit = e.fits[0].fit.as_ref().expect("fit");
     // a uniform chain conserves the solitary wave: |γ| below 1e-3 per bead (absolute)
     assert!(fit.gamma.abs() < 1e-3, "{fit:?}");
     assert!(
@@ -253,6 +256,7 @@ fn snapshot_selection_errors_name_the_problem() {
         &plot::TraceOptions {
             beads: vec![1, 77],
             t: TimeRange::default(),
+            units: Units::Computer,
             size: (900, 650),
         },
     )
@@ -264,6 +268,7 @@ fn snapshot_selection_errors_name_the_problem() {
         &plot::ProfileOptions {
             times: vec![31.0],
             beads: BeadRange::default(),
+            units: Units::Computer,
             size: (900, 650),
         },
     )
@@ -286,6 +291,7 @@ fn opts(x: &str, y: &str, z: &str) -> MapOptions {
         z: z.into(),
         log_z: false,
         contour: None,
+        cmap: Cmap::Viridis,
         size: (700, 500),
     }
 }

@@ -141,12 +141,18 @@ pub fn write_plots(report: &AccuracyReport, svg: &Path, png: &Path) -> Result<bo
             msg,
         })?;
     }
+    // rendered in memory and encoded with the `png` crate (plotters' own file encoder needs the
+    // `image` crate, left out of the build: see Cargo.toml)
+    let plot_err = |msg: String| AccuracyError::Plot {
+        path: png.to_path_buf(),
+        msg,
+    };
+    let mut buf = vec![0u8; size.0 as usize * size.1 as usize * 3];
     {
-        let root = BitMapBackend::new(png, size).into_drawing_area();
-        draw(&root, report, text).map_err(|msg| AccuracyError::Plot {
-            path: png.to_path_buf(),
-            msg,
-        })?;
+        let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
+        draw(&root, report, text).map_err(plot_err)?;
     }
+    let bytes = crate::plot::encode_png(&buf, size).map_err(|e| plot_err(e.to_string()))?;
+    std::fs::write(png, bytes).map_err(|e| plot_err(e.to_string()))?;
     Ok(text)
 }

@@ -3,9 +3,15 @@
 //! of its peak `|v|`, energy eq. 13) gives a point `(peak bead, E_wave/E₀)` with `E₀` the total
 //! energy of the first frame; [`crate::analysis::fit_exponential`] fits `E = a e^{−γ i}` over
 //! the points with `from ≤ peak bead ≤ to`, drawn dashed with `γ ± s.e.` in the legend.
+//!
+//! **Interfaces** (`--interface K`, paper Sec. 5: the decay differs on either side of an
+//! interface at bead `K`): the points are split into beads `< K` and `≥ K` and each side is fitted
+//! on its own (`from ≤ i ≤ K−1` and `K ≤ i ≤ to`); no fit ever spans the interface, whose
+//! energy jump (reflection) would otherwise read as decay. Both fits are drawn and printed.
 
 use super::lines::{LineChart, Series, Style};
 use super::select::require_frames;
+use super::units::{AxisUnits, Units};
 use super::PlotError;
 use crate::analysis::{fit_exponential, track_leading, ExpFit, WaveOptions};
 use crate::snapshot::{Frame, Snapshot};
@@ -19,6 +25,10 @@ pub struct EnergyOptions {
     pub to: Option<usize>,
     /// Logarithmic energy axis.
     pub log: bool,
+    /// Interface bead `K`: fit beads `< K` and `≥ K` separately.
+    pub interface: Option<usize>,
+    /// Axis units (`E/E₀` is dimensionless; SI is checked like the other plots).
+    pub units: Units,
     /// Image size in pixels.
     pub size: (u32, u32),
 }
@@ -29,32 +39,55 @@ impl Default for EnergyOptions {
             from: None,
             to: None,
             log: false,
+            interface: None,
+            units: Units::Computer,
             size: (900, 650),
         }
     }
 }
 
-/// The energy figure and its fit.
+/// One exponential fit over a range of peak beads.
 #[derive(Clone, Debug, PartialEq)]
-pub struct EnergyPlot {
-    /// The chart (points, fit line).
-    pub chart: LineChart,
+pub struct SideFit {
+    /// First peak bead of the range.
+    pub from: usize,
+    /// Last peak bead of the range (inclusive).
+    pub to: usize,
     /// The fit, or why there is none.
     pub fit: Result<ExpFit, String>,
-    /// The fit range `(from, to)` in peak beads.
-    pub range: (usize, usize),
 }
 
-/// Builds the energy chart of `snap` (frames streamed one at a time).
-pub fn energy(snap: &Snapshot, opts: &EnergyOptions) -> Result<EnergyPlot, PlotError> {
-    require_frames(snap)?;
-    let chain = &snap.header().scene.chain;
-    let n = chain.len();
+/// The energy figure and its fits (one, or one per side of the interface).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnergyPlot {
+    /// The chart (points, fit lines).
+    pub chart: LineChart,
+    /// The fits, left to right.
+    pub fits: Vec<SideFit>,
+}
+
+/// The fit ranges: `[(from, to)]`, or split at the interface.
+fn fit_ranges(n: usize, opts: &EnergyOptions) -> Result<Vec<(usize, usize)>, PlotError> {
     let small = n <= 40;
-    let from = opts.from.unwrap_or(if small { 0 } else { 20 });
-    let to = opts
+    let mut from = opts.from.unwrap_or(if small { 0 } else { 20 });
+    let mut to = opts
         .to
         .unwrap_or(if small { n.saturating_sub(1) } else { n - 10 });
+    if let Some(k) = opts.interface {
+        if k == 0 || k >= n {
+            return Err(PlotError::Input(format!(
+                "--interface: bead {k} is out of range (it must split the chain of {n} beads: 1..={})",
+                n.saturating_sub(1)
+            )));
+        }
+        // defaults reach the interface from both sides
+        if opts.from.is_none() {
+            from = from.min(k - 1);
+        }
+        if opts.to.is_none() {
+            to = to.max(k);
+        }
+    }
     for (flag, b) in [("--from", from), ("--to", to)] {
         if b >= n {
             return Err(PlotError::Input(format!(
@@ -68,6 +101,52 @@ pub fn energy(snap: &Snapshot, opts: &EnergyOptions) -> Result<EnergyPlot, PlotE
             "fit range --from {from} --to {to} is empty"
         )));
     }
+    match opts.interface {
+        None => Ok(vec![(from, to)]),
+        Some(k) if from >= k || to < k => Err(PlotError::Input(format!(
+            "--interface {k}: the fit range --from {from} --to {to} must contain beads on both \
+             sides (from < {k} <= to)"
+        ))),
+        Some(k) => Ok(vec![(from, k - 1), (k, to)]),
+    }
+}
+
+/// The fit of the points with peak bead in `from..=to`, and its dashed curve.
+fn side_fit(pts: &[(f64, f64)], (from, to): (usize, usize)) -> (SideFit, Option<Series>) {
+    let (fx, fe): (Vec<f64>, Vec<f64>) = pts
+        .iter()
+        .filter(|p| p.0 >= from as f64 && p.0 <= to as f64)
+        .copied()
+        .unzip();
+    let fit = fit_exponential(&fx, &fe).map_err(|e| e.to_string());
+    let curve = fit.as_ref().ok().map(|fit| {
+        let (x0, x1) = (
+            fx.iter().cloned().fold(f64::INFINITY, f64::min),
+            fx.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+        );
+        Series {
+            name: format!(
+                "fit beads {from}..{to}: γ = {:.4e} ± {:.2e} ({} points)",
+                fit.gamma, fit.gamma_stderr, fit.n
+            ),
+            points: (0..=100)
+                .map(|j| {
+                    let x = x0 + (x1 - x0) * j as f64 / 100.0;
+                    (x, fit.a * (-fit.gamma * x).exp())
+                })
+                .collect(),
+            style: Style::Fit,
+        }
+    });
+    (SideFit { from, to, fit }, curve)
+}
+
+/// Builds the energy chart of `snap` (frames streamed one at a time).
+pub fn energy(snap: &Snapshot, opts: &EnergyOptions) -> Result<EnergyPlot, PlotError> {
+    require_frames(snap)?;
+    let chain = &snap.header().scene.chain;
+    AxisUnits::of(&snap.header().scene, opts.units, snap.path())?;
+    let ranges = fit_ranges(chain.len(), opts)?;
     let wave = WaveOptions::default();
     let mut f = Frame::default();
     let mut e0 = f64::NAN;
@@ -93,37 +172,19 @@ pub fn energy(snap: &Snapshot, opts: &EnergyOptions) -> Result<EnergyPlot, PlotE
             snap.path().display()
         )));
     }
-    let (fx, fe): (Vec<f64>, Vec<f64>) = pts
-        .iter()
-        .filter(|p| p.0 >= from as f64 && p.0 <= to as f64)
-        .copied()
-        .unzip();
-    let fit = fit_exponential(&fx, &fe).map_err(|e| e.to_string());
+    let mut fits = Vec::with_capacity(ranges.len());
+    let mut curves = Vec::new();
+    for r in ranges {
+        let (f, c) = side_fit(&pts, r);
+        fits.push(f);
+        curves.extend(c);
+    }
     let mut series = vec![Series {
         name: "leading wave (one point per frame)".into(),
         points: pts,
         style: Style::Markers,
     }];
-    if let Ok(fit) = &fit {
-        let (x0, x1) = (
-            fx.iter().cloned().fold(f64::INFINITY, f64::min),
-            fx.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
-        );
-        let curve = (0..=100)
-            .map(|j| {
-                let x = x0 + (x1 - x0) * j as f64 / 100.0;
-                (x, fit.a * (-fit.gamma * x).exp())
-            })
-            .collect();
-        series.push(Series {
-            name: format!(
-                "fit beads {from}..{to}: γ = {:.4e} ± {:.2e} ({} points)",
-                fit.gamma, fit.gamma_stderr, fit.n
-            ),
-            points: curve,
-            style: Style::Fit,
-        });
-    }
+    series.append(&mut curves);
     Ok(EnergyPlot {
         chart: LineChart {
             title: format!(
@@ -131,13 +192,12 @@ pub fn energy(snap: &Snapshot, opts: &EnergyOptions) -> Result<EnergyPlot, PlotE
                 snap.header().scene.name
             ),
             x_desc: "peak bead i of the leading wave".into(),
-            y_desc: "E_wave / E_0".into(),
+            y_desc: "energy ratio E_wave / E_0 (dimensionless)".into(),
             series,
             log_y: opts.log,
             size: opts.size,
         },
-        fit,
-        range: (from, to),
+        fits,
     })
 }
 

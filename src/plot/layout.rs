@@ -112,7 +112,7 @@ impl Layout {
     }
 
     /// Draws a vertical colour bar in the right strip, level with the plot area: `color(s)` for
-    /// `s` from 0 (bottom) to 1 (top), `ticks` as `(s, label)`, and `label` above the bar.
+    /// `s` from 0 (bottom) to 1 (top), `ticks` as `(s, label)`, and `label` above the bar (lines split at `\n`).
     pub fn colorbar<DB: DrawingBackend>(
         &self,
         root: &DrawingArea<DB, Shift>,
@@ -171,8 +171,12 @@ impl Layout {
             let st = TextStyle::from((FAMILY, 14).into_font())
                 .pos(Pos::new(HPos::Left, VPos::Bottom))
                 .color(&BLACK);
-            root.draw(&Text::new(label.to_string(), (bx - 10, y0 - 6), st))
-                .map_err(de)?;
+            // one text line per `\n`, the last just above the bar
+            for (k, line) in label.lines().rev().enumerate() {
+                let y = y0 - 6 - 15 * k as i32;
+                root.draw(&Text::new(line.to_string(), (bx - 10, y), st.clone()))
+                    .map_err(de)?;
+            }
         }
         Ok(())
     }

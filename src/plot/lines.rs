@@ -1,8 +1,11 @@
 //! A plain x–y chart of lines and markers with a legend: the figure behind [`super::profile`],
 //! [`super::trace`] and [`super::energy`]. A logarithmic y axis is drawn by plotting `log₁₀ y`
-//! and labelling the ticks with `10^y` (non-positive values are left out).
+//! over whole decades, ticked and labelled at decades ([`super::ticks::log_decades`];
+//! non-positive values are left out); linear axes get the common tick format of
+//! [`super::ticks::TickFmt`]. A constant series gets a padded range (never zero-width).
 
-use super::layout::{num_label, safe_range, Layout};
+use super::layout::{safe_range, Layout};
+use super::ticks::{decade_label, log_decades, TickFmt, N_LABELS};
 use super::{de, font::FAMILY, Figure};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -114,7 +117,20 @@ impl Figure for LineChart {
         root.fill(&WHITE).map_err(de)?;
         let lay = Layout::new(self.size, false);
         let ((x0, x1), (y0, y1)) = self.ranges();
-        let ((x0, x1), (y0, y1)) = (safe_range(x0, x1), safe_range(y0, y1));
+        let (x0, x1) = safe_range(x0, x1);
+        let ((y0, y1), ny) = if self.log_y {
+            // the decades of the data (not of the padded range); 1e-9 decade of rounding slack
+            let (lo, hi) = self
+                .series
+                .iter()
+                .flat_map(|s| self.plotted(s))
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (_, y)| {
+                    (a.min(y), b.max(y))
+                });
+            log_decades(lo + 1e-9, hi - 1e-9)
+        } else {
+            (safe_range(y0, y1), N_LABELS)
+        };
         let mut chart = lay
             .chart(root)
             .build_cartesian_2d(x0..x1, y0..y1)
@@ -122,17 +138,20 @@ impl Figure for LineChart {
         let log = self.log_y;
         let mut mesh = chart.configure_mesh();
         mesh.light_line_style(RGBColor(235, 235, 235));
+        let (xf, yf) = (TickFmt::axis(x0, x1, N_LABELS), TickFmt::axis(y0, y1, ny));
         let yfmt = move |y: &f64| {
             if log {
-                num_label(10f64.powf(*y))
+                decade_label(*y)
             } else {
-                num_label(*y)
+                yf.label(*y)
             }
         };
+        let xfmt = move |x: &f64| xf.label(*x);
+        mesh.x_labels(N_LABELS).y_labels(ny);
         if text {
             mesh.x_desc(self.x_desc.as_str())
                 .y_desc(self.y_desc.as_str())
-                .x_label_formatter(&|x| num_label(*x))
+                .x_label_formatter(&xfmt)
                 .y_label_formatter(&yfmt)
                 .label_style((FAMILY, 14))
                 .axis_desc_style((FAMILY, 16));

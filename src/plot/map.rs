@@ -7,10 +7,11 @@
 //! warning naming the line; rows sharing `(x, y)` are averaged (with a warning); grid points
 //! without a row are drawn white. With `--log-z`, colours and the contour use `log₁₀ z`.
 
-use super::colormap::sequential;
+use super::cmap::Cmap;
 use super::contour::{marching_squares, Segment};
 use super::csvtable::Table;
-use super::layout::{num_label, tick_label, Layout};
+use super::layout::{num_label, Layout};
+use super::ticks::{TickFmt, N_LABELS};
 use super::{de, font::FAMILY, Figure, PlotError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -29,6 +30,8 @@ pub struct MapOptions {
     pub log_z: bool,
     /// Draw the level line `z = level`.
     pub contour: Option<f64>,
+    /// Colour map (default viridis).
+    pub cmap: Cmap,
     /// Image size in pixels.
     pub size: (u32, u32),
 }
@@ -40,6 +43,12 @@ pub struct Map {
     pub title: String,
     /// Column names `(x, y, z)`.
     pub names: (String, String, String),
+    /// x axis label (the x column's name unless overridden).
+    pub x_desc: String,
+    /// y axis label.
+    pub y_desc: String,
+    /// Colour map.
+    pub cmap: Cmap,
     /// Distinct x values, ascending.
     pub xs: Vec<f64>,
     /// Distinct y values, ascending.
@@ -184,6 +193,9 @@ impl Map {
         Ok(Map {
             title: format!("{} over ({}, {})", opts.z, opts.x, opts.y),
             names: (opts.x.clone(), opts.y.clone(), opts.z.clone()),
+            x_desc: opts.x.clone(),
+            y_desc: opts.y.clone(),
+            cmap: opts.cmap,
             xs,
             ys,
             z,
@@ -266,18 +278,20 @@ impl Figure for Map {
         let nx = self.xs.len();
         let cells = self.z.iter().enumerate().map(|(k, &v)| {
             let (i, j) = (k % nx, k / nx);
-            let c = sequential((v - lo) / (hi - lo));
+            let c = self.cmap.at((v - lo) / (hi - lo));
             Rectangle::new([(ex[i], ey[j]), (ex[i + 1], ey[j + 1])], c.filled())
         });
         chart.draw_series(cells).map_err(de)?;
-        let (xspan, yspan) = (x1 - x0, y1 - y0);
-        let xfmt = move |x: &f64| tick_label(*x, xspan);
-        let yfmt = move |y: &f64| tick_label(*y, yspan);
+        let (xf, yf) = (
+            TickFmt::axis(x0, x1, N_LABELS),
+            TickFmt::axis(y0, y1, N_LABELS),
+        );
+        let (xfmt, yfmt) = (move |x: &f64| xf.label(*x), move |y: &f64| yf.label(*y));
         let mut mesh = chart.configure_mesh();
-        mesh.disable_mesh();
+        mesh.disable_mesh().x_labels(N_LABELS).y_labels(N_LABELS);
         if text {
-            mesh.x_desc(self.names.0.as_str())
-                .y_desc(self.names.1.as_str())
+            mesh.x_desc(self.x_desc.as_str())
+                .y_desc(self.y_desc.as_str())
                 .x_label_formatter(&xfmt)
                 .y_label_formatter(&yfmt)
                 .label_style((FAMILY, 14))
@@ -309,18 +323,33 @@ impl Figure for Map {
             }
         }
         lay.title(root, &self.title, text)?;
-        let ticks: Vec<(f64, String)> = (0..=4)
+        let vals: Vec<f64> = (0..=4)
             .map(|k| {
-                let s = k as f64 / 4.0;
-                let v = lo + s * (hi - lo);
-                (s, num_label(if self.log_z { 10f64.powf(v) } else { v }))
+                let v = lo + k as f64 / 4.0 * (hi - lo);
+                if self.log_z {
+                    10f64.powf(v)
+                } else {
+                    v
+                }
             })
             .collect();
+        let ticks: Vec<(f64, String)> = if self.log_z {
+            vals.iter()
+                .enumerate()
+                .map(|(k, &v)| (k as f64 / 4.0, num_label(v)))
+                .collect()
+        } else {
+            let f = TickFmt::for_values(&vals, hi - lo, 1e-3);
+            vals.iter()
+                .enumerate()
+                .map(|(k, &v)| (k as f64 / 4.0, f.label(v)))
+                .collect()
+        };
         let label = if self.log_z {
             format!("{} (log)", self.names.2)
         } else {
             self.names.2.clone()
         };
-        lay.colorbar(root, &sequential, &ticks, &label, text)
+        lay.colorbar(root, &|s| self.cmap.at(s), &ticks, &label, text)
     }
 }

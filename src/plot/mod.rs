@@ -6,6 +6,10 @@
 //! - [`energy`]: leading-wave energy (eq. 13) against its peak bead with the fitted exponential
 //!   `E = a e^{−γ i}` (paper Sec. 5.2, Fig. 21).
 //! - [`map`]: 2-D parameter map (heatmap and level contour) from any CSV (paper Figs. 16, 25).
+//! - [`panels`]: space–time maps side by side with one shared colour scale.
+//!
+//! Axes: [`units`] (computer units, or SI for physical scenes), [`ticks`] (readable tick
+//! labels, decades on log axes), [`cmap`] (named colour maps).
 //!
 //! Shared here: the output rule ([`output_paths`]: `X.png`, `X.svg`, or a base name without
 //! extension for both), the [`Figure`] trait every plot implements, in-memory rendering
@@ -14,6 +18,7 @@
 //! leaves no output). Text uses the run-time font of [`font`]; without one, figures are drawn
 //! without text. Rendering is deterministic: the same input gives the same bytes.
 
+pub mod cmap;
 pub mod colormap;
 pub mod contour;
 pub mod csvtable;
@@ -22,22 +27,29 @@ pub mod font;
 pub mod layout;
 pub mod lines;
 pub mod map;
+pub mod panels;
 pub mod profile;
 pub mod select;
 pub mod spacetime;
+pub mod svgimage;
+pub mod ticks;
 pub mod trace;
+pub mod units;
 
 use crate::snapshot::SnapshotError;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 
-pub use energy::{EnergyOptions, EnergyPlot};
+pub use cmap::Cmap;
+pub use energy::{EnergyOptions, EnergyPlot, SideFit};
 pub use map::{Map, MapOptions};
+pub use panels::Panels;
 pub use profile::{Profile, ProfileOptions};
 pub use select::{BeadRange, TimeRange};
 pub use spacetime::{Scale, Spacetime, SpacetimeOptions};
 pub use trace::{Trace, TraceOptions};
+pub use units::{AxisUnits, Labels, Units};
 
 /// Errors of the plot commands. Every message is one line naming the file, column, bead or time.
 #[derive(Debug, thiserror::Error)]
@@ -121,20 +133,20 @@ pub(crate) fn de<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>)
     e.to_string()
 }
 
-/// Renders `fig` as an SVG document.
+/// Renders `fig` as an SVG document (raster cells embedded as PNG images, [`svgimage`]).
 pub fn render_svg<F: Figure>(fig: &F) -> Result<String, PlotError> {
     let text = font::font_available();
     let mut s = String::new();
+    let images = std::rc::Rc::new(std::cell::RefCell::new(Vec::new()));
+    let err = |msg| PlotError::Draw { format: "SVG", msg };
     {
-        let root = SVGBackend::with_string(&mut s, fig.size()).into_drawing_area();
-        fig.draw(&root, text)
-            .map_err(|msg| PlotError::Draw { format: "SVG", msg })?;
-        root.present().map_err(|e| PlotError::Draw {
-            format: "SVG",
-            msg: de(e),
-        })?;
+        let svg = SVGBackend::with_string(&mut s, fig.size());
+        let root = svgimage::SvgImages::new(svg, images.clone()).into_drawing_area();
+        fig.draw(&root, text).map_err(err)?;
+        root.present().map_err(|e| err(de(e)))?;
     }
-    Ok(s)
+    let images = images.borrow();
+    svgimage::embed(&s, &images).map_err(err)
 }
 
 /// Renders `fig` into an RGB buffer (3 bytes per pixel, rows top to bottom); returns the buffer

@@ -10,10 +10,19 @@
 //! (`nx ≤ width`, `ny ≤ height`); each cell keeps the velocity of largest `|v|` among its beads
 //! and frames (a narrow pulse is never averaged away). Frames are streamed one at a time into a
 //! reused buffer, so memory is `O(nx·ny + N)` whatever the snapshot's size.
+//!
+//! **Axes.** Time and velocity are in the axis units of [`super::units`] (computer units, or SI
+//! for a physical scene). The time axis spans the first to the last selected frame (each frame
+//! is the cell centred on its time, so the end cells show half), which keeps a two-frame run on
+//! `[t₀, t₁]`; a single frame is drawn over one frame interval (`every`, else one computer time
+//! unit) centred on its time.
 
-use super::colormap::{diverging, NO_DATA};
+use super::cmap::Cmap;
+use super::colormap::NO_DATA;
 use super::layout::{num_label, Layout};
 use super::select::{require_frames, BeadRange, TimeRange};
+use super::ticks::{TickFmt, N_LABELS};
+use super::units::{AxisUnits, Units};
 use super::{de, font::FAMILY, Figure, PlotError};
 use crate::snapshot::{Frame, Snapshot};
 use plotters::coord::Shift;
@@ -42,6 +51,12 @@ pub struct SpacetimeOptions {
     pub t: TimeRange,
     /// Colour scale.
     pub scale: Scale,
+    /// Axis units (and the unit of `t`).
+    pub units: Units,
+    /// Colour map.
+    pub cmap: Cmap,
+    /// Room for the colour bar right of the plot (panels but the last have none).
+    pub colorbar: bool,
     /// Image size in pixels.
     pub size: (u32, u32),
 }
@@ -52,6 +67,9 @@ impl Default for SpacetimeOptions {
             beads: BeadRange::default(),
             t: TimeRange::default(),
             scale: Scale::Linear,
+            units: Units::Computer,
+            cmap: Cmap::CoolWarm,
+            colorbar: true,
             size: (900, 700),
         }
     }
@@ -92,21 +110,54 @@ impl Axis {
     }
 }
 
+/// The time axis: first to last frame, or `t ± pad` for a single frame (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TimeAxis {
+    /// The cells.
+    pub cells: Axis,
+    /// Half the height of a single frame's cell.
+    pub pad: f64,
+}
+
+impl TimeAxis {
+    /// The drawn extent `(t0, t1)`.
+    pub fn extent(&self) -> (f64, f64) {
+        let a = self.cells;
+        if a.n > 1 && a.hi > a.lo {
+            (a.lo, a.hi)
+        } else {
+            (a.lo - self.pad, a.hi + self.pad)
+        }
+    }
+}
+
 /// A binned space–time velocity map.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Spacetime {
     /// Title (scene name and scale).
     pub title: String,
+    /// x axis label.
+    pub x_desc: String,
+    /// y axis label.
+    pub y_desc: String,
+    /// Colour-bar label.
+    pub bar_desc: String,
     /// Bead axis (cell centres in bead indices).
     pub x: Axis,
-    /// Time axis (cell centres in time).
+    /// Time axis (cell centres in the axis units).
     pub y: Axis,
+    /// Half height of a single frame's cell (see [`TimeAxis`]).
+    pub y_pad: f64,
     /// Signed velocity of largest `|v|` per cell, row-major, row 0 = earliest; NaN = no frame.
     pub cells: Vec<f64>,
     /// Largest `|v|` of the selection (the normalisation).
     pub vmax: f64,
     /// Colour scale.
     pub scale: Scale,
+    /// Colour map.
+    pub cmap: Cmap,
+    /// Colour bar drawn.
+    pub colorbar: bool,
     /// Image size.
     pub size: (u32, u32),
 }
@@ -118,9 +169,12 @@ impl Spacetime {
         require_frames(snap)?;
         let n = snap.header().n_beads as usize;
         let (a, b) = opts.beads.resolve(n)?;
-        let times = snap.frame_times();
-        let frames = opts.t.frames(times)?;
-        let (_, _, pw, ph) = Layout::new(opts.size, true).plot_rect();
+        let scene = &snap.header().scene;
+        let un = AxisUnits::of(scene, opts.units, snap.path())?;
+        // the window is in the axis units: frames are selected by their displayed times
+        let times: Vec<f64> = snap.frame_times().iter().map(|t| t * un.time).collect();
+        let frames = opts.t.frames(&times)?;
+        let (_, _, pw, ph) = Layout::new(opts.size, opts.colorbar).plot_rect();
         let nb = b - a + 1;
         let nf = frames.len();
         let x = Axis {
@@ -140,9 +194,10 @@ impl Spacetime {
         let mut f = Frame::default();
         for k in frames {
             snap.read_frame_into(k, &mut f)?;
-            let row = y.bin(f.t);
+            let row = y.bin(f.t * un.time);
             let line = &mut cells[row * x.n..(row + 1) * x.n];
             for (j, &v) in f.v[a..=b].iter().enumerate() {
+                let v = v * un.velocity;
                 let c = &mut line[col[j]];
                 if c.is_nan() || v.abs() > c.abs() {
                     *c = v;
@@ -150,21 +205,24 @@ impl Spacetime {
                 vmax = vmax.max(v.abs());
             }
         }
-        let name = &snap.header().scene.name;
+        let name = &scene.name;
+        let log = opts.scale == Scale::Log;
         Ok(Spacetime {
             title: format!(
                 "{name}: velocity v(bead, t){}",
-                if opts.scale == Scale::Log {
-                    ", log scale"
-                } else {
-                    ""
-                }
+                if log { ", log scale" } else { "" }
             ),
+            x_desc: "bead index i".into(),
+            y_desc: un.time_label(),
+            bar_desc: format!("v{}\n({})", if log { ", log" } else { "" }, un.unit("m/s")),
             x,
             y,
+            y_pad: 0.5 * scene.run.every.unwrap_or(1.0) * un.time,
             cells,
             vmax,
             scale: opts.scale,
+            cmap: opts.cmap,
+            colorbar: opts.colorbar,
             size: opts.size,
         })
     }
@@ -198,14 +256,27 @@ impl Spacetime {
 
     /// Figure layout.
     pub fn layout(&self) -> Layout {
-        Layout::new(self.size, true)
+        Layout::new(self.size, self.colorbar)
+    }
+
+    /// The time axis.
+    pub fn time_axis(&self) -> TimeAxis {
+        TimeAxis {
+            cells: self.y,
+            pad: self.y_pad,
+        }
+    }
+
+    /// The colour of a normalised value `s ∈ [−1, 1]`.
+    pub fn color(&self, s: f64) -> RGBColor {
+        self.cmap.at((s + 1.0) / 2.0)
     }
 
     /// Pixel `(px, py)` of the image at bead `bead` and time `t` (inside the plot area).
     pub fn pixel(&self, bead: f64, t: f64) -> (u32, u32) {
         let (x0, y0, pw, ph) = self.layout().plot_rect();
         let (ex0, ex1) = self.x.edges();
-        let (ey0, ey1) = self.y.edges();
+        let (ey0, ey1) = self.time_axis().extent();
         let fx = ((bead - ex0) / (ex1 - ex0)).clamp(0.0, 1.0);
         let fy = ((ey1 - t) / (ey1 - ey0)).clamp(0.0, 1.0);
         let px = (fx * pw as f64).floor().min(pw as f64 - 1.0) as u32;
@@ -216,7 +287,7 @@ impl Spacetime {
     /// The plot area as RGB pixels (`pw × ph`), nearest cell per pixel centre.
     fn raster(&self, pw: u32, ph: u32) -> Vec<u8> {
         let (ex0, ex1) = self.x.edges();
-        let (ey0, ey1) = self.y.edges();
+        let (ey0, ey1) = self.time_axis().extent();
         let cols: Vec<usize> = (0..pw)
             .map(|p| self.x.bin(ex0 + (p as f64 + 0.5) / pw as f64 * (ex1 - ex0)))
             .collect();
@@ -230,7 +301,7 @@ impl Spacetime {
                 let col = if v.is_nan() {
                     NO_DATA
                 } else {
-                    diverging(self.normalise(v))
+                    self.color(self.normalise(v))
                 };
                 let k = (py as usize * pw as usize + px) * 3;
                 buf[k..k + 3].copy_from_slice(&[col.0, col.1, col.2]);
@@ -242,11 +313,20 @@ impl Spacetime {
     /// Colour-bar ticks `(s ∈ [0, 1], label)`.
     fn ticks(&self) -> Vec<(f64, String)> {
         let pos = |s: f64| (s + 1.0) / 2.0;
+        if !(self.vmax > 0.0 && self.vmax.is_finite()) {
+            // a chain at rest: one colour, one tick
+            return vec![(0.5, "0".into())];
+        }
         match self.scale {
-            Scale::Linear => [-1.0, -0.5, 0.0, 0.5, 1.0]
-                .iter()
-                .map(|&s| (pos(s), num_label(s * self.vmax)))
-                .collect(),
+            Scale::Linear => {
+                let s = [-1.0, -0.5, 0.0, 0.5, 1.0];
+                let v: Vec<f64> = s.iter().map(|s| s * self.vmax).collect();
+                let f = TickFmt::for_values(&v, 2.0 * self.vmax, 1e-3);
+                s.iter()
+                    .zip(&v)
+                    .map(|(&s, &v)| (pos(s), f.label(v)))
+                    .collect()
+            }
             Scale::Log => {
                 // |v|/max|v| = 1, 0.1, 0.01, 0.001 (the 0.1 % wave threshold); 1e-4 maps to 0
                 let mut t = vec![(0.5, "0".to_string())];
@@ -279,24 +359,31 @@ impl Figure for Spacetime {
         let lay = self.layout();
         let (x0, y0, pw, ph) = lay.plot_rect();
         let (ex0, ex1) = self.x.edges();
-        let (ey0, ey1) = self.y.edges();
+        let (ey0, ey1) = self.time_axis().extent();
         let mut chart = lay
             .chart(root)
             .build_cartesian_2d(ex0..ex1, ey0..ey1)
             .map_err(de)?;
         let (xr, yr) = chart.plotting_area().get_pixel_range();
-        lay.check(xr, yr)?;
+        // pixel ranges are absolute; a panel's area starts at its base pixel
+        let (bx, by) = root.get_base_pixel();
+        lay.check(xr.start - bx..xr.end - bx, yr.start - by..yr.end - by)?;
         if let Some(el) = BitMapElement::with_owned_buffer((x0, y0), (pw, ph), self.raster(pw, ph))
         {
             root.draw(&el).map_err(de)?;
         }
+        let (xf, yf) = (
+            TickFmt::axis(ex0, ex1, N_LABELS),
+            TickFmt::axis(ey0, ey1, N_LABELS),
+        );
+        let (xfmt, yfmt) = (move |x: &f64| xf.label(*x), move |y: &f64| yf.label(*y));
         let mut mesh = chart.configure_mesh();
-        mesh.disable_mesh();
+        mesh.disable_mesh().x_labels(N_LABELS).y_labels(N_LABELS);
         if text {
-            mesh.x_desc("bead index i")
-                .y_desc("time t")
-                .x_label_formatter(&|x| num_label(*x))
-                .y_label_formatter(&|y| num_label(*y))
+            mesh.x_desc(self.x_desc.as_str())
+                .y_desc(self.y_desc.as_str())
+                .x_label_formatter(&xfmt)
+                .y_label_formatter(&yfmt)
                 .label_style((FAMILY, 14))
                 .axis_desc_style((FAMILY, 16));
         } else {
@@ -304,15 +391,14 @@ impl Figure for Spacetime {
         }
         mesh.draw().map_err(de)?;
         lay.title(root, &self.title, text)?;
-        let label = match self.scale {
-            Scale::Linear => "v",
-            Scale::Log => "v (log |v|)",
-        };
+        if !self.colorbar {
+            return Ok(());
+        }
         lay.colorbar(
             root,
-            &|s| diverging(2.0 * s - 1.0),
+            &|s| self.cmap.at(s),
             &self.ticks(),
-            label,
+            &self.bar_desc,
             text,
         )
     }

@@ -3,6 +3,7 @@
 use super::layout::Layout;
 use super::lines::{LineChart, Series, Style};
 use super::select::{check_beads, require_frames, TimeRange};
+use super::units::{AxisUnits, Units};
 use super::{decimate, PlotError};
 use crate::snapshot::{Frame, Snapshot};
 
@@ -11,8 +12,10 @@ use crate::snapshot::{Frame, Snapshot};
 pub struct TraceOptions {
     /// Beads, one line each.
     pub beads: Vec<usize>,
-    /// Time window (default the whole run).
+    /// Time window in the axis units (default the whole run).
     pub t: TimeRange,
+    /// Axis units.
+    pub units: Units,
     /// Image size in pixels.
     pub size: (u32, u32),
 }
@@ -26,13 +29,16 @@ pub fn trace(snap: &Snapshot, opts: &TraceOptions) -> Result<Trace, PlotError> {
     require_frames(snap)?;
     let n = snap.header().n_beads as usize;
     check_beads(&opts.beads, n)?;
-    let frames = opts.t.frames(snap.frame_times())?;
+    let un = AxisUnits::of(&snap.header().scene, opts.units, snap.path())?;
+    // the window is in the axis units: frames are selected by their displayed times
+    let times: Vec<f64> = snap.frame_times().iter().map(|t| t * un.time).collect();
+    let frames = opts.t.frames(&times)?;
     let mut pts: Vec<Vec<(f64, f64)>> = vec![Vec::with_capacity(frames.len()); opts.beads.len()];
     let mut f = Frame::default();
     for k in frames {
         snap.read_frame_into(k, &mut f)?;
         for (p, &i) in pts.iter_mut().zip(&opts.beads) {
-            p.push((f.t, f.v[i]));
+            p.push((f.t * un.time, f.v[i] * un.velocity));
         }
     }
     let (_, _, pw, _) = Layout::new(opts.size, false).plot_rect();
@@ -47,8 +53,8 @@ pub fn trace(snap: &Snapshot, opts: &TraceOptions) -> Result<Trace, PlotError> {
         .collect();
     Ok(LineChart {
         title: format!("{}: bead velocities", snap.header().scene.name),
-        x_desc: "time".into(),
-        y_desc: "velocity v".into(),
+        x_desc: un.time_label(),
+        y_desc: un.velocity_label(),
         series,
         log_y: false,
         size: opts.size,

@@ -5,8 +5,11 @@
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$here/../.."
-cargo build --release -q --manifest-path "$root/Cargo.toml"
-bc="$root/target/release/beadchain"
+# $BEADCHAIN: an already built binary to use instead of building one
+if [ -z "${BEADCHAIN:-}" ]; then
+  cargo build --release -q --manifest-path "$root/Cargo.toml"
+fi
+bc="${BEADCHAIN:-$root/target/release/beadchain}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 run() { "$bc" run "$1" --out "$tmp/$1.snap" "${@:2}" > /dev/null; }
@@ -19,6 +22,15 @@ run interface_3.0_2.5 --every 10
 "$bc" plot spacetime "$tmp/interface_3.0_2.5.snap" --out "$here/interface_3.0_2.5_spacetime.png"
 "$bc" plot spacetime "$tmp/interface_3.0_2.5.snap" --scale log --out "$here/interface_3.0_2.5_spacetime_log.png"
 "$bc" plot energy "$tmp/interface_3.0_2.5.snap" --from 90 --to 140 --log --out "$here/interface_3.0_2.5_energy.png"
+# one fit per side of the interface at bead 50, never across it
+"$bc" plot energy "$tmp/interface_3.0_2.5.snap" --interface 50 --log --out "$here/interface_3.0_2.5_energy_sides.png"
+# side by side, one shared colour scale
+run interface_3.0_3.5 --every 10
+"$bc" plot spacetime "$tmp/interface_3.0_2.5.snap" "$tmp/interface_3.0_3.5.snap" --scale log --width 1200 \
+  --title "Interfaces n = 3.0 | 2.5 and n = 3.0 | 3.5 (log colour scale)" --out "$here/interfaces_panels.png"
+# a physical scene in SI units
+run hertz_spheres_physical
+"$bc" plot trace "$tmp/hertz_spheres_physical.snap" --beads 10,50,90 --units si --out "$here/hertz_spheres_physical_trace_si.png"
 
 # Periodic chains (Figs. 10, 11, 13, 14).
 for p in periodic_2.5_3.0 periodic_decay_2.5_2.555 periodic_breather_2.5_2.635 periodic_breather_4.0_5.0; do
