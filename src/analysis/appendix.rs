@@ -109,14 +109,11 @@ pub fn energy_error(
     let t0 = Instant::now();
     let (res, reached) = {
         let mut stop = SteadyStateStop::new(&mut last, &scene.chain);
-        let r = engine::run(scene, &cfg, &mut stop);
+        let r = engine::run_to_stop(scene, &cfg, &mut stop);
         (r, stop.reached)
     };
     let seconds = t0.elapsed().as_secs_f64();
-    let failure = match res {
-        Ok(_) | Err(EngineError::Interrupted(_)) => None,
-        Err(e) => Some(e.to_string()),
-    };
+    let failure = res.err().map(|e| e.to_string());
     let c = &scene.chain;
     let (ke0, e0) = (c.kinetic_energy(&scene.v0), c.energy(&scene.u0, &scene.v0));
     let (ke, e) = if failure.is_some() || last.v.is_empty() {

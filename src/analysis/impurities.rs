@@ -14,7 +14,7 @@
 use super::paper::{physical_scene, run_watched, time_per_bead, PaperError};
 use super::timings::Window;
 use super::wave::{detect_pulses, wave_energy, WaveOptions};
-use crate::engine::{self, EngineError, RunConfig};
+use crate::engine::{self, RunConfig};
 use crate::model::Chain;
 use crate::scene::Engine;
 use std::time::Instant;
@@ -167,10 +167,7 @@ pub fn collective_impurity(
     cfg.rtol = 1e-8;
     cfg.atol = 1e-10;
     let mut win = Window::new(sc.chain.clone(), (k, k + 1), (k, k + s + 1), k - 10);
-    match engine::run(&sc, &cfg, &mut win) {
-        Ok(_) | Err(EngineError::Interrupted(_)) => {}
-        Err(e) => return Err(e.into()),
-    }
+    engine::run_to_stop(&sc, &cfg, &mut win)?;
     let v_in = win.v_in;
     let (mut max_spread, mut sum, mut count, mut peak) = (0.0f64, 0.0, 0usize, 0.0f64);
     let (mut first, mut last) = (f64::NAN, f64::NAN);

@@ -151,17 +151,11 @@ pub fn run_watched(
     let t0 = Instant::now();
     let mut w = Watch::new(scene.chain.clone(), k, stop_at);
     let mut failure = None;
-    match engine::run(scene, &cfg, &mut w) {
-        Ok(_) | Err(EngineError::Interrupted(_)) => {}
-        Err(e) => {
-            failure = Some(e.to_string());
-            cfg.engine = Engine::Dense;
-            w = Watch::new(scene.chain.clone(), k, stop_at);
-            match engine::run(scene, &cfg, &mut w) {
-                Ok(_) | Err(EngineError::Interrupted(_)) => {}
-                Err(e) => return Err(e.into()),
-            }
-        }
+    if let Err(e) = engine::run_to_stop(scene, &cfg, &mut w) {
+        failure = Some(e.to_string());
+        cfg.engine = Engine::Dense;
+        w = Watch::new(scene.chain.clone(), k, stop_at);
+        engine::run_to_stop(scene, &cfg, &mut w)?;
     }
     let info = RunInfo {
         seconds: t0.elapsed().as_secs_f64(),

@@ -13,7 +13,7 @@
 use super::paper::{physical_scene, time_per_bead, PaperError};
 use super::window::{dominant_periods, leader_changes, pair_mismatch, windowed_decay, WindowWatch};
 use super::ExpFit;
-use crate::engine::{self, EngineError, Observer, RunConfig};
+use crate::engine::{self, Observer, RunConfig};
 use crate::scene::{Engine, Scene};
 use std::time::Instant;
 
@@ -33,10 +33,8 @@ pub fn run_observer(
     cfg.rtol = rtol;
     cfg.atol = rtol / 100.0;
     let t0 = Instant::now();
-    match engine::run(scene, &cfg, obs) {
-        Ok(_) | Err(EngineError::Interrupted(_)) => Ok(t0.elapsed().as_secs_f64()),
-        Err(e) => Err(e.into()),
-    }
+    engine::run_to_stop(scene, &cfg, obs)?;
+    Ok(t0.elapsed().as_secs_f64())
 }
 
 /// A watched periodic run.

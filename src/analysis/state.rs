@@ -4,8 +4,9 @@
 //! velocity and no faster than its right neighbour, relaxed to
 //! `v_{i+1} − v_i > −10⁻⁵ · max_j |v_j|` for all `i`, and no contact overlaps (`δ ≤ 0`), so the
 //! energy is purely kinetic and nothing will collide again. [`SteadyStateStop`] wraps an
-//! [`Observer`] and stops the run at the first frame that satisfies it (the engine then returns
-//! `EngineError::Interrupted(t)`; the wrapped observer has seen every frame up to it).
+//! [`Observer`] and stops the run at the first frame that satisfies it (an engine's `advance`
+//! then returns `Stop::Requested`, see [`crate::engine::run_to_stop`]; `engine::run` reports
+//! it as `EngineError::Interrupted(t)`; the wrapped observer has seen every frame up to it).
 //!
 //! **Fragmentation**: a contact is an open gap when its overlap is below `−gap_tol` (beads that
 //! merely touch at rest are not a gap); fragments are the maximal runs of beads without an open

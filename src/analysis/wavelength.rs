@@ -249,10 +249,7 @@ pub fn measure_wavelength(
         stop: false,
     };
     let t0 = Instant::now();
-    match engine::run(&sc, &cfg, &mut obs) {
-        Ok(_) | Err(EngineError::Interrupted(_)) => {}
-        Err(e) => return Err(e.into()),
-    }
+    engine::run_to_stop(&sc, &cfg, &mut obs)?;
     let seconds = t0.elapsed().as_secs_f64();
     let no = || PaperError::NoWave(n);
     let (ta, _) = peak_of(&obs.t, &obs.v[0]).ok_or_else(no)?;

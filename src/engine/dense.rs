@@ -3,7 +3,7 @@
 //! output at the requested times.
 
 use super::checkpoint::{DenseState, EngineState};
-use super::stepper::{check_target, Engine, State, Stop};
+use super::stepper::{check_target, outcome_at, Engine, State, Stop};
 use super::{EngineError, Observer, RunConfig, RunOutcome};
 use crate::integrate::auto::Auto;
 use crate::integrate::dop853::Dop853;
@@ -204,28 +204,14 @@ impl Engine for DenseEngine<'_> {
     }
 
     fn outcome(&self) -> RunOutcome {
-        let chain = &self.scene.chain;
-        let (scene, s) = (self.scene, self.state());
         let mut stats = self.stats_base.0.clone();
         stats.add(self.integ.stats());
         RunOutcome {
             stats,
-            t_end: self.clock,
-            wall_seconds: self.start.elapsed().as_secs_f64(),
-            energy_initial: chain.energy(&scene.u0, &scene.v0),
-            energy_final: chain.energy(&s.u, &s.v),
-            energy_scale: chain
-                .energy_scale(&scene.u0, &scene.v0)
-                .max(chain.energy_scale(&s.u, &s.v)),
-            momentum_initial: chain.momentum(&scene.v0),
-            momentum_final: chain.momentum(&s.v),
-            events_by_kind: Vec::new(),
-            largest_cluster: chain.len() as u64,
-            late_merges: 0,
+            largest_cluster: self.scene.chain.len() as u64,
             implicit_steps: self.stats_base.1 + self.integ.implicit_steps(),
             dissipated: self.dissipated(self.clock),
-            u: s.u,
-            v: s.v,
+            ..outcome_at(self.scene, self.state(), self.start)
         }
     }
 

@@ -290,6 +290,19 @@ pub fn run(
     finish(start(scene, cfg)?, cfg, obs)
 }
 
+/// Runs a scene until `cfg.until` or until the observer asks to stop (the analysis windows do
+/// once they have seen what they need): the [`Stop`] and the outcome at that time. Neither way
+/// is an error.
+pub fn run_to_stop(
+    scene: &Scene,
+    cfg: &RunConfig,
+    obs: &mut dyn Observer,
+) -> Result<(Stop, RunOutcome), EngineError> {
+    let mut e = start(scene, cfg)?;
+    let stop = e.advance(cfg.until, obs)?;
+    Ok((stop, e.outcome()))
+}
+
 fn finish(
     mut e: Box<dyn Engine + '_>,
     cfg: &RunConfig,

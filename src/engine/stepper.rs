@@ -111,6 +111,26 @@ pub fn restore<'a>(
     })
 }
 
+/// The part of a [`RunOutcome`] every engine fills the same way: time, wall clock, energies,
+/// momenta and the state `s` (engine-specific counters are left at their defaults).
+pub(crate) fn outcome_at(scene: &Scene, s: State, start: std::time::Instant) -> RunOutcome {
+    let chain = &scene.chain;
+    RunOutcome {
+        t_end: s.t,
+        wall_seconds: start.elapsed().as_secs_f64(),
+        energy_initial: chain.energy(&scene.u0, &scene.v0),
+        energy_final: chain.energy(&s.u, &s.v),
+        energy_scale: chain
+            .energy_scale(&scene.u0, &scene.v0)
+            .max(chain.energy_scale(&s.u, &s.v)),
+        momentum_initial: chain.momentum(&scene.v0),
+        momentum_final: chain.momentum(&s.v),
+        u: s.u,
+        v: s.v,
+        ..RunOutcome::default()
+    }
+}
+
 /// Checks an advance target against the clock and the run's end time.
 pub(crate) fn check_target(until: f64, end: f64) -> Result<(), EngineError> {
     if until.is_nan() || until > end {

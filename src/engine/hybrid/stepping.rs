@@ -4,7 +4,7 @@
 
 use super::{Hybrid, FREE};
 use crate::engine::checkpoint::{EngineState, HybridState};
-use crate::engine::stepper::{check_target, Engine, State, Stop};
+use crate::engine::stepper::{check_target, outcome_at, Engine, State, Stop};
 use crate::engine::{EngineError, Observer, RunConfig, RunOutcome};
 use crate::scene::Scene;
 use std::time::Instant;
@@ -86,8 +86,7 @@ impl Engine for HybridEngine<'_> {
     }
 
     fn outcome(&self) -> RunOutcome {
-        let (h, scene) = (&self.h, self.scene);
-        let chain = &scene.chain;
+        let h = &self.h;
         let mut stats = h.stats.clone();
         let mut implicit_steps = h.implicit_steps;
         for c in h.clusters.iter().flatten() {
@@ -95,18 +94,8 @@ impl Engine for HybridEngine<'_> {
             implicit_steps += c.integ.implicit_steps();
         }
         let names = ["close", "open", "hard_collision", "wall_close", "wall_open"];
-        let s = self.state();
         RunOutcome {
             stats,
-            t_end: h.clock,
-            wall_seconds: self.start.elapsed().as_secs_f64(),
-            energy_initial: chain.energy(&scene.u0, &scene.v0),
-            energy_final: chain.energy(&s.u, &s.v),
-            energy_scale: chain
-                .energy_scale(&scene.u0, &scene.v0)
-                .max(chain.energy_scale(&s.u, &s.v)),
-            momentum_initial: chain.momentum(&scene.v0),
-            momentum_final: chain.momentum(&s.v),
             events_by_kind: names
                 .iter()
                 .zip(h.counts)
@@ -116,8 +105,7 @@ impl Engine for HybridEngine<'_> {
             late_merges: h.late_merges,
             implicit_steps,
             dissipated: h.dissipated_at(h.clock),
-            u: s.u,
-            v: s.v,
+            ..outcome_at(self.scene, self.state(), self.start)
         }
     }
 

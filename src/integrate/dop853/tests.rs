@@ -1,0 +1,172 @@
+//! Tests of [`Dop853`] on bead chains (accuracy against references, step bookkeeping,
+//! continuous output, checkpoints).
+
+use super::*;
+use crate::integrate::test_util::{striker, uniform_chain};
+use crate::integrate::{ChainRange, DEFAULT_ATOL};
+use crate::model::Chain;
+
+fn tolerances(chain: &Chain, u: &[f64], v: &[f64], rtol: f64, atol: f64) -> Tolerances {
+    Tolerances {
+        rtol,
+        atol,
+        scales: chain.scales(u, v),
+        v_frame: 0.0,
+    }
+}
+
+/// Integrates the whole chain from `(u, v)` at 0 to exactly `t_end`.
+fn run(chain: &Chain, u: &[f64], v: &[f64], tol: Tolerances, t_end: f64) -> Dop853 {
+    let sys = ChainRange::whole(chain);
+    let mut ig = Dop853::new(chain.len(), tol);
+    ig.reset(&sys, 0.0, u, v);
+    while ig.t() < t_end {
+        ig.step(&sys, t_end).expect("integration failed");
+    }
+    assert_eq!(ig.t(), t_end, "must land exactly on t_bound");
+    ig
+}
+
+fn rel_energy_error(chain: &Chain, ig: &Dop853, e0: f64) -> f64 {
+    let m = chain.len();
+    let z = ig.state();
+    ((chain.energy(&z[..m], &z[m..]) - e0) / e0).abs()
+}
+
+#[test]
+fn two_beads_exchange_velocities_and_conserve_energy() {
+    let chain = uniform_chain(2);
+    let (u, v) = striker(2, 1.0);
+    let e0 = chain.energy(&u, &v);
+    let ig = run(
+        &chain,
+        &u,
+        &v,
+        tolerances(&chain, &u, &v, 1e-11, 1e-13),
+        20.0,
+    );
+    let z = ig.state();
+    // Equal masses exchange velocities: abs 1e-8.
+    assert!(z[2].abs() <= 1e-8, "striker velocity {}", z[2]);
+    assert!((z[3] - 1.0).abs() <= 1e-8, "struck velocity {}", z[3]);
+    let de = rel_energy_error(&chain, &ig, e0);
+    assert!(de <= 1e-9, "relative energy error {de:e}");
+    assert!(ig.stats().steps > 5);
+}
+
+#[test]
+fn twenty_bead_chain_conserves_energy() {
+    let chain = uniform_chain(20);
+    let (u, v) = striker(20, 1.0);
+    let e0 = chain.energy(&u, &v);
+    let ig = run(
+        &chain,
+        &u,
+        &v,
+        tolerances(&chain, &u, &v, 1e-10, 1e-12),
+        30.0,
+    );
+    let de = rel_energy_error(&chain, &ig, e0);
+    assert!(de <= 1e-8, "relative energy error {de:e}");
+    // Momentum is conserved by any Runge–Kutta method up to rounding: abs 1e-12.
+    let p = chain.momentum(&ig.state()[20..]);
+    assert!((p - 1.0).abs() <= 1e-12, "momentum {p}");
+    assert_eq!(ig.stats().bead_steps, 20 * ig.stats().steps);
+}
+
+#[test]
+fn dense_output_agrees_with_stepping_to_the_time() {
+    let chain = uniform_chain(5);
+    let sys = ChainRange::whole(&chain);
+    let (u, v) = striker(5, 1.0);
+    let tol = tolerances(&chain, &u, &v, 1e-9, 1e-11);
+    let mut checked = 0;
+    for &ts in &[2.37, 4.1, 7.77, 11.3] {
+        let mut free = Dop853::new(5, tol);
+        free.reset(&sys, 0.0, &u, &v);
+        while free.t() < ts {
+            free.step(&sys, f64::INFINITY).expect("step");
+        }
+        let mut zd = [0.0; 10];
+        free.dense(ts, &mut zd);
+        let exact = run(&chain, &u, &v, tol, ts);
+        let ze = exact.state();
+        let size = ze.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+        for (a, b) in zd.iter().zip(ze) {
+            // Relative 1e-6 of the state's max norm (abs floor 1e-6 × size).
+            assert!((a - b).abs() <= 1e-6 * size, "t = {ts}: {a} vs {b}");
+        }
+        checked += 1;
+    }
+    assert_eq!(checked, 4);
+}
+
+#[test]
+fn dense_output_reproduces_step_endpoints() {
+    let chain = uniform_chain(3);
+    let sys = ChainRange::whole(&chain);
+    let (u, v) = striker(3, 1.0);
+    let mut ig = Dop853::new(3, tolerances(&chain, &u, &v, 1e-8, DEFAULT_ATOL));
+    ig.reset(&sys, 0.0, &u, &v);
+    let mut z = [0.0; 6];
+    ig.dense(0.0, &mut z);
+    assert_eq!(&z[..], ig.state(), "before any step");
+    for _ in 0..20 {
+        let before = ig.state().to_vec();
+        let t = ig.step(&sys, f64::INFINITY).expect("step");
+        ig.dense(ig.t_prev(), &mut z);
+        assert_eq!(&z[..], &before[..], "start of step");
+        ig.dense(t, &mut z);
+        assert_eq!(&z[..], ig.state(), "end of step");
+        // Just inside the step the interpolant is continuous with slope f(z) (the FSAL
+        // stage 0): z(t − δ) ≈ z(t) − δ·f, abs 1e-13 (the δ² term is ~1e-20).
+        let dt = 1e-9 * (t - ig.t_prev());
+        ig.dense(t - dt, &mut z);
+        for ((a, b), f) in z.iter().zip(ig.state()).zip(&ig.k) {
+            assert!((a - (b - dt * f)).abs() <= 1e-13, "{a} vs {b} − {dt:e}·{f}");
+        }
+    }
+}
+
+#[test]
+fn error_decreases_with_tolerance() {
+    let chain = uniform_chain(10);
+    let (u, v) = striker(10, 1.0);
+    let e0 = chain.energy(&u, &v);
+    let loose = run(&chain, &u, &v, tolerances(&chain, &u, &v, 1e-6, 1e-8), 20.0);
+    let tight = run(
+        &chain,
+        &u,
+        &v,
+        tolerances(&chain, &u, &v, 1e-10, 1e-12),
+        20.0,
+    );
+    let (el, et) = (
+        rel_energy_error(&chain, &loose, e0),
+        rel_energy_error(&chain, &tight, e0),
+    );
+    assert!(
+        el > et,
+        "energy error at rtol 1e-6 ({el:e}) vs 1e-10 ({et:e})"
+    );
+    assert!(loose.stats().steps < tight.stats().steps);
+}
+
+#[test]
+fn similarity_scaling_gives_same_steps() {
+    let chain = uniform_chain(2);
+    let count = |v0: f64| {
+        let (u, v) = striker(2, v0);
+        let tol = tolerances(&chain, &u, &v, 1e-8, DEFAULT_ATOL);
+        // 20 characteristic times of the unit problem.
+        let t_end = 20.0 * tol.scales.time() / chain.scales(&[0.0; 2], &[1.0, 0.0]).time();
+        let ig = run(&chain, &u, &v, tol, t_end);
+        // Velocities exchanged: relative 1e-6 of v0.
+        assert!((ig.state()[3] - v0).abs() <= 1e-6 * v0, "v0 = {v0}");
+        (ig.stats().steps, ig.stats().rejected)
+    };
+    let (s1, r1) = count(1.0);
+    let (s2, r2) = count(1e-7);
+    assert!(s1.abs_diff(s2) <= 2, "steps {s1} (v=1) vs {s2} (v=1e-7)");
+    assert!(r1.abs_diff(r2) <= 2, "rejections {r1} vs {r2}");
+}

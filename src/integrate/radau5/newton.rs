@@ -1,0 +1,165 @@
+//! The Newton iteration of Radau IIA on the transformed stage system (Hairer & Wanner,
+//! *Solving ODEs II*, IV.8: simplified Newton with the eigen-decomposition `T`, `TI` of the
+//! Radau matrix), the stage predictor from the last collocation polynomial, and the dissipated
+//! energy as one more stage component.
+
+use super::{
+    linear, Radau5, C, E, MU_COMPLEX, MU_REAL, NEGLIGIBLE_NEWTON, NEWTON_MAXITER, RADAU_A, T, TI,
+};
+use crate::integrate::System;
+use num_complex::Complex64;
+
+impl Radau5 {
+    /// Newton iteration for the collocation system; returns (converged, iterations, rate).
+    pub(super) fn newton(&mut self, sys: &dyn System, h: f64) -> (bool, usize, f64) {
+        let n = 2 * self.m;
+        let m = self.m;
+        let mass = sys.mass();
+        let cr = MU_REAL / h;
+        let cc = Complex64::new(MU_COMPLEX.0, MU_COMPLEX.1) / h;
+        // W = TI · Z
+        for j in 0..n {
+            let z0 = self.zs[0][j];
+            let z1 = self.zs[1][j];
+            let z2 = self.zs[2][j];
+            for i in 0..3 {
+                self.w[i][j] = TI[i][0] * z0 + TI[i][1] * z1 + TI[i][2] * z2;
+            }
+        }
+        // Newton-increment weights are those of the step start: precompute their inverses.
+        for j in 0..m {
+            self.inv_w[j] = 1.0 / self.tol.weight_u(self.z[j], self.z[j]);
+        }
+        for j in m..n {
+            self.inv_w[j] = 1.0 / self.tol.weight_v(self.vs[j - m], self.z[j], self.z[j]);
+        }
+        let mut dw_norm_old: Option<f64> = None;
+        let mut rate = f64::NAN;
+        for it in 0..NEWTON_MAXITER {
+            self.stats.newton_iters += 1;
+            for i in 0..3 {
+                for ((y, z), d) in self.ytmp.iter_mut().zip(&self.z).zip(&self.zs[i]) {
+                    *y = z + d;
+                }
+                Self::rhs(sys, m, &self.ytmp, &mut self.fs[i], &mut self.stats);
+            }
+            // right-hand sides of the transformed system
+            let [f0s, f1s, f2s] = &self.fs;
+            let [w0s, w1s, w2s] = &self.w;
+            let [d0s, d1s, d2s] = &mut self.dw;
+            let mut finite = true;
+            for j in 0..n {
+                let (f0, f1, f2) = (f0s[j], f1s[j], f2s[j]);
+                finite &= f0.is_finite() && f1.is_finite() && f2.is_finite();
+                d0s[j] = TI[0][0] * f0 + TI[0][1] * f1 + TI[0][2] * f2 - cr * w0s[j];
+                let fr = TI[1][0] * f0 + TI[1][1] * f1 + TI[1][2] * f2;
+                let fi = TI[2][0] * f0 + TI[2][1] * f1 + TI[2][2] * f2;
+                // (fr + i fi) − cc (W1 + i W2)
+                let w = Complex64::new(w1s[j], w2s[j]);
+                let r = Complex64::new(fr, fi) - cc * w;
+                d1s[j] = r.re;
+                d2s[j] = r.im;
+            }
+            if !finite {
+                return (false, it + 1, rate);
+            }
+            let kv = Self::kv_of(sys, &self.kv);
+            linear::solve_real(&mut *self.real, mass, kv, cr, d0s);
+            linear::solve_complex(&mut *self.cplx, mass, kv, cc, d1s, d2s, &mut self.rhs_c);
+            let mut dw_norm: f64 = 0.0;
+            for d in [&*d0s, &*d1s, &*d2s] {
+                for (x, iw) in d.iter().zip(&self.inv_w) {
+                    let e = (x * iw).abs();
+                    dw_norm = if e.is_nan() {
+                        f64::INFINITY
+                    } else {
+                        dw_norm.max(e)
+                    };
+                }
+            }
+            if let Some(old) = dw_norm_old {
+                rate = dw_norm / old;
+            }
+            // An increment far below the Newton tolerance is converged whatever the ratio of
+            // two such increments says: near rounding level that ratio is noise (≈ 1) and would
+            // be read as divergence, cutting the step down to nothing (Hairer's RADAU5 avoids
+            // this with its carried-over FACCON; this is the stateless equivalent).
+            let negligible = dw_norm <= NEGLIGIBLE_NEWTON * self.newton_tol;
+            if !negligible
+                && rate.is_finite()
+                && (rate >= 1.0
+                    || rate.powi((NEWTON_MAXITER - it) as i32) / (1.0 - rate) * dw_norm
+                        > self.newton_tol)
+            {
+                return (false, it + 1, rate);
+            }
+            if !dw_norm.is_finite() {
+                return (false, it + 1, rate);
+            }
+            let [w0s, w1s, w2s] = &mut self.w;
+            let [z0s, z1s, z2s] = &mut self.zs;
+            for j in 0..n {
+                let w0 = w0s[j] + d0s[j];
+                let w1 = w1s[j] + d1s[j];
+                let w2 = w2s[j] + d2s[j];
+                w0s[j] = w0;
+                w1s[j] = w1;
+                w2s[j] = w2;
+                z0s[j] = T[0][0] * w0 + T[0][1] * w1 + T[0][2] * w2;
+                z1s[j] = T[1][0] * w0 + T[1][1] * w1 + T[1][2] * w2;
+                z2s[j] = T[2][0] * w0 + T[2][1] * w1 + T[2][2] * w2;
+            }
+            if negligible
+                || dw_norm == 0.0
+                || (rate.is_finite() && rate / (1.0 - rate) * dw_norm < self.newton_tol)
+            {
+                return (true, it + 1, rate);
+            }
+            dw_norm_old = Some(dw_norm);
+        }
+        (false, NEWTON_MAXITER, rate)
+    }
+
+    /// The dissipated energy `E_d` as one more (error-controlled) state component, over the
+    /// step of size `h` whose converged stages are in `zs`: its stage increments
+    /// `D_i = h Σ_j a_ij P_j` (`P_j` the power at the stages; `D_3` is the Radau quadrature of
+    /// order 5) and its error estimate `(P_0 + Σ e_i D_i / h)/(μ_r/h)` (the filter of the state's
+    /// estimate, with `∂P/∂z` neglected as in the simplified Newton). Returns `(D_3, weighted
+    /// error)`. Inside a step the clipped force can vanish while the power does not
+    /// (`P = −F_el δ̇`), which the state's error estimate cannot see.
+    pub(super) fn dissipation_error(&mut self, sys: &dyn System, h: f64, cr: f64) -> (f64, f64) {
+        let m = self.m;
+        for i in 0..3 {
+            for ((y, z), d) in self.ytmp_d.iter_mut().zip(&self.z).zip(&self.zs[i]) {
+                *y = z + d;
+            }
+            let (u, v) = self.ytmp_d.split_at(m);
+            self.ps[i] = sys.accel(u, v, &mut self.acc);
+        }
+        let d: [f64; 3] =
+            std::array::from_fn(|i| h * (0..3).map(|j| RADAU_A[i][j] * self.ps[j]).sum::<f64>());
+        let err = (self.p0 + (E[0] * d[0] + E[1] * d[1] + E[2] * d[2]) / h) / cr;
+        let w = self.tol.weight_e(self.diss.1, self.diss.1 + d[2]);
+        (d[2], (err / w).abs())
+    }
+
+    /// Initial guess of the stages from the previous step's collocation polynomial.
+    pub(super) fn predict_stages(&mut self, h: f64) {
+        let n = 2 * self.m;
+        if !self.have_sol {
+            for zi in self.zs.iter_mut() {
+                zi.fill(0.0);
+            }
+            return;
+        }
+        let h_prev = self.t - self.t_old;
+        for i in 0..3 {
+            let x = (self.t + h * C[i] - self.t_old) / h_prev;
+            let (x1, x2, x3) = (x, x * x, x * x * x);
+            for j in 0..n {
+                let y = self.z_old[j] + self.q[0][j] * x1 + self.q[1][j] * x2 + self.q[2][j] * x3;
+                self.zs[i][j] = y - self.z[j];
+            }
+        }
+    }
+}
