@@ -22,6 +22,7 @@ fn striker(n: usize, until: f64) -> Scene {
             ..Default::default()
         },
         seed: 0,
+        units: None,
     }
 }
 

@@ -69,6 +69,11 @@ impl Observer for SnapshotSink {
             .map_err(|e| EngineError::Observer(e.to_string()))
     }
 
+    fn dissipated(&mut self, _t: f64, energy: f64) -> Result<(), EngineError> {
+        self.writer.set_dissipated(energy);
+        Ok(())
+    }
+
     fn events(&mut self, events: &[EventRecord]) -> Result<(), EngineError> {
         self.writer
             .write_events(events)

@@ -256,7 +256,7 @@ pub fn inspect_with(snap: &Snapshot, chain: &Chain, damaged: &[(usize, String)])
     if n > 0 {
         let times = snap.frame_times();
         let _ = writeln!(s, "time span:   {} .. {}", Num(times[0]), Num(times[n - 1]));
-        let energy = |k: usize| -> Result<(f64, f64), String> {
+        let energy = |k: usize| -> Result<(f64, f64, Option<f64>), String> {
             snap.require_full("the energy needs every bead and both fields")
                 .map_err(|e| e.to_string())?;
             let f = snap.frame(k).map_err(|e| e.to_string())?;
@@ -267,10 +267,11 @@ pub fn inspect_with(snap: &Snapshot, chain: &Chain, damaged: &[(usize, String)])
                     chain.len()
                 ));
             }
-            Ok((chain.energy(&f.u, &f.v), chain.energy_scale(&f.u, &f.v)))
+            let (e, scale) = (chain.energy(&f.u, &f.v), chain.energy_scale(&f.u, &f.v));
+            Ok((e, scale, f.dissipated))
         };
         match (energy(0), energy(n - 1)) {
-            (Ok((e0, s0)), Ok((e1, s1))) => {
+            (Ok((e0, s0, d0)), Ok((e1, s1, d1))) => {
                 let _ = writeln!(
                     s,
                     "energy:      first frame {}, last frame {}",
@@ -281,6 +282,19 @@ pub fn inspect_with(snap: &Snapshot, chain: &Chain, damaged: &[(usize, String)])
                 let rel =
                     crate::model::relative_energy_change(e0, e1, s0.max(s1)).copysign(e1 - e0);
                 let _ = writeln!(s, "energy change (relative): {rel:.3e}");
+                if chain.damping.is_some() {
+                    if let (Some(d0), Some(d1)) = (d0, d1) {
+                        // E + E_d is conserved: the balance error is the change of the sum.
+                        let (b0, b1) = (e0 + d0, e1 + d1);
+                        let bal = crate::model::relative_energy_change(b0, b1, s0.max(s1))
+                            .copysign(b1 - b0);
+                        let _ = writeln!(
+                            s,
+                            "dissipated:  {} by the last frame (balance error {bal:.3e})",
+                            Num(d1 - d0)
+                        );
+                    }
+                }
             }
             (Err(e), _) if !h.output.is_full() => {
                 let _ = writeln!(s, "energy:      not available: {e}");

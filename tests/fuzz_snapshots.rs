@@ -62,6 +62,7 @@ fn snap_scene() -> Scene {
             ..Default::default()
         },
         seed: 9,
+        units: None,
     }
 }
 
@@ -73,6 +74,7 @@ fn snap_frames() -> Vec<Frame> {
             v: (0..N_BEADS)
                 .map(|i| -0.25 * (i * k) as f64 - 1e-9)
                 .collect(),
+            dissipated: Some(0.0),
         })
         .collect()
 }

@@ -94,6 +94,7 @@ fn selected_frames_equal_columns_of_a_full_run() {
                     t: f.t,
                     u: pick(&f.u, sel.fields.has_u()),
                     v: pick(&f.v, sel.fields.has_v()),
+                    dissipated: f.dissipated,
                 };
                 assert_eq!(bits(&g), bits(&want), "{engine} {beads} {fields} frame {k}");
             }
@@ -446,7 +447,7 @@ fn inspect_reports_the_selection() {
     ok(&o);
     let text = String::from_utf8(o.stdout).unwrap();
     assert!(
-        text.contains("format:      version 3 (this build reads 1..=3), complete"),
+        text.contains("format:      version 4 (this build reads 1..=4), complete"),
         "{text}"
     );
     assert!(

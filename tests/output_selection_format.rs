@@ -39,11 +39,13 @@ fn golden_v2_fixture() -> (Header, Vec<Frame>, Vec<EventRecord>, RunSummary) {
             t: 0.0,
             u: vec![0.0, -0.0, 0.0],
             v: vec![1.0, 0.0, 0.0],
+            dissipated: None,
         },
         Frame {
             t: 2.5,
             u: vec![1.5e-7, -2.0e-8, 3.0],
             v: vec![-0.25, 0.125, 1.0 / 3.0],
+            dissipated: None,
         },
     ];
     let events = vec![
@@ -178,6 +180,7 @@ fn golden_v3_selection_still_reads() {
             t: f.t,
             u: vec![],
             v: vec![f.v[0], f.v[2]],
+            dissipated: None,
         };
         assert_eq!(bits(&got), bits(&want), "frame {k}");
     }

@@ -40,6 +40,7 @@ fn scene(n: usize) -> Scene {
             ..Default::default()
         },
         seed: 42,
+        units: None,
     }
 }
 
@@ -77,7 +78,12 @@ fn frames(n: usize, count: usize) -> Vec<Frame> {
                     }
                 })
                 .collect();
-            Frame { t, u, v }
+            Frame {
+                t,
+                u,
+                v,
+                dissipated: Some(0.0),
+            }
         })
         .collect()
 }
@@ -219,7 +225,7 @@ fn layout_matches_documentation() {
     let (_d, p, _) = sample();
     let bytes = std::fs::read(&p).unwrap();
     assert_eq!(&bytes[..8], b"BEADCHN\0");
-    assert_eq!(u32::from_le_bytes(bytes[8..12].try_into().unwrap()), 3); // format version 3
+    assert_eq!(u32::from_le_bytes(bytes[8..12].try_into().unwrap()), 4); // format version 4
     let secs = sections(&bytes);
     let tags: Vec<&[u8; 4]> = secs.iter().map(|(_, t, _)| t).collect();
     let mut want = vec![b"HEAD"];
@@ -228,7 +234,7 @@ fn layout_matches_documentation() {
     assert_eq!(tags, want);
     for (_, t, len) in &secs {
         if t == b"FRAM" {
-            assert_eq!(*len, 16 + 16 * 4); // frame number, t, u[4], v[4]
+            assert_eq!(*len, 24 + 16 * 4); // frame number, t, dissipated energy, u[4], v[4]
         }
     }
     let (end_at, _, _) = secs[secs.len() - 1];
@@ -708,11 +714,13 @@ fn golden_fixture() -> (Header, Vec<Frame>) {
             t: 0.0,
             u: vec![0.0, 0.0, 0.0],
             v: vec![1.0, 0.0, 0.0],
+            dissipated: None,
         },
         Frame {
             t: 2.5,
             u: vec![1.5e-7, -2.0e-8, 3.0],
             v: vec![-0.25, 0.125, 1.0 / 3.0],
+            dissipated: None,
         },
     ];
     (h, fr)

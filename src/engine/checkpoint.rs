@@ -4,10 +4,10 @@
 //! Engines ask their [`super::Observer`] between steps whether to checkpoint ([`Control`]);
 //! saving is read-only, so a checkpoint never perturbs the run.
 
+use crate::engine::events::EventRecord;
 use crate::engine::hybrid::cluster::Pending;
 use crate::engine::hybrid::free::Free;
 use crate::integrate::IntegratorState;
-use crate::snapshot::EventRecord;
 use serde::{Deserialize, Serialize};
 
 /// What the observer wants the engine to do after the current step/event.

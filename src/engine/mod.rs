@@ -12,6 +12,7 @@
 
 pub mod checkpoint;
 pub mod dense;
+pub mod events;
 pub mod hybrid;
 pub mod stepper;
 
@@ -106,7 +107,7 @@ pub trait Observer {
     /// A block of the event log, in processing order (hybrid engine). Blocks are handed over
     /// when the engine's buffer holds [`EVENT_BLOCK`] events and before every frame; the
     /// engine keeps no other copy. The default drops them.
-    fn events(&mut self, _events: &[crate::snapshot::EventRecord]) -> Result<(), EngineError> {
+    fn events(&mut self, _events: &[events::EventRecord]) -> Result<(), EngineError> {
         Ok(())
     }
     /// Asked between steps (engine clock `t`): continue, checkpoint, or checkpoint and stop.
@@ -145,7 +146,7 @@ pub struct Recorder {
     /// Velocities per frame.
     pub v: Vec<Vec<f64>>,
     /// The event log (hybrid engine), in processing order.
-    pub events: Vec<crate::snapshot::EventRecord>,
+    pub events: Vec<events::EventRecord>,
     /// Energy dissipated up to each frame (dissipative scenes; empty otherwise).
     pub dissipated: Vec<f64>,
 }
@@ -158,7 +159,7 @@ impl Observer for Recorder {
         Ok(())
     }
 
-    fn events(&mut self, events: &[crate::snapshot::EventRecord]) -> Result<(), EngineError> {
+    fn events(&mut self, events: &[events::EventRecord]) -> Result<(), EngineError> {
         self.events.extend_from_slice(events);
         Ok(())
     }

@@ -3,9 +3,9 @@
 //!
 //! A physical scene (`[units] system = "physical"`) is simulated in the paper's computer units
 //! (eqs. 10–11, [`crate::scene::units`]): time `t̃ = t / β`, velocity `ṽ = v β`, lengths in metres,
-//! energy `Ẽ = E β² / m0`. Its snapshot header keeps the scales in the scene description
-//! (`[physical units: time unit β s, mass unit m0 kg, …]`, written by the scene parser with
-//! seven significant digits), so the plots convert back: `t = t̃ β` (s), `v = ṽ / β` (m/s). Energy
+//! energy `Ẽ = E β² / m0`. The scene carries its scales ([`Scene::units`], stored in full
+//! precision by snapshot format 4; older files recover them from the scene description, to seven
+//! significant digits), so the plots convert back: `t = t̃ β` (s), `v = ṽ / β` (m/s). Energy
 //! ratios `E/E₀` are dimensionless in either system. A dimensionless scene has no SI meaning:
 //! `--units si` on it is an error.
 
@@ -23,21 +23,9 @@ pub enum Units {
     Si,
 }
 
-/// The unit scales recorded in a physical scene's description, if any.
+/// The unit scales of a physical scene, if any (see [`Scene::units`]).
 pub fn scene_scales(scene: &Scene) -> Option<UnitScales> {
-    let d = &scene.description;
-    let tag = &d[d.find("[physical units: ")?..];
-    let num = |key: &str| -> Option<f64> {
-        let rest = &tag[tag.find(key)? + key.len()..];
-        let end = rest.find([' ', ',', ';', ']']).unwrap_or(rest.len());
-        rest[..end].parse().ok()
-    };
-    Some(UnitScales {
-        time: num("time unit ")?,
-        mass: num("mass unit ")?,
-        mu: num("mu ")?,
-        n0: num("n0 ")?,
-    })
+    scene.units
 }
 
 /// Conversion factors and axis labels of one snapshot's plots.
@@ -127,12 +115,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn scales_from_description() {
+    fn scales_of_a_physical_scene() {
         let mut sc = crate::scene::preset("hertz_spheres_physical").unwrap();
         let s = scene_scales(&sc).expect("physical");
         assert!((s.time - 9.0572e-7).abs() < 1e-10, "{s:?}");
         assert_eq!(s.n0, 2.5);
-        sc.description = "plain".into();
+        sc.units = None;
         assert!(scene_scales(&sc).is_none());
         let e = AxisUnits::of(&sc, Units::Si, Path::new("a.snap")).unwrap_err();
         assert!(e.to_string().starts_with("a.snap: --units si: "), "{e}");

@@ -271,4 +271,8 @@ pub struct Scene {
     pub run: RunSettings,
     /// Seed of every random generator the scene used (stored so runs can be reproduced).
     pub seed: u64,
+    /// Conversion to SI of a physical scene (`[units] system = "physical"`): the scene is
+    /// simulated in the paper's computer units (eqs. 10–11); `None` for a dimensionless scene.
+    #[serde(default)]
+    pub units: Option<UnitScales>,
 }

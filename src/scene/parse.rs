@@ -713,6 +713,7 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
         v0,
         run,
         seed,
+        units: scales,
     };
     super::hard::default_collapse_interval(&mut scene);
     Ok(scene)

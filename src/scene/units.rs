@@ -68,7 +68,7 @@ pub fn hertz_wall_prefactor(r: f64, d: f64) -> f64 {
 }
 
 /// Conversion between SI and computer units of a physical scene.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct UnitScales {
     /// Mass unit `m0` in kg (computer mass = kg / m0).
     pub mass: f64,

@@ -17,13 +17,15 @@ use std::path::Path;
 pub const CKPT_MAGIC: [u8; 8] = *b"BEADCKPT";
 /// Checkpoint format version (2: the engine state holds only the unflushed events, the writer
 /// mark the event blocks already written, the clusters' integrators their method-switching
-/// state, the hybrid state the resting hard contacts).
-pub const CKPT_VERSION: u32 = 2;
+/// state, the hybrid state the resting hard contacts; 3: the scene as a named record, the
+/// snapshot it continues of format 4).
+pub const CKPT_VERSION: u32 = 3;
 
 /// Everything a resumed run needs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CheckpointFile {
-    /// The resolved scene.
+    /// The resolved scene (stored as its named record, [`super::header4`]).
+    #[serde(with = "super::header4::scene_as_record")]
     pub scene: Scene,
     /// The run configuration.
     pub config: RunConfig,

@@ -1,5 +1,8 @@
 //! The HEADER section across format versions, and reading it alone from a file.
 //!
+//! Version 4 stores a named record ([`super::header4`]); versions 1–3 stored the internal structs
+//! through bincode, decoded here through frozen copies of their layouts.
+//!
 //! Version 3 appends [`Header::output`] (the [output selection](super::select)) to the header
 //! of versions 1 and 2; bincode stores fields in order without names, so the older layout is
 //! decoded through [`HeaderV2`] and gets the full selection (every bead, both fields), which is
@@ -13,7 +16,7 @@ use super::{
 };
 use crate::integrate::Method;
 use crate::model::{Chain, HardContacts, Wall};
-use crate::scene::{Engine, RunSettings, Scene};
+use crate::scene::{Engine, RunSettings, Scene, UnitScales};
 use serde::Deserialize;
 use std::io::Read;
 use std::path::Path;
@@ -47,6 +50,7 @@ impl SceneV2 {
     /// Today's scene: a version-1/2 chain is conservative (`damping = None`).
     fn upgrade(self) -> Scene {
         let c = self.chain;
+        let units = units_from_description(&self.description);
         Scene {
             name: self.name,
             description: self.description,
@@ -65,8 +69,27 @@ impl SceneV2 {
             v0: self.v0,
             run: self.run,
             seed: self.seed,
+            units,
         }
     }
+}
+
+/// The unit scales a version 1–3 header recorded in the scene description
+/// (`[physical units: time unit β s, mass unit m0 kg, mu μ, n0 n0; …]`, β and m0 to seven
+/// significant digits); format 4 stores [`Scene::units`] in full.
+pub(crate) fn units_from_description(d: &str) -> Option<UnitScales> {
+    let tag = &d[d.find("[physical units: ")?..];
+    let num = |key: &str| -> Option<f64> {
+        let rest = &tag[tag.find(key)? + key.len()..];
+        let end = rest.find([' ', ',', ';', ']']).unwrap_or(rest.len());
+        rest[..end].parse().ok()
+    };
+    Some(UnitScales {
+        time: num("time unit ")?,
+        mass: num("mass unit ")?,
+        mu: num("mu ")?,
+        n0: num("n0 ")?,
+    })
 }
 
 /// The header of format versions 1 and 2 ([`Header`] without `output`, its scene without
@@ -85,11 +108,64 @@ struct HeaderV2 {
     created_by: String,
 }
 
-/// Decodes a HEADER payload of format `version` (1 to 3) and checks its output selection
+/// `Scene` as version 3 stored it (no `units`: they were only in the description).
+#[derive(Deserialize)]
+struct SceneV3 {
+    name: String,
+    description: String,
+    chain: Chain,
+    u0: Vec<f64>,
+    v0: Vec<f64>,
+    run: RunSettings,
+    seed: u64,
+}
+
+/// The header of format version 3 (the internal structs through bincode).
+#[derive(Deserialize)]
+struct HeaderV3 {
+    format_version: u32,
+    crate_version: String,
+    scene: SceneV3,
+    engine: Engine,
+    method: Method,
+    rtol: f64,
+    atol: f64,
+    seed: u64,
+    n_beads: u64,
+    created_by: String,
+    output: Selection,
+}
+
+/// Decodes a HEADER payload of format `version` (1 to 4) and checks its output selection
 /// against its bead count.
 pub(crate) fn decode_header(version: u32, payload: &[u8]) -> Result<Header, String> {
-    let h = if version >= 3 {
-        decode_exact::<Header>(payload)?
+    let h = if version >= 4 {
+        super::header4::header_from_record(decode_exact(payload)?)?
+    } else if version == 3 {
+        let o: HeaderV3 = decode_exact(payload)?;
+        let sc = o.scene;
+        Header {
+            format_version: o.format_version,
+            crate_version: o.crate_version,
+            scene: Scene {
+                units: units_from_description(&sc.description),
+                name: sc.name,
+                description: sc.description,
+                chain: sc.chain,
+                u0: sc.u0,
+                v0: sc.v0,
+                run: sc.run,
+                seed: sc.seed,
+            },
+            engine: o.engine,
+            method: o.method,
+            rtol: o.rtol,
+            atol: o.atol,
+            seed: o.seed,
+            n_beads: o.n_beads,
+            created_by: o.created_by,
+            output: o.output,
+        }
     } else {
         let o: HeaderV2 = decode_exact(payload)?;
         Header {

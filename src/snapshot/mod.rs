@@ -110,7 +110,9 @@
 
 pub mod ckpt;
 mod header;
+pub mod header4;
 mod reader;
+pub mod record;
 pub mod select;
 pub mod size;
 mod writer;
@@ -119,6 +121,8 @@ pub use header::read_header;
 pub use reader::Snapshot;
 pub use select::{Fields, Selection};
 pub use writer::{SnapshotWriter, WriterMark};
+// The event log's records are the engine's; the format stores them as they are.
+pub use crate::engine::events::{EventKind, EventRecord};
 
 use crate::integrate::{Method, Stats};
 use crate::scene::{Engine, Scene};
@@ -130,7 +134,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 pub const MAGIC: [u8; 8] = *b"BEADCHN\0";
 /// Format version written by this build (and the newest it reads; versions 1 and 2 are still
 /// read).
-pub const FORMAT_VERSION: u32 = 3;
+pub const FORMAT_VERSION: u32 = 4;
 /// Bytes before the first section: magic + version.
 pub const PREAMBLE_LEN: u64 = 12;
 /// Bytes of a section header: tag + length + CRC.
@@ -236,50 +240,9 @@ pub struct Frame {
     pub u: Vec<f64>,
     /// Velocities `v_i`, length `N` (or the stored beads; empty when not stored).
     pub v: Vec<f64>,
-}
-
-/// Kind of a contact event.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub enum EventKind {
-    /// A gap between two beads closed (contact starts).
-    Close,
-    /// A contact between two beads opened (gap appears).
-    Open,
-    /// An instantaneous hard collision.
-    HardCollision,
-    /// A bead touched a wall.
-    WallClose,
-    /// A bead left a wall.
-    WallOpen,
-}
-
-impl EventKind {
-    /// The name used in exported files (`close`, `open`, `hard_collision`, `wall_close`,
-    /// `wall_open`).
-    pub fn name(self) -> &'static str {
-        match self {
-            EventKind::Close => "close",
-            EventKind::Open => "open",
-            EventKind::HardCollision => "hard_collision",
-            EventKind::WallClose => "wall_close",
-            EventKind::WallOpen => "wall_open",
-        }
-    }
-}
-
-/// One entry of the event log.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct EventRecord {
-    /// Event time.
-    pub t: f64,
-    /// Contact index `c` (between beads `c` and `c+1`; for wall events the bead index).
-    pub contact: u64,
-    /// What happened.
-    pub kind: EventKind,
-    /// Relative (approach) velocity at the event.
-    pub rel_velocity: f64,
-    /// Largest overlap the contact reached while closed (0 for a closing event).
-    pub peak_overlap: f64,
+    /// Energy dissipated by damped contacts from `t = 0` to `t` (format version 4; 0 for a
+    /// conservative chain; `None` in older files, which did not store it).
+    pub dissipated: Option<f64>,
 }
 
 /// Statistics of a finished run.

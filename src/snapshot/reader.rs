@@ -140,7 +140,7 @@ impl Snapshot {
         let payload = raw.read_payload(&head, "HEADER")?;
         let header = super::header::decode_header(version, &payload)
             .map_err(|d| raw.corrupt("HEADER", head.offset, d))?;
-        let frame_len = (header.output.frame_payload_len(header.n_beads))
+        let frame_len = (header.output.frame_payload_len(header.n_beads, version))
             .filter(|&l| l < MAX_PLAUSIBLE_LEN)
             .ok_or_else(|| {
                 raw.corrupt(

@@ -113,9 +113,11 @@ impl Selection {
         self.bead_count(n).checked_mul(self.fields.count())
     }
 
-    /// Payload length of a FRAME section (`None` on overflow).
-    pub fn frame_payload_len(&self, n: u64) -> Option<u64> {
-        self.values_per_frame(n)?.checked_mul(8)?.checked_add(16)
+    /// Payload length of a FRAME section of format `version` (`None` on overflow): frame
+    /// number and `t` (versions 1–3), then the dissipated energy (version 4), then the values.
+    pub fn frame_payload_len(&self, n: u64, version: u32) -> Option<u64> {
+        let lead = if version >= 4 { 24 } else { 16 };
+        self.values_per_frame(n)?.checked_mul(8)?.checked_add(lead)
     }
 
     /// Errors unless the bead list is non-empty, strictly increasing and below `n` (a header

@@ -49,6 +49,8 @@ pub struct SnapshotWriter {
     ev_scratch: Vec<u8>,
     /// Writing in place to a character device or FIFO (no temporary, no rename, no mark).
     stream: bool,
+    /// Energy dissipated up to the next frame ([`SnapshotWriter::set_dissipated`]).
+    dissipated: f64,
 }
 
 impl SnapshotWriter {
@@ -101,11 +103,13 @@ impl SnapshotWriter {
             events_written: 0,
             scratch: vec![0u8; CHUNK_VALUES * 8].into_boxed_slice(),
             ev_scratch: Vec::new(),
+            dissipated: 0.0,
             stream,
         };
         let mut h = header.clone();
         h.format_version = FORMAT_VERSION;
-        let payload = encode(&h).map_err(|e| w.encode_err("HEADER", e))?;
+        let payload =
+            encode(&super::header4::header_record(&h)).map_err(|e| w.encode_err("HEADER", e))?;
         let mut pre = [0u8; 12];
         pre[..8].copy_from_slice(&MAGIC);
         pre[8..].copy_from_slice(&FORMAT_VERSION.to_le_bytes());
@@ -146,7 +150,8 @@ impl SnapshotWriter {
         let mut h = section_hasher(TAG_FRAME, self.frame_len);
         h.update(&number);
         let sel = (self.beads.as_deref(), self.fields);
-        for_each_chunk(t, u, v, sel, &mut self.scratch, |b| {
+        let lead = [t, self.dissipated];
+        for_each_chunk(lead, u, v, sel, &mut self.scratch, |b| {
             h.update(b);
             Ok(())
         })
@@ -158,7 +163,7 @@ impl SnapshotWriter {
         self.pos -= 8; // counted again below with the rest of the payload
         let out = self.out.as_mut().ok_or_else(finished_err)?;
         let sel = (self.beads.as_deref(), self.fields);
-        for_each_chunk(t, u, v, sel, &mut self.scratch, |b| out.write_all(b)).map_err(|e| {
+        for_each_chunk(lead, u, v, sel, &mut self.scratch, |b| out.write_all(b)).map_err(|e| {
             SnapshotError::Io {
                 path: self.path.clone(),
                 action: format!("writing frame {}", self.offsets.len()),
@@ -169,6 +174,12 @@ impl SnapshotWriter {
         self.offsets.push(offset);
         self.times.push(t);
         Ok(())
+    }
+
+    /// The energy dissipated from `t = 0` to the next frame (stored in it; 0 until set, as
+    /// for a conservative chain).
+    pub fn set_dissipated(&mut self, energy: f64) {
+        self.dissipated = energy;
     }
 
     /// Event blocks written so far.
@@ -324,8 +335,10 @@ fn frame_len(path: &Path, header: &Header) -> Result<u64, SnapshotError> {
         detail,
     };
     header.output.check(header.n_beads).map_err(bad)?;
-    (header.output.frame_payload_len(header.n_beads))
-        .ok_or_else(|| bad(format!("bead count {} is too large", header.n_beads)))
+    (header
+        .output
+        .frame_payload_len(header.n_beads, FORMAT_VERSION))
+    .ok_or_else(|| bad(format!("bead count {} is too large", header.n_beads)))
 }
 
 /// The stored bead indices as `usize` (`None`: every bead).
@@ -349,10 +362,10 @@ fn stored<'a>(
     all.iter().copied().chain(pick.iter().map(move |&i| xs[i]))
 }
 
-/// Feeds the little-endian bytes of `t`, the stored `u`, the stored `v` (selection `sel`) to
+/// Feeds the little-endian bytes of `lead` (`t`, dissipated energy), the stored `u`, the stored `v` (selection `sel`) to
 /// `f` in chunks of at most `scratch.len()` bytes (a multiple of 8). Allocates nothing.
 fn for_each_chunk(
-    t: f64,
+    lead: [f64; 2],
     u: &[f64],
     v: &[f64],
     (beads, fields): (Option<&[usize]>, Fields),
@@ -361,7 +374,8 @@ fn for_each_chunk(
 ) -> std::io::Result<()> {
     let cap = scratch.len() / 8;
     let mut fill = 0;
-    for x in std::iter::once(t)
+    for x in lead
+        .into_iter()
         .chain(stored(u, beads, fields.has_u()))
         .chain(stored(v, beads, fields.has_v()))
     {
@@ -495,6 +509,7 @@ impl SnapshotWriter {
             events_written: mark.events_written,
             scratch: vec![0u8; CHUNK_VALUES * 8].into_boxed_slice(),
             ev_scratch: Vec::new(),
+            dissipated: 0.0,
             stream: false,
         })
     }

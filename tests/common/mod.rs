@@ -33,6 +33,7 @@ pub fn striker(n: usize, exp: f64, a: f64, v0: f64, until: f64) -> Scene {
             ..Default::default()
         },
         seed: 0,
+        units: None,
     }
 }
 

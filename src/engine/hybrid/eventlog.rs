@@ -25,9 +25,9 @@
 use super::cluster::Cluster;
 use super::detect::{first_crossing, step_max};
 use super::Hybrid;
+use crate::engine::events::{EventKind, EventRecord};
 use crate::engine::{EngineError, Observer};
 use crate::model::Wall;
-use crate::snapshot::{EventKind, EventRecord};
 
 impl Hybrid<'_> {
     /// The soft wall at `side` (0 left, 1 right), if there is one.

@@ -29,8 +29,8 @@
 
 use super::stick::collide;
 use super::{Hybrid, FREE};
+use crate::engine::events::EventKind;
 use crate::engine::EngineError;
-use crate::snapshot::EventKind;
 
 impl Hybrid<'_> {
     /// Acceleration of bead `i` at the current event time (its owner settled there).

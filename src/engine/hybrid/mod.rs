@@ -49,10 +49,10 @@ mod stick;
 pub use stepping::HybridEngine;
 
 use super::{EngineError, Observer, RunConfig};
+use crate::engine::events::EventRecord;
 use crate::integrate::{IntegrationError, Stats, Tolerances};
 use crate::model::Chain;
 use crate::scene::Scene;
-use crate::snapshot::EventRecord;
 use cluster::Cluster;
 use free::Free;
 use ordered_float::OrderedFloat;

@@ -5,9 +5,9 @@ use super::cluster::{Cluster, ClusterSys, PIN_MASS_FACTOR};
 use super::free::{first_upward_crossing, Free};
 use super::{prio, Hybrid, Key, FREE};
 use crate::engine::dense::make_integrator;
+use crate::engine::events::EventKind;
 use crate::engine::EngineError;
 use crate::integrate::Tolerances;
-use crate::snapshot::EventKind;
 
 impl Hybrid<'_> {
     /// Creates a cluster of beads `lo..hi` at time `t` from global states `u`, `v`.

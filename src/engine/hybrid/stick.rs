@@ -35,7 +35,7 @@
 use super::cluster::Cluster;
 use super::free::Free;
 use super::Hybrid;
-use crate::snapshot::EventKind;
+use crate::engine::events::EventKind;
 
 /// A rigid group of free beads `lo..hi`, held at rest by the walls in `held`.
 #[derive(Clone, Copy, Debug)]

@@ -44,11 +44,14 @@ pub(super) fn read_frame_at(
     frame.u.resize(nu, 0.0);
     frame.v.resize(nv, 0.0);
     let mut t = 0.0;
+    // values before u: frame number, t (versions 1–3), and the dissipated energy (version 4)
+    let lead = (frame_len / 8) as usize - nu - nv;
+    let mut dissipated = None;
     let mut hasher = section_hasher(head.tag, head.len);
     let mut buf = [0u8; CHUNK];
     let mut file = raw.lock();
     seek(&mut file, head.payload_start()).map_err(|e| raw.io(&format!("seeking to {name}"), e))?;
-    let mut j = 0usize; // index of the next value: 0 = frame number, 1 = t, then u, then v
+    let mut j = 0usize; // index of the next value: 0 = frame number, 1 = t, [2 = E_d], u, v
     let mut stored = u64::MAX;
     let mut left = head.len;
     while left > 0 {
@@ -64,10 +67,12 @@ pub(super) fn read_frame_at(
                 stored = u64::from_le_bytes(bytes);
             } else if j == 1 {
                 t = x;
-            } else if j <= nu + 1 {
-                frame.u[j - 2] = x;
+            } else if j < lead {
+                dissipated = Some(x);
+            } else if j < lead + nu {
+                frame.u[j - lead] = x;
             } else {
-                frame.v[j - 2 - nu] = x;
+                frame.v[j - lead - nu] = x;
             }
             j += 1;
         }
@@ -85,6 +90,7 @@ pub(super) fn read_frame_at(
         ));
     }
     frame.t = t;
+    frame.dissipated = dissipated;
     Ok(())
 }
 
