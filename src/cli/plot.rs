@@ -215,7 +215,7 @@ fn open(path: &Path) -> Result<Snapshot> {
 /// The output rule (`X.png`, `X.svg` or a base name), and no output file is the input.
 fn check_out(path: &Path, kind: &str, input: &Path) -> Result<()> {
     for (f, _) in plot::output_paths(path)? {
-        crate::cli_files::check_not_input(&f, "--out", &[(kind, input.to_path_buf())])?;
+        super::files::check_not_input(&f, "--out", &[(kind, input.to_path_buf())])?;
     }
     Ok(())
 }

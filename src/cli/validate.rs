@@ -1,6 +1,5 @@
-//! `beadchain validate` (and `analyze`, re-exported from [`crate::cli_analyze`]).
+//! `beadchain validate --quick`: the paper's key numbers, reduced (library: [`beadchain::analysis::quick`]).
 
-pub use crate::cli_analyze::{cmd_analyze, AnalyzeArgs};
 use anyhow::{Context, Result};
 use std::path::PathBuf;
 
