@@ -3,12 +3,14 @@
 //! energy-transfer ratio in disordered chains (`transfer`, Fig. 23) and composite mass–exponent
 //! interfaces (`composite`, Fig. 25). Tables go to stdout, data to `validation/data/*.csv`.
 
-use beadchain::analysis::composite::{composite_grid, composite_run, contour_crossings, grid_csv};
-use beadchain::analysis::periodic::{
+use beadchain::experiments::composite::{
+    composite_grid, composite_run, contour_crossings, grid_csv,
+};
+use beadchain::experiments::periodic::{
     breathing, pair_leader_changes, pairing, periodic_window_run, retention, windowed_gamma,
     PeriodicRun, WIDTHS,
 };
-use beadchain::analysis::transfer::{bin_samples, transfer_run, transfer_trend, TransferSample};
+use beadchain::experiments::transfer::{bin_samples, transfer_run, transfer_trend, TransferSample};
 use beadchain::scene::Engine;
 use std::path::PathBuf;
 use std::time::Instant;

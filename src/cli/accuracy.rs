@@ -58,11 +58,7 @@ pub fn cmd_accuracy(a: AccuracyArgs) -> Result<i32> {
     use beadchain::accuracy::{accuracy_study, format_table, AccuracyOptions};
     let scene = load_scene(&a.scene)?;
     let opts = AccuracyOptions {
-        engines: a
-            .engines
-            .iter()
-            .map(|&e| e.into())
-            .collect(),
+        engines: a.engines.iter().map(|&e| e.into()).collect(),
         methods: a.methods.iter().map(|&m| m.into()).collect(),
         rtols: a.rtols,
         verlet_steps: a.verlet_steps,

@@ -1,10 +1,10 @@
 //! `beadchain check`: prints the report of [`beadchain::check`] and its verdict.
 
-use anyhow::{Context, Result};
 use super::common::{config, load_scene, Common};
+use anyhow::{Context, Result};
 use beadchain::check::{check_with_progress, CheckReport};
-use beadchain::engine::RunConfig;
 use beadchain::engine;
+use beadchain::engine::RunConfig;
 use beadchain::scene::Scene;
 
 /// Arguments of `beadchain check`.

@@ -74,8 +74,14 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
     header.output = sel;
     let writer = SnapshotWriter::create(&out_path, &header)?;
     let ckpt_file = ckpt::ckpt_path(&out_path);
-    let sink =
-        ckpt::SnapshotSink::new(writer, ckpt_file, a.checkpoint_every, &scene, &cfg, a.timing)?;
+    let sink = ckpt::SnapshotSink::new(
+        writer,
+        ckpt_file,
+        a.checkpoint_every,
+        &scene,
+        &cfg,
+        a.timing,
+    )?;
     let bar = RunProgress::new(a.common.quiet);
     let done = ckpt::drive(sink, &a.common.scene, |s| {
         let r = engine::run(&scene, &cfg, &mut bar.watch(s, 0.0, cfg.until, ""));

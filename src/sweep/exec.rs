@@ -3,15 +3,15 @@
 //!
 //! Each run uses the scene's own engine settings ([`RunConfig::from_scene`]) under a
 //! [`Watch`] (leading-wave track, incoming/reflected peak velocities; stop at bead `N − margin`,
-//! as `analysis::paper::run_watched`), optionally wrapped in [`SteadyStateStop`] (appendix A). A
+//! as `experiments::paper::run_watched`), optionally wrapped in [`SteadyStateStop`] (appendix A). A
 //! stopped run reports the counters of the engine state handed to the observer at the stop.
 
 use super::csv::{self, field, ResultFile};
 use super::expand::{format_value, RunPoint};
 use super::{SweepError, SweepSpec};
-use crate::analysis::paper::Watch;
 use crate::analysis::{energy_split, fit_exponential, fragmentation, SteadyStateStop};
 use crate::engine::{self, Control, EngineError, EngineState, Observer, RunConfig};
+use crate::experiments::paper::Watch;
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};

@@ -55,10 +55,10 @@
 //!   energy (Fig. 6) is `left_fraction − left_fraction(n2 = n1)` (the uniform run of the grid).
 //! - `gamma`, `gamma_se` (`decay`): fit `E/E0 = a e^{−γ x}` of the leading-wave energy (eq. 13)
 //!   against its peak bead `x ≥ from`, `E0` at the first frame with peak `≥ e0_bead`, up to the first
-//!   jump by more than `jump` between frames (as [`crate::analysis::paper::decay_gamma`], Sec. 5.2,
+//!   jump by more than `jump` between frames (as [`crate::experiments::paper::decay_gamma`], Sec. 5.2,
 //!   Fig. 20).
 //! - `v_ratio` (`impurity = K`): `|v_out/v_in|` of beads `min(K/2, 20)..K−3` over all frames
-//!   (Sec. 5.1, Fig. 18; [`crate::analysis::paper::Watch`]).
+//!   (Sec. 5.1, Fig. 18; [`crate::experiments::paper::Watch`]).
 //! - `fragments`: number of fragments of the final state ([`crate::analysis::fragmentation`]).
 //! - `wall_seconds` only with `--timing` (otherwise identical inputs give identical bytes).
 //!
@@ -157,7 +157,7 @@ pub struct Measure {
     pub fragments: Option<f64>,
 }
 
-/// Settings of the leading-wave decay fit (defaults as in `analysis::paper::decay_gamma`).
+/// Settings of the leading-wave decay fit (defaults as in `experiments::paper::decay_gamma`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Decay {
     /// Fit the points whose peak bead is at least this (default 25).

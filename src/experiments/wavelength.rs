@@ -23,7 +23,7 @@
 //!   within ±5 beads of `j1` (mean over those frames).
 
 use super::paper::PaperError;
-use super::wave::{leading_pulse, WaveOptions};
+use crate::analysis::wave::{leading_pulse, WaveOptions};
 use crate::engine::{self, Control, EngineError, Observer, RunConfig};
 use crate::scene::{self, Engine};
 use std::path::Path;
