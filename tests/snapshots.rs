@@ -3,12 +3,11 @@
 //! Float comparisons here are bit-exact (absolute and relative tolerance 0) unless stated:
 //! the format stores raw IEEE-754 bits and the CSV export prints round-trip decimals.
 
-use beadchain::export::{
-    export_csv, export_events_csv, export_npy, inspect, npy_header, write_atomically, FrameSel,
-};
+use beadchain::export::{export_csv, export_events_csv, export_npy, inspect, npy_header, FrameSel};
 use beadchain::integrate::{Method, Stats};
 use beadchain::model::Chain;
 use beadchain::scene::{Engine, RunSettings, Scene};
+use beadchain::snapshot::write_atomically;
 use beadchain::snapshot::{
     EventKind, EventRecord, Frame, Header, RunSummary, Snapshot, SnapshotError, SnapshotWriter,
     FORMAT_VERSION, PREAMBLE_LEN,

@@ -195,6 +195,7 @@ mod damping;
 pub mod error;
 pub(crate) mod hard;
 mod keys;
+mod load;
 mod output;
 pub mod parse;
 pub mod presets;
@@ -204,7 +205,8 @@ pub mod validate;
 pub mod values;
 
 pub use error::SceneError;
-pub use parse::{load, parse_str};
+pub use load::load;
+pub use parse::parse_str;
 pub use presets::{preset, presets, PresetInfo};
 pub use units::UnitScales;
 pub use validate::validate;

@@ -4,7 +4,6 @@
 
 use super::error::{one_line, SceneError};
 use super::keys::{exclusive, forbid, get, kp, opt_num, opt_spec, opt_str, positive, table};
-use super::presets;
 use super::units::{self, UnitScales};
 use super::validate::validate_in;
 use super::values::{check_keys, index, number, type_name, Ctx, Per, Spec};
@@ -23,31 +22,6 @@ pub const DEFAULT_MASS: f64 = 1.0;
 pub const DEFAULT_EXPONENT: f64 = 2.5;
 /// Default contact prefactor of dimensionless scenes.
 pub const DEFAULT_PREFACTOR: f64 = 1.0;
-
-/// Load a scene: `spec` is a path to a `.toml` file; if no such file exists and `spec` is a
-/// preset name, the preset is loaded; otherwise the error names both possibilities.
-pub fn load(spec: &str) -> Result<Scene, SceneError> {
-    let path = Path::new(spec);
-    if path.exists() {
-        let text = crate::files::read_text(path).map_err(|e| SceneError::Io {
-            file: one_line(spec),
-            reason: one_line(&e.to_string()),
-        })?;
-        let base = path.parent().unwrap_or(Path::new("."));
-        return parse_str(&text, base, spec);
-    }
-    if presets::presets().iter().any(|p| p.name == spec) {
-        return presets::preset(spec);
-    }
-    Err(SceneError::NotFound {
-        spec: one_line(spec),
-        presets: presets::presets()
-            .iter()
-            .map(|p| p.name)
-            .collect::<Vec<_>>()
-            .join(", "),
-    })
-}
 
 /// Parse scene text. `base_dir` resolves `{ file = ... }` CSVs; `origin` names the file in
 /// messages (its stem is the default scene name). The result is validated.
