@@ -5,9 +5,14 @@
 
 use super::error::SceneError;
 use super::keys::{exclusive, get, opt_spec};
-use super::parse::MAX_BEADS;
 use super::tables::Tables;
 use super::values::{index, Ctx, Per, Spec};
+
+/// Largest chain a scene may declare (guards against absurd allocations from typos).
+pub const MAX_BEADS: usize = 10_000_000;
+
+/// Default contact exponent (Hertz spheres).
+pub const DEFAULT_EXPONENT: f64 = 2.5;
 
 /// The array specs of a scene, unresolved (`None`: key absent).
 pub(super) struct Specs {

@@ -7,11 +7,15 @@
 use super::arrays::{Len, Specs};
 use super::error::SceneError;
 use super::keys::{forbid, kp, opt_num, opt_str, positive};
-use super::parse::{DEFAULT_MASS, DEFAULT_PREFACTOR};
 use super::tables::Tables;
 use super::units::{self, UnitScales};
 use super::values::{Ctx, Per, Spec};
 use toml::Table;
+
+/// Default per-bead mass of dimensionless scenes.
+pub const DEFAULT_MASS: f64 = 1.0;
+/// Default contact prefactor of dimensionless scenes.
+pub const DEFAULT_PREFACTOR: f64 = 1.0;
 
 /// The `[units]` material data of a physical scene, resolved (walls derive their prefactor from
 /// it).

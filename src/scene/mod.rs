@@ -192,6 +192,8 @@
 //! | `gravity_on_wall` | Six beads resting on a left wall under gravity g = 1 (static overlaps), top bead pushed down with v = 0.5: persistent contacts |
 
 mod arrays;
+mod builder;
+mod ctx;
 mod damping;
 pub mod error;
 pub(crate) mod hard;

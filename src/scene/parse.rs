@@ -10,15 +10,8 @@ use crate::model::Chain;
 use std::path::Path;
 use toml::Table;
 
-/// Largest chain a scene may declare (guards against absurd allocations from typos).
-pub const MAX_BEADS: usize = 10_000_000;
-
-/// Default per-bead mass of dimensionless scenes.
-pub const DEFAULT_MASS: f64 = 1.0;
-/// Default contact exponent (Hertz spheres).
-pub const DEFAULT_EXPONENT: f64 = 2.5;
-/// Default contact prefactor of dimensionless scenes.
-pub const DEFAULT_PREFACTOR: f64 = 1.0;
+pub use super::arrays::{DEFAULT_EXPONENT, MAX_BEADS};
+pub use super::material::{DEFAULT_MASS, DEFAULT_PREFACTOR};
 
 /// Parse scene text. `base_dir` resolves `{ file = ... }` CSVs; `origin` names the file in
 /// messages (its stem is the default scene name). The result is validated.
