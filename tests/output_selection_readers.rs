@@ -81,10 +81,16 @@ const SUB_BEADS: [usize; 6] = [10, 12, 14, 16, 18, 95];
 fn export_of_a_subset_labels_the_real_bead_indices() {
     let d = tempfile::tempdir().unwrap();
     let (_, full) = subset_and_full(d.path());
+    csv_exports_of_the_subset(d.path(), &full);
+    numpy_exports_of_the_subset(d.path(), &full);
+}
+
+/// Wide and long CSV of `sub.snap`: the real bead indices, values equal to the full run's.
+fn csv_exports_of_the_subset(d: &Path, full: &Snapshot) {
     let last = full.frame(20).unwrap();
     // wide CSV: columns t,u10,u12,…,u95; values equal the full run's columns bit for bit
     let o = bc(
-        d.path(),
+        d,
         &["export", "sub.snap", "--layout", "wide", "--frame", "last"],
     );
     ok(&o);
@@ -105,7 +111,7 @@ fn export_of_a_subset_labels_the_real_bead_indices() {
         want.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
     );
     // long CSV: frame,t,bead,u with the real index in `bead`
-    let o = bc(d.path(), &["export", "sub.snap", "--frame", "last"]);
+    let o = bc(d, &["export", "sub.snap", "--frame", "last"]);
     ok(&o);
     let text = String::from_utf8(o.stdout).unwrap();
     let rows: Vec<&str> = text.lines().collect();
@@ -120,12 +126,17 @@ fn export_of_a_subset_labels_the_real_bead_indices() {
             "bead {i}"
         );
     }
+}
+
+/// Wide and long NPY and the NPZ of `sub.snap`: shapes, bead indices, values.
+fn numpy_exports_of_the_subset(d: &Path, full: &Snapshot) {
+    let last = full.frame(20).unwrap();
     // wide NPY: (F, 1 + 6)
     ok(&bc(
-        d.path(),
+        d,
         &["export", "sub.snap", "--layout", "wide", "--out", "w.npy"],
     ));
-    let (shape, data) = parse_npy(&std::fs::read(d.path().join("w.npy")).unwrap());
+    let (shape, data) = parse_npy(&std::fs::read(d.join("w.npy")).unwrap());
     assert_eq!(shape, [21, 7]);
     for k in 0..21 {
         let f = full.frame(k).unwrap();
@@ -138,18 +149,18 @@ fn export_of_a_subset_labels_the_real_bead_indices() {
     }
     // long NPY: (rows, 4) = frame, t, bead, u
     ok(&bc(
-        d.path(),
+        d,
         &["export", "sub.snap", "--out", "l.npy", "--frame", "0"],
     ));
-    let (shape, data) = parse_npy(&std::fs::read(d.path().join("l.npy")).unwrap());
+    let (shape, data) = parse_npy(&std::fs::read(d.join("l.npy")).unwrap());
     assert_eq!(shape, [6, 4]);
     assert_eq!(
         data.chunks(4).map(|r| r[2] as usize).collect::<Vec<_>>(),
         SUB_BEADS
     );
     // NPZ: t, u (F, 6), beads (6,), chain arrays whole; no v
-    ok(&bc(d.path(), &["export", "sub.snap", "--out", "w.npz"]));
-    let z = parse_zip(&std::fs::read(d.path().join("w.npz")).unwrap());
+    ok(&bc(d, &["export", "sub.snap", "--out", "w.npz"]));
+    let z = parse_zip(&std::fs::read(d.join("w.npz")).unwrap());
     let names: Vec<&str> = z.keys().map(String::as_str).collect();
     assert_eq!(
         names,
