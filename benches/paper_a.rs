@@ -4,12 +4,13 @@
 //! `appendix_b`. Each prints a report (redirect to `validation/out_<name>.txt`) and writes
 //! `validation/data/<name>.csv` (header row; written to a temporary file and renamed).
 
+use beadchain::analysis::timings::InterfaceTimings;
 use beadchain::experiments::appendix::{energy_error, perturbed_interface, Perturbed};
 use beadchain::experiments::impurities::{
     collective_impurity, impurity_example, share, PulseKind, PulseRow,
 };
 use beadchain::experiments::paper::{physical_scene, time_per_bead, PaperError};
-use beadchain::experiments::timings::{interface_timing_run, InterfaceTimings, TimingRun};
+use beadchain::experiments::timings::{interface_timing_run, TimingRun};
 use beadchain::experiments::wavelength::{measure_wavelength, WavelengthResult};
 use beadchain::scene::Engine;
 use std::path::PathBuf;
@@ -160,7 +161,7 @@ fn timings() -> Result<(), PaperError> {
             r.seconds
         );
         print_timings("from sampled overlaps", &r.frames, r.tau);
-        let list = |x: &[beadchain::experiments::timings::Transition]| {
+        let list = |x: &[beadchain::analysis::timings::Transition]| {
             x.iter()
                 .take(16)
                 .map(|x| {

@@ -12,6 +12,10 @@
 //!   ordinary multilinear least squares (the Table 2 fit, eq. 21).
 //! - [`window`]: windowed wave energy behind the front, its decay and periods (Sec. 4,
 //!   Figs. 10–14; the periodic-chain runs are [`crate::experiments::periodic`]).
+//! - [`wavelength`]: the continuum solitary wave (Nesterenko) and a measured profile's widths
+//!   and fitted wavelength (Sec. 2, Fig. 2).
+//! - [`timings`]: gap openings/closings at an interface from frames or the event log, and the
+//!   freeze / two-body exchange times `t1 … t5` (Sec. 3.1, Figs. 3–4).
 //! - [`state`]: the steady-state criterion of appendix A (also as a run stop condition) and
 //!   fragmentation statistics (open gaps, fragments and their velocities).
 //!
@@ -25,7 +29,9 @@
 pub mod fit;
 pub mod interface;
 pub mod state;
+pub mod timings;
 pub mod wave;
+pub mod wavelength;
 pub mod window;
 
 pub use fit::{fit_exponential, least_squares, ExpFit, LinearFit};

@@ -20,8 +20,9 @@
 
 use super::impurities::{census, PulseRow};
 use super::paper::PaperError;
-use super::timings::{timing_run, InterfaceTimings};
+use super::timings::timing_run;
 use crate::analysis::state::SteadyStateStop;
+use crate::analysis::timings::InterfaceTimings;
 use crate::analysis::wave::{leading_pulse, WaveOptions};
 use crate::engine::{self, EngineError, Observer, RunConfig};
 use crate::integrate::Method;
