@@ -4,13 +4,14 @@
 //! `appendix_b`. Each prints a report (redirect to `validation/out_<name>.txt`) and writes
 //! `validation/data/<name>.csv` (header row; written to a temporary file and renamed).
 
-use beadchain::analysis::appendix::{energy_error, perturbed_interface, Perturbed};
-use beadchain::analysis::impurities::{
+use beadchain::analysis::timings::InterfaceTimings;
+use beadchain::experiments::appendix::{energy_error, perturbed_interface, Perturbed};
+use beadchain::experiments::impurities::{
     collective_impurity, impurity_example, share, PulseKind, PulseRow,
 };
-use beadchain::analysis::paper::{physical_scene, time_per_bead, PaperError};
-use beadchain::analysis::timings::{interface_timing_run, InterfaceTimings, TimingRun};
-use beadchain::analysis::wavelength::{measure_wavelength, WavelengthResult};
+use beadchain::experiments::paper::{physical_scene, time_per_bead, PaperError};
+use beadchain::experiments::timings::{interface_timing_run, TimingRun};
+use beadchain::experiments::wavelength::{measure_wavelength, WavelengthResult};
 use beadchain::scene::Engine;
 use std::path::PathBuf;
 use std::time::Instant;

@@ -3,12 +3,14 @@
 //! energy-transfer ratio in disordered chains (`transfer`, Fig. 23) and composite mass–exponent
 //! interfaces (`composite`, Fig. 25). Tables go to stdout, data to `validation/data/*.csv`.
 
-use beadchain::analysis::composite::{composite_grid, composite_run, contour_crossings, grid_csv};
-use beadchain::analysis::periodic::{
+use beadchain::experiments::composite::{
+    composite_grid, composite_run, contour_crossings, grid_csv, CompositeRow,
+};
+use beadchain::experiments::periodic::{
     breathing, pair_leader_changes, pairing, periodic_window_run, retention, windowed_gamma,
     PeriodicRun, WIDTHS,
 };
-use beadchain::analysis::transfer::{bin_samples, transfer_run, transfer_trend, TransferSample};
+use beadchain::experiments::transfer::{bin_samples, transfer_run, transfer_trend, TransferSample};
 use beadchain::scene::Engine;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -37,6 +39,28 @@ pub fn dispatch(what: &str) -> Option<Res> {
         "composite" => composite(),
         _ => return None,
     })
+}
+
+/// The local minima of `γ(dn)` (W = 12) of one scan, each with the vertex of the parabola
+/// through the three points around it.
+fn local_minima(na: f64, g12: &[(f64, f64)]) -> Vec<String> {
+    g12.windows(3)
+        .filter(|w| w[1].1 < w[0].1 && w[1].1 <= w[2].1)
+        .map(|w| {
+            // vertex of the parabola through the three points around the minimum
+            let (x0, x1, x2) = (w[0].0, w[1].0, w[2].0);
+            let (y0, y1, y2) = (w[0].1, w[1].1, w[2].1);
+            let num = (x1 - x0).powi(2) * (y1 - y2) - (x1 - x2).powi(2) * (y1 - y0);
+            let den = (x1 - x0) * (y1 - y2) - (x1 - x2) * (y1 - y0);
+            let xv = if den != 0.0 { x1 - 0.5 * num / den } else { x1 };
+            format!(
+                "dn = {} (n_b = {}, γ = {:.2e}; parabola vertex dn = {xv:.4})",
+                w[1].0,
+                na + w[1].0,
+                w[1].1
+            )
+        })
+        .collect()
 }
 
 /// Windowed γ scan over dn for n_a = 2.5 and 4.0, local minima, dense cross-check.
@@ -96,24 +120,7 @@ pub fn periodic4() -> Res {
                 run.seconds
             );
         }
-        let minima: Vec<String> = g12
-            .windows(3)
-            .filter(|w| w[1].1 < w[0].1 && w[1].1 <= w[2].1)
-            .map(|w| {
-                // vertex of the parabola through the three points around the minimum
-                let (x0, x1, x2) = (w[0].0, w[1].0, w[2].0);
-                let (y0, y1, y2) = (w[0].1, w[1].1, w[2].1);
-                let num = (x1 - x0).powi(2) * (y1 - y2) - (x1 - x2).powi(2) * (y1 - y0);
-                let den = (x1 - x0) * (y1 - y2) - (x1 - x2) * (y1 - y0);
-                let xv = if den != 0.0 { x1 - 0.5 * num / den } else { x1 };
-                format!(
-                    "dn = {} (n_b = {}, γ = {:.2e}; parabola vertex dn = {xv:.4})",
-                    w[1].0,
-                    na + w[1].0,
-                    w[1].1
-                )
-            })
-            .collect();
+        let minima = local_minima(na, &g12);
         println!(
             "n_a = {na}: local minima of γ (W = 12) for dn > 0: {}",
             minima.join("; ")
@@ -313,6 +320,18 @@ pub fn transfer() -> Res {
 }
 
 /// Composite mass–exponent interface grid and transition contour (Fig. 25).
+/// One Markdown row per Δn of `value` over the mass ratios of the grid.
+fn print_rows(rows: &[CompositeRow], dns: &[f64], value: impl Fn(&CompositeRow) -> f64) {
+    for &dn in dns {
+        let cells: Vec<String> = rows
+            .iter()
+            .filter(|r| r.dn == dn)
+            .map(|r| format!("{:.4}", value(r)))
+            .collect();
+        println!("| {dn:+.3} | {} |", cells.join(" | "));
+    }
+}
+
 pub fn composite() -> Res {
     let t0 = Instant::now();
     let dns: Vec<f64> = (0..9).map(|i| -0.5 + 0.125 * i as f64).collect();
@@ -332,23 +351,9 @@ pub fn composite() -> Res {
             .join(" | ")
     );
     println!("|---|{}", "---|".repeat(ratios.len()));
-    for &dn in &dns {
-        let cells: Vec<String> = rows
-            .iter()
-            .filter(|r| r.dn == dn)
-            .map(|r| format!("{:.4}", r.e_refl))
-            .collect();
-        println!("| {dn:+.3} | {} |", cells.join(" | "));
-    }
+    print_rows(&rows, &dns, |r| r.e_refl);
     println!("E_left − E_left(uniform) (the measure of the (n1, n2) grid), same layout:");
-    for &dn in &dns {
-        let cells: Vec<String> = rows
-            .iter()
-            .filter(|r| r.dn == dn)
-            .map(|r| format!("{:.4}", r.left_excess))
-            .collect();
-        println!("| {dn:+.3} | {} |", cells.join(" | "));
-    }
+    print_rows(&rows, &dns, |r| r.left_excess);
     println!("transmitted plateau width (beads k..k+19 within 25 % of max) at m2/m1 = 1 and 1/2:");
     for &dn in &dns {
         let p: Vec<String> = rows

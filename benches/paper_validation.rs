@@ -1,6 +1,6 @@
 //! Regenerates the numbers of `validation/REPORT.md` (paper-hertz-like-interfaces.tex) with the
 //! hybrid engine on generated physical (Table 1 steel) scenes; the experiments live in
-//! `beadchain::analysis::paper`.
+//! `beadchain::experiments::paper`.
 //!
 //! `cargo bench --bench paper_validation -- [interface|grid|impurity|periodic|disorder [N]|all]`,
 //! part A (`benches/paper_a.rs`): `wavelength|timings|impurity_examples|appendix_a|appendix_b`,
@@ -9,7 +9,7 @@
 //! (a plain program kept under `benches/`: it is a long measurement, not a test).
 
 use beadchain::analysis::least_squares;
-use beadchain::analysis::paper::{
+use beadchain::experiments::paper::{
     collapse_point, collapse_residual, disorder_gamma, impurity_ratio, interface_run, paper_gamma,
     periodic_gamma, reflection_grid, PaperError, RunInfo,
 };

@@ -27,13 +27,16 @@
 //! `accuracy.png` ([`plot`]).
 
 pub mod plot;
+mod report;
+
+use report::write_outputs;
+pub use report::{format_table, to_csv};
 
 use crate::engine::{self, EngineError, Observer, RunConfig, RunOutcome};
 use crate::integrate::Method;
 use crate::linalg::SolverKind;
 use crate::scene::{Engine, Scene};
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// What to run.
@@ -308,6 +311,24 @@ fn check_options(opts: &AccuracyOptions) -> Result<(), AccuracyError> {
     Ok(())
 }
 
+/// Tolerances of the dense Radau reference (`--reference-rtol`, else the smallest `rtols`) and
+/// of its check run (the next larger `rtols`, else ten times the reference's, at most 0.1).
+fn reference_tolerances(opts: &AccuracyOptions) -> (f64, f64) {
+    let mut sorted = opts.rtols.clone();
+    sorted.sort_by(f64::total_cmp);
+    sorted.dedup();
+    let ref_rtol = opts
+        .reference_rtol
+        .or_else(|| sorted.first().copied())
+        .unwrap_or(1e-10);
+    let check_rtol = sorted
+        .iter()
+        .copied()
+        .find(|&r| r > ref_rtol)
+        .unwrap_or((10.0 * ref_rtol).min(0.1));
+    (ref_rtol, check_rtol)
+}
+
 /// Runs the study (see module docs). Runs that fail are reported in their row; the study fails
 /// only on bad options, a failed reference, or an output file that cannot be written.
 pub fn accuracy_study(
@@ -329,18 +350,7 @@ pub fn accuracy_study(
     };
 
     // Reference and its check.
-    let mut sorted = opts.rtols.clone();
-    sorted.sort_by(f64::total_cmp);
-    sorted.dedup();
-    let ref_rtol = opts
-        .reference_rtol
-        .or_else(|| sorted.first().copied())
-        .unwrap_or(1e-10);
-    let check_rtol = sorted
-        .iter()
-        .copied()
-        .find(|&r| r > ref_rtol)
-        .unwrap_or((10.0 * ref_rtol).min(0.1));
+    let (ref_rtol, check_rtol) = reference_tolerances(opts);
     let run_ref = |rtol: f64| {
         timed_run(
             scene,
@@ -459,114 +469,6 @@ fn measure(
     row
 }
 
-/// The CSV text (header [`CSV_HEADER`], one line per row; numbers in shortest round-trip form).
-pub fn to_csv(report: &AccuracyReport) -> String {
-    let mut s = String::from(CSV_HEADER);
-    s.push('\n');
-    for r in &report.rows {
-        let dt = r.verlet_dt.map(|x| x.to_string()).unwrap_or_default();
-        let status = match &r.failure {
-            None => "ok".to_string(),
-            // Keep the CSV one field: no commas, quotes or newlines in the message.
-            Some(m) => format!("failed: {}", m.replace([',', '"', '\n'], " ")),
-        };
-        let _ = writeln!(
-            s,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            r.engine.name(),
-            r.method.name(),
-            r.rtol,
-            r.atol,
-            dt,
-            status,
-            r.is_reference,
-            r.err_u,
-            r.err_v,
-            r.error,
-            r.energy_error,
-            r.ke_error,
-            r.wall_seconds,
-            r.steps,
-            r.rejected,
-            r.rhs_evals,
-            r.events,
-            r.bead_steps
-        );
-    }
-    s
-}
-
-/// The table printed by `beadchain accuracy`.
-pub fn format_table(report: &AccuracyReport) -> String {
-    let mut s = String::new();
-    let rf = &report.reference;
-    let _ = writeln!(
-        s,
-        "{}: {} beads, until {}, tau = L/V = {:.4}; reference dense radau5 rtol {:e} ({:.3} s); \
-         check vs rtol {:e}: err_u {:.2e}, err_v {:.2e}",
-        report.scene,
-        report.beads,
-        report.until,
-        report.tau,
-        rf.rtol,
-        rf.wall_seconds,
-        rf.check_rtol,
-        rf.check_err_u,
-        rf.check_err_v
-    );
-    let _ = writeln!(
-        s,
-        "{:<7} {:<7} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>8} {:>12}",
-        "engine",
-        "method",
-        "rtol/dt",
-        "err_u",
-        "err_v",
-        "energy",
-        "KE",
-        "wall [s]",
-        "steps",
-        "events",
-        "bead-steps"
-    );
-    for r in &report.rows {
-        let knob = match r.verlet_dt {
-            Some(_) => format!("{}τ", r.rtol),
-            None => format!("{:.0e}", r.rtol),
-        };
-        if let Some(f) = &r.failure {
-            let _ = writeln!(
-                s,
-                "{:<7} {:<7} {:>9} FAILED: {f}",
-                r.engine.name(),
-                r.method.name(),
-                knob
-            );
-            continue;
-        }
-        let _ = writeln!(
-            s,
-            "{:<7} {:<7} {:>9} {:>9.2e} {:>9.2e} {:>9.2e} {} {:>10.4} {:>9} {:>8} {:>12}{}",
-            r.engine.name(),
-            r.method.name(),
-            knob,
-            r.err_u,
-            r.err_v,
-            r.energy_error,
-            cell(r.ke_error, 9),
-            r.wall_seconds,
-            r.steps,
-            r.events,
-            r.bead_steps,
-            if r.is_reference { "  (reference)" } else { "" }
-        );
-    }
-    for n in &report.notes {
-        let _ = writeln!(s, "note: {n}");
-    }
-    s
-}
-
 /// Contact potential energy below this fraction of the total energy counts as separated: the
 /// kinetic-energy error then differs from the total-energy error by less than any run resolves.
 pub const SEPARATED_PE_FRACTION: f64 = 1e-12;
@@ -580,54 +482,6 @@ fn separated(chain: &crate::model::Chain, u: &[f64], v: &[f64]) -> bool {
     }
     let pe = chain.potential_energy(u);
     pe <= SEPARATED_PE_FRACTION * (pe + chain.kinetic_energy(v))
-}
-
-/// `x` for a table or CSV cell: empty / "n/a" when NaN.
-fn cell(x: f64, width: usize) -> String {
-    if x.is_nan() {
-        format!("{:>width$}", "n/a")
-    } else {
-        format!("{:>width$.2e}", x)
-    }
-}
-
-/// Writes `bytes` to `path` through a temporary sibling and a rename.
-fn write_file(path: &Path, bytes: &[u8]) -> Result<(), AccuracyError> {
-    let io = |source| AccuracyError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".tmp");
-    let tmp = PathBuf::from(tmp);
-    std::fs::write(&tmp, bytes).map_err(io)?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io(e)
-    })
-}
-
-/// Writes the CSV and the plots into `dir` (created if needed).
-fn write_outputs(report: &mut AccuracyReport, dir: &Path) -> Result<(), AccuracyError> {
-    std::fs::create_dir_all(dir).map_err(|source| AccuracyError::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    let csv = dir.join("accuracy.csv");
-    write_file(&csv, to_csv(report).as_bytes())?;
-    report.files.push(csv);
-    let svg = dir.join("accuracy.svg");
-    let png = dir.join("accuracy.png");
-    let with_text = plot::write_plots(report, &svg, &png)?;
-    if !with_text {
-        report.notes.push(format!(
-            "no font file found (BEADCHAIN_FONT, {}): the plots are drawn without text",
-            plot::FONT_CANDIDATES.join(", ")
-        ));
-    }
-    report.files.push(svg);
-    report.files.push(png);
-    Ok(())
 }
 
 #[cfg(test)]

@@ -1,26 +1,24 @@
 //! Export of snapshot frames to CSV and NumPy `.npy`, the event log to CSV, and the
-//! human-readable `inspect` report (energy of paper eq. 1 + kinetic, via [`Chain::energy`]).
+//! human-readable `inspect` report ([`inspect`]: energy of paper eq. 1 + kinetic).
 //!
 //! Numbers are written so they read back bit-identically: Rust's `{}`/`{:e}` formatting of
 //! `f64` prints the shortest decimal that round-trips, and we use the exponent form outside
 //! `1e-5 ≤ |x| < 1e16` so tiny displacements (1e-7 units) stay short.
 //!
-//! All outputs go through [`write_atomically`] in the CLI: a failed export leaves no file.
+//! All outputs go through [`crate::snapshot::write_atomically`] in the CLI: a failed export leaves no file.
 //!
 //! This module writes the long layout (one row per bead and frame); [`wide`] the wide one (one
 //! row per frame; `.npz` with the chain arrays).
 
+mod inspect;
 pub mod wide;
 
-use crate::model::Chain;
-use crate::snapshot::{
-    sync_parent_dir, temp_sibling, Frame, Snapshot, SnapshotError, FORMAT_VERSION,
-};
+pub use inspect::{damaged_frames, inspect, inspect_with};
+
+use crate::snapshot::{Frame, Snapshot, SnapshotError};
 use std::fmt;
-use std::fs::OpenOptions;
-use std::io::{self, BufWriter, Write};
+use std::io::{BufWriter, Write};
 use std::ops::Range;
-use std::path::Path;
 use std::str::FromStr;
 
 /// Which frames to export.
@@ -181,242 +179,4 @@ pub fn export_events_csv(snap: &Snapshot, out: &mut dyn Write) -> Result<(), Sna
     }
     w.flush()?;
     Ok(())
-}
-
-/// Reads every frame (verifying its section header, length, checksum and time): the frames
-/// that fail, with the reason. One frame buffer is reused.
-pub fn damaged_frames(snap: &Snapshot) -> Vec<(usize, String)> {
-    let mut f = Frame::default();
-    let prefix = format!("{}: ", snap.path().display());
-    (0..snap.frame_count())
-        .filter_map(|k| {
-            let e = snap.read_frame_into(k, &mut f).err()?.to_string();
-            Some((k, e.strip_prefix(&prefix).unwrap_or(&e).to_string()))
-        })
-        .collect()
-}
-
-/// Human-readable report: header fields, frame count and time span, total energy at the first
-/// and last frame (with `chain`, normally `&snap.header().scene.chain`) and its relative
-/// change, run statistics and warnings. Every frame's checksum is verified
-/// ([`damaged_frames`]); damaged frames are listed and the file is not called complete.
-pub fn inspect(snap: &Snapshot, chain: &Chain) -> String {
-    inspect_with(snap, chain, &damaged_frames(snap))
-}
-
-/// [`inspect`] with the damaged frames already found.
-pub fn inspect_with(snap: &Snapshot, chain: &Chain, damaged: &[(usize, String)]) -> String {
-    use std::fmt::Write as _;
-    let h = snap.header();
-    let mut s = String::new();
-    let _ = writeln!(s, "file:        {}", snap.path().display());
-    let state = match (snap.is_complete(), damaged.len()) {
-        (true, 0) => "complete".to_string(),
-        (false, 0) => "INCOMPLETE (no valid END/INDEX)".to_string(),
-        (c, d) => format!(
-            "{}DAMAGED: {d} of {} frames fail their checks",
-            if c {
-                ""
-            } else {
-                "INCOMPLETE (no valid END/INDEX), "
-            },
-            snap.frame_count()
-        ),
-    };
-    let _ = writeln!(
-        s,
-        "format:      version {} (this build reads 1..={FORMAT_VERSION}), {state}",
-        h.format_version,
-    );
-    let _ = writeln!(s, "written by:  beadchain {}", h.crate_version);
-    let _ = writeln!(s, "command:     {}", h.created_by);
-    let _ = writeln!(s, "scene:       {} — {}", h.scene.name, h.scene.description);
-    let _ = writeln!(s, "beads:       {}", h.n_beads);
-    if !h.output.is_full() {
-        let _ = writeln!(
-            s,
-            "stored:      {} (run --beads/--fields)",
-            h.output.describe(h.n_beads)
-        );
-    }
-    if let Some(k) = h.output.frames_max {
-        let _ = writeln!(s, "frames max:  {k}");
-    }
-    let _ = writeln!(
-        s,
-        "engine:      {}, method {}, rtol {:e}, atol {:e}, seed {}",
-        h.engine.name(),
-        h.method.name(),
-        h.rtol,
-        h.atol,
-        h.seed
-    );
-    let n = snap.frame_count();
-    let _ = writeln!(s, "frames:      {n}");
-    if n > 0 {
-        let times = snap.frame_times();
-        let _ = writeln!(s, "time span:   {} .. {}", Num(times[0]), Num(times[n - 1]));
-        let energy = |k: usize| -> Result<(f64, f64, Option<f64>), String> {
-            snap.require_full("the energy needs every bead and both fields")
-                .map_err(|e| e.to_string())?;
-            let f = snap.frame(k).map_err(|e| e.to_string())?;
-            if f.u.len() != chain.len() {
-                return Err(format!(
-                    "frame has {} beads but the chain has {}",
-                    f.u.len(),
-                    chain.len()
-                ));
-            }
-            let (e, scale) = (chain.energy(&f.u, &f.v), chain.energy_scale(&f.u, &f.v));
-            Ok((e, scale, f.dissipated))
-        };
-        match (energy(0), energy(n - 1)) {
-            (Ok((e0, s0, d0)), Ok((e1, s1, d1))) => {
-                let _ = writeln!(
-                    s,
-                    "energy:      first frame {}, last frame {}",
-                    Num(e0),
-                    Num(e1)
-                );
-                // Relative to the gross energy (meaningful when E0 = 0, e.g. rest under a field).
-                let rel =
-                    crate::model::relative_energy_change(e0, e1, s0.max(s1)).copysign(e1 - e0);
-                let _ = writeln!(s, "energy change (relative): {rel:.3e}");
-                if chain.damping.is_some() {
-                    if let (Some(d0), Some(d1)) = (d0, d1) {
-                        // E + E_d is conserved: the balance error is the change of the sum.
-                        let (b0, b1) = (e0 + d0, e1 + d1);
-                        let bal = crate::model::relative_energy_change(b0, b1, s0.max(s1))
-                            .copysign(b1 - b0);
-                        let _ = writeln!(
-                            s,
-                            "dissipated:  {} by the last frame (balance error {bal:.3e})",
-                            Num(d1 - d0)
-                        );
-                    }
-                }
-            }
-            (Err(e), _) if !h.output.is_full() => {
-                let _ = writeln!(s, "energy:      not available: {e}");
-            }
-            (a, b) => {
-                for (which, r) in [("first", a), ("last", b)] {
-                    if let Err(e) = r {
-                        let _ = writeln!(s, "energy:      {which} frame unreadable: {e}");
-                    }
-                }
-            }
-        }
-    }
-    let _ = writeln!(s, "events:      {}", snap.events().len());
-    match snap.summary() {
-        Some(r) => {
-            let st = &r.stats;
-            let _ = writeln!(
-                s,
-                "run:         t_end {}, wall {:.3} s, energy {} -> {}, momentum {} -> {}",
-                Num(r.t_end),
-                r.wall_seconds,
-                Num(r.energy_initial),
-                Num(r.energy_final),
-                Num(r.momentum_initial),
-                Num(r.momentum_final)
-            );
-            let _ = writeln!(
-                s,
-                "steps:       {} accepted, {} rejected, {} rhs, {} jac, {} lu, {} newton ({} failed), {} bead-steps",
-                st.steps,
-                st.rejected,
-                st.rhs_evals,
-                st.jac_evals,
-                st.factorizations,
-                st.newton_iters,
-                st.newton_failures,
-                st.bead_steps
-            );
-            if !r.events_by_kind.is_empty() {
-                let kinds: Vec<String> = r
-                    .events_by_kind
-                    .iter()
-                    .map(|(k, c)| format!("{k} {c}"))
-                    .collect();
-                let _ = writeln!(s, "events by kind: {}", kinds.join(", "));
-            }
-            let _ = writeln!(s, "largest cluster: {}", r.largest_cluster);
-            for note in &r.notes {
-                let _ = writeln!(s, "note:        {note}");
-            }
-        }
-        None => {
-            let _ = writeln!(s, "run:         no statistics (run did not finish)");
-        }
-    }
-    for w in snap.warnings() {
-        let _ = writeln!(s, "warning:     {w}");
-    }
-    for (k, e) in damaged {
-        let _ = writeln!(s, "damaged:     frame {k}: {e}");
-    }
-    s
-}
-
-/// Writes `path` atomically: `f` writes into a buffered temporary sibling, which is flushed,
-/// fsynced and renamed onto `path` only if `f` succeeds; otherwise it is removed. Output
-/// errors ([`SnapshotError::Output`]) are reported as I/O errors naming `path`.
-///
-/// A character device or FIFO (`/dev/stdout`, `/dev/null`, a named pipe) is written in place;
-/// a symbolic link to a file is refused; stale temporaries of dead runs are removed first (rules
-/// in [`crate::files`]).
-pub fn write_atomically(
-    path: &Path,
-    f: impl FnOnce(&mut dyn Write) -> Result<(), SnapshotError>,
-) -> Result<(), SnapshotError> {
-    let named = |action: &str, e: io::Error| SnapshotError::Io {
-        path: path.to_path_buf(),
-        action: action.to_string(),
-        source: e,
-    };
-    if crate::files::classify_output(path)? == crate::files::OutputKind::Stream {
-        let file = OpenOptions::new()
-            .write(true)
-            .open(path)
-            .map_err(|e| named("opening the output stream", e))?;
-        let mut w = BufWriter::with_capacity(1 << 16, file);
-        f(&mut w).map_err(|e| match e {
-            SnapshotError::Output(io) => named("writing", io),
-            other => other,
-        })?;
-        return w.flush().map_err(|e| named("writing", e));
-    }
-    crate::files::remove_stale_temps(path);
-    let tmp = temp_sibling(path)?;
-    let file = OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&tmp)
-        .map_err(|e| named(&format!("creating temporary file {}", tmp.display()), e))?;
-    let result = (|| {
-        let mut w = BufWriter::with_capacity(1 << 16, file);
-        f(&mut w).map_err(|e| match e {
-            SnapshotError::Output(io) => named("writing", io),
-            other => other,
-        })?;
-        let file = w
-            .into_inner()
-            .map_err(|e| named("flushing", e.into_error()))?;
-        file.sync_all().map_err(|e| named("syncing to disk", e))?;
-        drop(file);
-        std::fs::rename(&tmp, path)
-            .map_err(|e| named(&format!("renaming {} onto it", tmp.display()), e))
-    })();
-    match result {
-        Ok(()) => {
-            sync_parent_dir(path);
-            Ok(())
-        }
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(e)
-        }
-    }
 }

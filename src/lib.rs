@@ -10,6 +10,7 @@ pub mod accuracy;
 pub mod analysis;
 pub mod check;
 pub mod engine;
+pub mod experiments;
 pub mod export;
 pub mod files;
 pub mod integrate;

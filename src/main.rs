@@ -28,16 +28,6 @@ macro_rules! out {
 }
 
 mod cli;
-mod cli_analysis;
-mod cli_analyze;
-mod cli_check;
-mod cli_ckpt;
-mod cli_export;
-mod cli_files;
-mod cli_plot;
-mod cli_scene;
-mod cli_select;
-mod cli_sweep;
 
 use clap::{CommandFactory, FromArgMatches};
 
@@ -95,7 +85,7 @@ fn main() {
     };
     match cli::dispatch(args) {
         Ok(code) => std::process::exit(code),
-        Err(e) if cli_files::is_broken_pipe(&e) => std::process::exit(0),
+        Err(e) if cli::is_broken_pipe(&e) => std::process::exit(0),
         Err(e) => {
             eprintln!("beadchain: error: {}", one_line(&e));
             std::process::exit(2);

@@ -139,6 +139,9 @@ impl Watch<'_> {
 }
 
 impl Observer for Watch<'_> {
+    fn dissipated(&mut self, t: f64, energy: f64) -> Result<(), EngineError> {
+        self.inner.dissipated(t, energy)
+    }
     fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
         self.inner.frame(t, u, v)
     }

@@ -1,7 +1,7 @@
 //! The `beadchain` binary on bad input: every class exits with code 2, prints ONE line on
 //! stderr naming the file and the key/index, never panics, and leaves no output or temporary
-//! file behind. Plus the happy path of `run` → `export`/`inspect`, `scenes`, and run-to-run
-//! determinism of the snapshot bytes (both engines).
+//! file behind. Plus the happy path of `run` → `export`/`inspect` and `scenes` (run-to-run
+//! determinism of the snapshot bytes: `tests/cli_determinism.rs`).
 //!
 //! Each bad-input case prints `CLASS | message` (visible with `--nocapture`); those lines are
 //! the source of the table in `validation/bad-input.md`.
@@ -108,12 +108,14 @@ fn scene_dir(files: &[(&str, &str)]) -> tempfile::TempDir {
     d
 }
 
-#[test]
-fn bad_scene_files() {
-    let tiny_with = |table: &str, line: &str| {
-        TINY.replace(&format!("[{table}]\n"), &format!("[{table}]\n{line}\n"))
-    };
-    let cases: Vec<(&str, String, Vec<&str>)> = vec![
+/// A scene that adds `line` at the top of `[table]` of [`TINY`].
+fn tiny_with(table: &str, line: &str) -> String {
+    TINY.replace(&format!("[{table}]\n"), &format!("[{table}]\n{line}\n"))
+}
+
+/// Bad scene files of the syntax and structure classes: `(class, text, needles)`.
+fn bad_structure_cases() -> Vec<(&'static str, String, Vec<&'static str>)> {
+    vec![
         (
             "malformed TOML",
             "[chain\nbeads = 4\n".into(),
@@ -149,6 +151,13 @@ fn bad_scene_files() {
             tiny_with("chain", "mass = { file = \"m.csv\" }"),
             vec!["s.toml", "[chain].mass", "m.csv:3"],
         ),
+    ]
+}
+
+/// Bad scene files of the value classes (non-finite, out of range, missing): `(class, text,
+/// needles)`.
+fn bad_value_cases() -> Vec<(&'static str, String, Vec<&'static str>)> {
+    vec![
         (
             "NaN value",
             tiny_with("chain", "exponent = nan"),
@@ -220,7 +229,12 @@ fn bad_scene_files() {
             ),
             vec!["s.toml", "[units].poisson"],
         ),
-    ];
+    ]
+}
+
+#[test]
+fn bad_scene_files() {
+    let cases = bad_structure_cases().into_iter().chain(bad_value_cases());
     for (class, text, needles) in cases {
         let d = scene_dir(&[("s.toml", &text), ("m.csv", "1.0\n1.0\nabc\n1.0\n")]);
         expect_bad(class, d.path(), &["run", "s.toml"], &needles);
@@ -300,10 +314,10 @@ fn tiny_run(dir: &Path) {
     assert_eq!(o.status.code(), Some(0), "run failed: {}", stderr(&o));
 }
 
-#[test]
-fn bad_snapshot_inputs() {
-    let d = tempfile::tempdir().unwrap();
-    let p = d.path();
+/// Runs [`TINY`] into `run.snap` and writes the damaged and foreign files next to it (a PNG, an
+/// empty file, a cut HEADER, a newer version, a flipped HEADER byte, a directory); returns the
+/// good snapshot's bytes.
+fn write_bad_snapshots(p: &Path) -> Vec<u8> {
     tiny_run(p);
     let snap = std::fs::read(p.join("run.snap")).unwrap();
     std::fs::write(
@@ -320,7 +334,11 @@ fn bad_snapshot_inputs() {
     flipped[30] ^= 0x10; // inside the HEADER payload
     std::fs::write(p.join("flipped.snap"), &flipped).unwrap();
     std::fs::create_dir(p.join("adir")).unwrap();
+    snap
+}
 
+/// `inspect` and `export` of each file of [`write_bad_snapshots`]: one-line errors naming it.
+fn unreadable_snapshots(p: &Path) {
     for cmd in ["inspect", "export"] {
         let c = |class: &str| format!("{cmd}: {class}");
         expect_bad(
@@ -356,6 +374,14 @@ fn bad_snapshot_inputs() {
         );
         expect_bad(&c("a directory"), p, &[cmd, "adir"], &["adir"]);
     }
+}
+
+#[test]
+fn bad_snapshot_inputs() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let snap = write_bad_snapshots(p);
+    unreadable_snapshots(p);
     let e = |class: &str, args: &[&str], needles: &[&str]| expect_bad(class, p, args, needles);
     e(
         "bad --frame",
@@ -502,84 +528,4 @@ fn run_export_inspect_scenes() {
         .map(|s| s.to_string())
         .collect();
     assert_eq!(names, want);
-}
-
-/// Sections `(tag, payload)` of a snapshot (walking the section headers).
-fn sections(b: &[u8]) -> Vec<(String, Vec<u8>)> {
-    let mut out = Vec::new();
-    let mut pos = 12;
-    while pos + 16 <= b.len() {
-        let tag = String::from_utf8_lossy(&b[pos..pos + 4]).to_string();
-        let len = u64::from_le_bytes(b[pos + 4..pos + 12].try_into().unwrap()) as usize;
-        out.push((tag, b[pos + 16..pos + 16 + len].to_vec()));
-        pos += 16 + len;
-    }
-    out
-}
-
-/// Runs the tiny scene with `engine` in two fresh directories (same relative command line, so
-/// the recorded command is identical) and returns both files.
-fn twice(engine: &str) -> (Vec<u8>, Vec<u8>) {
-    let mut files = Vec::new();
-    for _ in 0..2 {
-        let d = scene_dir(&[("s.toml", TINY)]);
-        let o = beadchain(
-            d.path(),
-            &["run", "s.toml", "--engine", engine, "--out", "o.snap"],
-        );
-        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-        files.push(std::fs::read(d.path().join("o.snap")).unwrap());
-    }
-    let b = files.pop().unwrap();
-    (files.pop().unwrap(), b)
-}
-
-/// Names the sections that differ between two snapshots.
-fn differing_sections(a: &[u8], b: &[u8]) -> Vec<String> {
-    let (sa, sb) = (sections(a), sections(b));
-    let mut out = Vec::new();
-    if sa.len() != sb.len() {
-        out.push(format!("section count {} vs {}", sa.len(), sb.len()));
-    }
-    for (i, ((ta, pa), (_, pb))) in sa.iter().zip(&sb).enumerate() {
-        if pa != pb {
-            let first = pa.iter().zip(pb).position(|(x, y)| x != y);
-            out.push(format!(
-                "section {i} {ta:?}: payload {} vs {} bytes, first difference at payload byte {first:?}",
-                pa.len(),
-                pb.len()
-            ));
-        }
-    }
-    out
-}
-
-/// Frames, header and event log are byte-identical across runs of the same scene (both
-/// engines); only the STATS section may differ.
-#[test]
-fn frames_header_and_events_are_deterministic() {
-    for engine in ["hybrid", "dense"] {
-        let (a, b) = twice(engine);
-        let diff = differing_sections(&a, &b);
-        assert!(
-            diff.iter().all(|d| d.contains("\"STAT\"")),
-            "{engine}: {diff:?}"
-        );
-        println!("{engine}: differing sections: {diff:?}");
-    }
-}
-
-/// Whole files byte-identical (issue 4, "Determinism"): the wall-clock time is only stored
-/// with `--timing`.
-#[test]
-
-fn same_scene_gives_identical_bytes() {
-    for engine in ["hybrid", "dense"] {
-        let (a, b) = twice(engine);
-        assert!(
-            a == b,
-            "{engine}: files differ: {:?}",
-            differing_sections(&a, &b)
-        );
-    }
 }

@@ -230,6 +230,34 @@ const FORGED: u8 = 1;
 /// reveal; the property then is "no invented numbers".
 const REORDERED: u8 = 2;
 
+/// Sets the length field of section `s..e` to `v`; with `forge`, also its CRC (over the new
+/// length and the old payload bytes), returning [`FORGED`].
+fn set_len(b: &mut [u8], (s, e): (usize, usize), v: u64, forge: bool) -> u8 {
+    b[s + 4..s + 12].copy_from_slice(&v.to_le_bytes());
+    if !forge {
+        return 0;
+    }
+    let mut h = crc32fast::Hasher::new();
+    h.update(&b[s..s + 12]);
+    h.update(&b[s + 16..e]);
+    let crc = h.finalize();
+    b[s + 12..s + 16].copy_from_slice(&crc.to_le_bytes());
+    FORGED
+}
+
+/// Swaps two distinct, non-overlapping sections ([`REORDERED`]); otherwise leaves `b` alone.
+fn swap_sections(b: &mut Vec<u8>, x: (usize, usize), y: (usize, usize)) -> u8 {
+    let (x, y) = if x.0 <= y.0 { (x, y) } else { (y, x) };
+    if x.1 > y.0 || x == y {
+        return 0;
+    }
+    let first = b[x.0..x.1].to_vec();
+    let second = b[y.0..y.1].to_vec();
+    b.splice(y.0..y.1, first);
+    b.splice(x.0..x.1, second);
+    REORDERED
+}
+
 /// Applies `m`; returns [`FORGED`] / [`REORDERED`] flags.
 fn apply_snap(b: &mut Vec<u8>, m: &SnapMut) -> u8 {
     let secs = section_ranges(b);
@@ -256,16 +284,7 @@ fn apply_snap(b: &mut Vec<u8>, m: &SnapMut) -> u8 {
         }
         SnapMut::SetLen(i, v, forge) => {
             if let Some((s, e)) = sec(i) {
-                b[s + 4..s + 12].copy_from_slice(&v.to_le_bytes());
-                if *forge {
-                    // CRC over the new length and the old payload bytes.
-                    let mut h = crc32fast::Hasher::new();
-                    h.update(&b[s..s + 12]);
-                    h.update(&b[s + 16..e]);
-                    let crc = h.finalize();
-                    b[s + 12..s + 16].copy_from_slice(&crc.to_le_bytes());
-                    return FORGED;
-                }
+                return set_len(b, (s, e), *v, *forge);
             }
         }
         SnapMut::SetU64(i, v) if b.len() >= 8 => {
@@ -275,14 +294,7 @@ fn apply_snap(b: &mut Vec<u8>, m: &SnapMut) -> u8 {
         SnapMut::SetU64(..) => {}
         SnapMut::Swap(i, j) => {
             if let (Some(x), Some(y)) = (sec(i), sec(j)) {
-                let (x, y) = if x.0 <= y.0 { (x, y) } else { (y, x) };
-                if x.1 <= y.0 && x != y {
-                    let first = b[x.0..x.1].to_vec();
-                    let second = b[y.0..y.1].to_vec();
-                    b.splice(y.0..y.1, first);
-                    b.splice(x.0..x.1, second);
-                    return REORDERED;
-                }
+                return swap_sections(b, x, y);
             }
         }
         SnapMut::Duplicate(i) => {

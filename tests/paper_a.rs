@@ -1,11 +1,11 @@
 //! Reduced versions of `benches/paper_a.rs` (paper Fig. 2, Figs. 3–4, Fig. 17, appendices A and
 //! B) that assert the physics; a few seconds in release (`cargo test --release --test paper_a`).
 
-use beadchain::analysis::appendix::{energy_error, perturbed_interface};
-use beadchain::analysis::impurities::{collective_impurity, share, PulseKind};
-use beadchain::analysis::paper::{physical_scene, time_per_bead};
-use beadchain::analysis::timings::interface_timing_run;
-use beadchain::analysis::wavelength::measure_wavelength;
+use beadchain::experiments::appendix::{energy_error, perturbed_interface};
+use beadchain::experiments::impurities::{collective_impurity, share, PulseKind};
+use beadchain::experiments::paper::{physical_scene, time_per_bead};
+use beadchain::experiments::timings::interface_timing_run;
+use beadchain::experiments::wavelength::measure_wavelength;
 use beadchain::scene::Engine;
 
 #[test]

@@ -1,9 +1,9 @@
 //! Reduced versions of the part-B experiments (paper Figs. 10–14, 23, 25) that assert physics:
 //! windowed decay rates, pairwise motion, energy transfer trend, composite reflection.
 
-use beadchain::analysis::composite::composite_run;
-use beadchain::analysis::periodic::{pairing, periodic_window_run, retention, windowed_gamma};
-use beadchain::analysis::transfer::{transfer_run, transfer_trend};
+use beadchain::experiments::composite::composite_run;
+use beadchain::experiments::periodic::{pairing, periodic_window_run, retention, windowed_gamma};
+use beadchain::experiments::transfer::{transfer_run, transfer_trend};
 use beadchain::scene::Engine;
 
 #[test]

@@ -2,7 +2,7 @@
 //! interface 3.0 -> 2.5 (strong reflection, 8-9 bead plateau) and the s = 1 impurity two-body
 //! limit (paper Secs. 3.2 and 5.1).
 
-use beadchain::analysis::quick::{checks_markdown, quick_checks};
+use beadchain::experiments::quick::{checks_markdown, quick_checks};
 
 #[test]
 fn tiny_quick_checks_agree_with_the_paper() {

@@ -1,89 +1,18 @@
 //! `beadchain plot` axes (issue 14), read back from the SVG text (`<text>` elements): labels
 //! with units (computer units, SI for physical scenes), readable ticks (no rounding noise for
-//! zero, decades on log axes), title/label overrides, colour maps, the two-sided energy fit at
-//! an interface, side-by-side panels with a shared colour scale, and the error messages.
+//! zero), title/label overrides, colour maps, side-by-side panels with a shared colour scale,
+//! and the error messages (the energy plot: `tests/plot_energy.rs`).
 //!
 //! Text needs a TrueType font at run time (CI installs DejaVu Sans); without one the figures
 //! have no text and the text assertions are skipped with a note (the numeric ones still run).
 
 mod common;
+mod plot_support;
 
-use beadchain::plot::{self, energy, font, trace, EnergyOptions, Panels, SpacetimeOptions, Units};
-use beadchain::scene::{Engine, Scene};
-use beadchain::snapshot::{Header, Snapshot, SnapshotWriter};
+use beadchain::plot::{self, trace, Panels, SpacetimeOptions, Units};
+use beadchain::snapshot::Snapshot;
+use plot_support::*;
 use std::path::{Path, PathBuf};
-
-/// Writes `scene` with the given frames `(t, v)` (all displacements 0) to `dir/name`.
-fn write_snap(dir: &Path, name: &str, scene: &Scene, frames: &[(f64, Vec<f64>)]) -> PathBuf {
-    let path = dir.join(name);
-    let h = Header::new(
-        scene.clone(),
-        Engine::Hybrid,
-        beadchain::integrate::Method::Radau5,
-        1e-8,
-        1e-10,
-        "tests/plot_axes.rs".into(),
-    );
-    let mut w = SnapshotWriter::create(&path, &h).expect("create snapshot");
-    let u = vec![0.0; scene.chain.mass.len()];
-    for (t, v) in frames {
-        w.write_frame(*t, &u, v).expect("frame");
-    }
-    w.finish(&[], &Default::default()).expect("finish");
-    path
-}
-
-/// The text of every `<text>` element of an SVG file, or `None` (with a note) without a font.
-fn texts(svg: &Path) -> Option<Vec<String>> {
-    if !font::font_available() {
-        eprintln!("note: no font file: the SVG text assertions are skipped");
-        return None;
-    }
-    let s = std::fs::read_to_string(svg).expect("svg written");
-    let mut out = Vec::new();
-    let mut rest = s.as_str();
-    while let Some(a) = rest.find("<text") {
-        let body = &rest[a..];
-        let open = body.find('>').expect("tag end") + 1;
-        let close = body.find("</text>").expect("closing tag");
-        let t = body[open..close].trim().replace("&amp;", "&");
-        out.push(t);
-        rest = &body[close..];
-    }
-    Some(out)
-}
-
-/// The labels that are numbers.
-fn numbers(labels: &[String]) -> Vec<f64> {
-    labels
-        .iter()
-        .filter_map(|l| l.parse::<f64>().ok())
-        .collect()
-}
-
-/// Runs the binary and asserts success.
-fn ok(dir: &Path, args: &[&str]) {
-    common::assert_ok(&common::bc(dir, args));
-}
-
-/// Runs the binary, expects exit 2 with one line naming `needle`, and no file written.
-fn fails(dir: &Path, args: &[&str], needle: &str) {
-    let before = std::fs::read_dir(dir).unwrap().count();
-    let o = common::bc(dir, args);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
-    assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
-    assert!(err.starts_with("beadchain: error: "), "{err}");
-    assert!(err.contains(needle), "{args:?}: {err}");
-    assert_eq!(std::fs::read_dir(dir).unwrap().count(), before, "{args:?}");
-}
-
-/// A 60-bead unit-mass chain (dimensionless).
-fn chain60() -> Scene {
-    let mut sc = common::striker(60, 2.5, 1.0, 1.0, 60.0);
-    sc.name = "axes_test".into();
-    sc
-}
 
 #[test]
 fn zero_tick_is_labelled_zero_not_rounding_noise() {
@@ -178,145 +107,6 @@ fn axis_labels_name_units_on_every_plot_kind() {
     }
 }
 
-/// Frames of a single-bead pulse at bead `k` (frame `k`, t = k) whose energy `½ v²` (unit
-/// mass) is `exp(−γ₁ k)` before bead `kk` and `exp(−γ₁ kk − γ₂ (k − kk))` from it on.
-fn decaying_pulse(n: usize, kk: usize, g1: f64, g2: f64) -> Vec<(f64, Vec<f64>)> {
-    (0..n)
-        .map(|k| {
-            let e = if k < kk {
-                (-g1 * k as f64).exp()
-            } else {
-                (-g1 * kk as f64 - g2 * (k - kk) as f64).exp()
-            };
-            let mut v = vec![0.0; n];
-            v[k] = (2.0 * e).sqrt();
-            (k as f64, v)
-        })
-        .collect()
-}
-
-#[test]
-fn energy_interface_fits_each_side_separately() {
-    let dir = tempfile::tempdir().expect("tempdir");
-    let d = dir.path();
-    let (g1, g2, kk) = (0.02, 0.08, 30);
-    let path = write_snap(d, "e.snap", &chain60(), &decaying_pulse(60, kk, g1, g2));
-    let snap = Snapshot::open(&path).expect("open");
-    let opts = EnergyOptions {
-        interface: Some(kk),
-        log: true,
-        ..Default::default()
-    };
-    let e = energy::energy(&snap, &opts).expect("energy");
-    // defaults 20..50 split at the interface: beads 20..29 and 30..50
-    assert_eq!(e.fits.len(), 2);
-    assert_eq!((e.fits[0].from, e.fits[0].to), (20, 29));
-    assert_eq!((e.fits[1].from, e.fits[1].to), (30, 50));
-    for (s, g) in e.fits.iter().zip([g1, g2]) {
-        let f = s.fit.as_ref().expect("fit");
-        // exact exponentials: γ to 1e-9 absolute (5e-8 relative)
-        assert!((f.gamma - g).abs() < 1e-9, "{}..{}: {f:?}", s.from, s.to);
-    }
-    assert_eq!(
-        (
-            e.fits[0].fit.as_ref().unwrap().n,
-            e.fits[1].fit.as_ref().unwrap().n
-        ),
-        (10, 21)
-    );
-    // one fit across the interface mixes both rates (what --interface avoids)
-    let across = energy::energy(&snap, &EnergyOptions::default()).expect("energy");
-    let g = across.fits[0].fit.as_ref().expect("fit").gamma;
-    assert!(
-        g > g1 + 0.01 && g < g2 - 0.01,
-        "across the interface: γ = {g}"
-    );
-    // the figure shows both fits (legend entries), the CLI prints both
-    let e_out = d.join("e.svg");
-    plot::write_figure(&e, &e_out).expect("write");
-    if let Some(l) = texts(&e_out) {
-        assert!(
-            l.iter()
-                .any(|s| s.starts_with("fit beads 20..29: γ = 2.0000e-2")),
-            "{l:?}"
-        );
-        assert!(
-            l.iter()
-                .any(|s| s.starts_with("fit beads 30..50: γ = 8.0000e-2")),
-            "{l:?}"
-        );
-    }
-    let o = common::bc(
-        d,
-        &[
-            "plot",
-            "energy",
-            "e.snap",
-            "--interface",
-            "30",
-            "--out",
-            "c.png",
-        ],
-    );
-    common::assert_ok(&o);
-    let out = String::from_utf8_lossy(&o.stdout);
-    assert!(
-        out.contains("peak beads 20..29: gamma = 2.000000e-2"),
-        "{out}"
-    );
-    assert!(
-        out.contains("peak beads 30..50: gamma = 8.000000e-2"),
-        "{out}"
-    );
-    // errors name --interface and leave no file
-    let e = ["plot", "energy", "e.snap", "--out", "x.png", "--interface"];
-    fails(
-        d,
-        &[&e[..], &["0"]].concat(),
-        "--interface: bead 0 is out of range",
-    );
-    fails(
-        d,
-        &[&e[..], &["60"]].concat(),
-        "--interface: bead 60 is out of range",
-    );
-    fails(
-        d,
-        &[&e[..], &["40", "--from", "45"]].concat(),
-        "--interface 40: the fit range --from 45 --to 50 must contain beads on both sides",
-    );
-}
-
-#[test]
-fn log_energy_axis_ticks_at_decades() {
-    // before: `plot energy --log` ticked 0.993, 0.994, … (plotters' linear ticks of log10 E)
-    let dir = tempfile::tempdir().expect("tempdir");
-    let d = dir.path();
-    write_snap(d, "e.snap", &chain60(), &decaying_pulse(60, 30, 0.1, 0.2));
-    ok(d, &["plot", "energy", "e.snap", "--log", "--out", "e.svg"]);
-    let Some(l) = texts(&d.join("e.svg")) else {
-        return;
-    };
-    // E/E0 runs from 1 down to exp(-3 - 0.2*29) = 1.5e-4: decades 1e-4 .. 1
-    let y: Vec<&String> = l
-        .iter()
-        .filter(|s| s.parse::<f64>().is_ok_and(|v| v > 0.0 && v <= 1.0))
-        .filter(|s| s.contains('e') || s.contains('.') || *s == "1")
-        .collect();
-    let want = ["1e-4", "1e-3", "0.01", "0.1", "1"];
-    for w in want {
-        assert!(y.iter().any(|s| *s == w), "no decade {w}: {l:?}");
-    }
-    for s in &y {
-        let v: f64 = s.parse().unwrap();
-        // a decade: log10 within 1e-12 (absolute) of an integer
-        assert!(
-            (v.log10() - v.log10().round()).abs() < 1e-12,
-            "{s} in {l:?}"
-        );
-    }
-}
-
 #[test]
 fn title_axis_labels_and_cmap_options() {
     let dir = tempfile::tempdir().expect("tempdir");
@@ -367,13 +157,11 @@ fn beta_table1() -> f64 {
     (m0 / (1e9 * 2.5)).sqrt()
 }
 
-#[test]
-fn si_units_convert_axes_of_physical_scenes() {
-    let dir = tempfile::tempdir().expect("tempdir");
-    let d = dir.path();
+/// `phys.snap` in `d`: the `hertz_spheres_physical` preset with frames every 100 computer time
+/// units up to 2000, bead 3 moving at 1e-7 (computer units) rising linearly to 2e-7.
+fn physical_snapshot(d: &Path) -> PathBuf {
     let scene = beadchain::scene::preset("hertz_spheres_physical").expect("preset");
     let n = scene.chain.mass.len();
-    // frames every 100 computer time units up to 2000; bead 3 moves at 1e-7 (computer)
     let frames: Vec<(f64, Vec<f64>)> = (0..=20)
         .map(|k| {
             let mut v = vec![0.0; n];
@@ -381,7 +169,14 @@ fn si_units_convert_axes_of_physical_scenes() {
             (100.0 * k as f64, v)
         })
         .collect();
-    let path = write_snap(d, "phys.snap", &scene, &frames);
+    write_snap(d, "phys.snap", &scene, &frames)
+}
+
+#[test]
+fn si_units_convert_axes_of_physical_scenes() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = dir.path();
+    let path = physical_snapshot(d);
     let snap = Snapshot::open(&path).expect("open");
     let beta = beta_table1();
     assert!((beta - 9.0572e-7).abs() < 1e-10, "β = {beta}");
@@ -450,6 +245,13 @@ fn si_units_convert_axes_of_physical_scenes() {
             "{l:?}"
         );
     }
+}
+
+/// `--units si` on a dimensionless scene is refused, naming the scene.
+#[test]
+fn si_units_are_refused_for_dimensionless_scenes() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = dir.path();
     // a dimensionless scene has no SI axes
     write_snap(
         d,

@@ -1,4 +1,8 @@
-//! Analysis of chain states and runs, as in the paper (`paper-hertz-like-interfaces.tex`).
+//! Analysis of chain states and frames, as in the paper (`paper-hertz-like-interfaces.tex`):
+//! observables computed from `(chain, u, v)`, frames or event logs. Nothing here starts an
+//! engine; observers ([`window::WindowWatch`], [`SteadyStateStop`]) only watch a run that their
+//! caller drives. The paper's experiments, which build scenes and run engines, are in
+//! [`crate::experiments`].
 //!
 //! - [`wave`]: pulse detection (beads above 0.1 % of the pulse's peak |v|, Sec. 3.2), wave energy
 //!   (eq. 13), leading-wave tracking over frames.
@@ -6,12 +10,12 @@
 //!   `|v_out/v_in|` (Sec. 5.1, Fig. 18).
 //! - [`fit`]: least-squares exponential decay `E(x) = a e^{−γx}` (Sec. 5.2, eq. 20 ff.) and
 //!   ordinary multilinear least squares (the Table 2 fit, eq. 21).
-//! - [`window`], [`periodic`]: windowed wave energy behind the front and the periodic-chain
-//!   experiments built on it (Sec. 4, Figs. 10–14).
-//! - [`transfer`]: bead-to-bead energy transfer ratio in disordered chains (Sec. 5.2, Fig. 23).
-//! - [`composite`]: composite mass–exponent interfaces (Sec. 6, Fig. 25).
-//! - [`wavelength`], [`timings`], [`impurities`], [`appendix`]: Fig. 2 wave width, the Fig. 4
-//!   gap timings, Figs. 15/17 impurities, appendices A and B.
+//! - [`window`]: windowed wave energy behind the front, its decay and periods (Sec. 4,
+//!   Figs. 10–14; the periodic-chain runs are [`crate::experiments::periodic`]).
+//! - [`wavelength`]: the continuum solitary wave (Nesterenko) and a measured profile's widths
+//!   and fitted wavelength (Sec. 2, Fig. 2).
+//! - [`timings`]: gap openings/closings at an interface from frames or the event log, and the
+//!   freeze / two-body exchange times `t1 … t5` (Sec. 3.1, Figs. 3–4).
 //! - [`state`]: the steady-state criterion of appendix A (also as a run stop condition) and
 //!   fragmentation statistics (open gaps, fragments and their velocities).
 //!
@@ -22,17 +26,10 @@
 //! potential part of a wave (about 30-40 % of a solitary wave's energy at any instant), not the
 //! ratios once pulses are compared at like moments.
 
-pub mod appendix;
-pub mod composite;
 pub mod fit;
-pub mod impurities;
 pub mod interface;
-pub mod paper;
-pub mod periodic;
-pub mod quick;
 pub mod state;
 pub mod timings;
-pub mod transfer;
 pub mod wave;
 pub mod wavelength;
 pub mod window;

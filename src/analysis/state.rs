@@ -47,6 +47,12 @@ impl<'a> SteadyStateStop<'a> {
 }
 
 impl Observer for SteadyStateStop<'_> {
+    fn dissipated(&mut self, t: f64, energy: f64) -> Result<(), EngineError> {
+        self.inner.dissipated(t, energy)
+    }
+    fn events(&mut self, events: &[crate::engine::events::EventRecord]) -> Result<(), EngineError> {
+        self.inner.events(events)
+    }
     fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
         self.inner.frame(t, u, v)?;
         if self.reached.is_none() && t > 0.0 && is_steady_state(self.chain, u, v, self.rel) {

@@ -101,6 +101,25 @@ impl LineChart {
     }
 }
 
+impl LineChart {
+    /// The y range and number of labels: the decades of the data on a log axis (not of the
+    /// padded range; 1e-9 decade of rounding slack), else the padded range `y0..y1`.
+    fn y_axis(&self, y0: f64, y1: f64) -> ((f64, f64), usize) {
+        if self.log_y {
+            let (lo, hi) = self
+                .series
+                .iter()
+                .flat_map(|s| self.plotted(s))
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (_, y)| {
+                    (a.min(y), b.max(y))
+                });
+            log_decades(lo + 1e-9, hi - 1e-9)
+        } else {
+            (safe_range(y0, y1), N_LABELS)
+        }
+    }
+}
+
 impl Figure for LineChart {
     fn size(&self) -> (u32, u32) {
         self.size
@@ -118,19 +137,7 @@ impl Figure for LineChart {
         let lay = Layout::new(self.size, false);
         let ((x0, x1), (y0, y1)) = self.ranges();
         let (x0, x1) = safe_range(x0, x1);
-        let ((y0, y1), ny) = if self.log_y {
-            // the decades of the data (not of the padded range); 1e-9 decade of rounding slack
-            let (lo, hi) = self
-                .series
-                .iter()
-                .flat_map(|s| self.plotted(s))
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (_, y)| {
-                    (a.min(y), b.max(y))
-                });
-            log_decades(lo + 1e-9, hi - 1e-9)
-        } else {
-            (safe_range(y0, y1), N_LABELS)
-        };
+        let ((y0, y1), ny) = self.y_axis(y0, y1);
         let mut chart = lay
             .chart(root)
             .build_cartesian_2d(x0..x1, y0..y1)
@@ -161,29 +168,20 @@ impl Figure for LineChart {
         mesh.draw().map_err(de)?;
         for (k, s) in self.series.iter().enumerate() {
             let pts = self.plotted(s);
-            let (color, series) = match s.style {
-                Style::Line => {
-                    let c = Palette99::pick(k).to_rgba();
-                    let a = chart
-                        .draw_series(LineSeries::new(pts, c.stroke_width(2)))
-                        .map_err(de)?;
-                    (c, a)
-                }
+            let color = match s.style {
+                Style::Fit => BLACK.to_rgba(),
+                Style::Line | Style::Markers => Palette99::pick(k).to_rgba(),
+            };
+            let series = match s.style {
+                Style::Line => chart.draw_series(LineSeries::new(pts, color.stroke_width(2))),
                 Style::Markers => {
-                    let c = Palette99::pick(k).to_rgba();
-                    let a = chart
-                        .draw_series(pts.into_iter().map(|p| Circle::new(p, 3, c.filled())))
-                        .map_err(de)?;
-                    (c, a)
+                    chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 3, color.filled())))
                 }
                 Style::Fit => {
-                    let c = BLACK.to_rgba();
-                    let a = chart
-                        .draw_series(DashedLineSeries::new(pts, 8, 5, c.stroke_width(2)))
-                        .map_err(de)?;
-                    (c, a)
+                    chart.draw_series(DashedLineSeries::new(pts, 8, 5, color.stroke_width(2)))
                 }
-            };
+            }
+            .map_err(de)?;
             if text {
                 series.label(s.name.clone()).legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))

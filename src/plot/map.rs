@@ -242,6 +242,41 @@ pub fn edges(c: &[f64]) -> Vec<f64> {
     }
 }
 
+impl Map {
+    /// The colour bar's five ticks (at 0, 1/4, …, 1 of the `z` range `lo..hi`; powers of ten on
+    /// a log scale) and its label.
+    fn colorbar_ticks(&self, lo: f64, hi: f64) -> (Vec<(f64, String)>, String) {
+        let vals: Vec<f64> = (0..=4)
+            .map(|k| {
+                let v = lo + k as f64 / 4.0 * (hi - lo);
+                if self.log_z {
+                    10f64.powf(v)
+                } else {
+                    v
+                }
+            })
+            .collect();
+        let ticks: Vec<(f64, String)> = if self.log_z {
+            vals.iter()
+                .enumerate()
+                .map(|(k, &v)| (k as f64 / 4.0, num_label(v)))
+                .collect()
+        } else {
+            let f = TickFmt::for_values(&vals, hi - lo, 1e-3);
+            vals.iter()
+                .enumerate()
+                .map(|(k, &v)| (k as f64 / 4.0, f.label(v)))
+                .collect()
+        };
+        let label = if self.log_z {
+            format!("{} (log)", self.names.2)
+        } else {
+            self.names.2.clone()
+        };
+        (ticks, label)
+    }
+}
+
 impl Figure for Map {
     fn size(&self) -> (u32, u32) {
         self.size
@@ -323,33 +358,7 @@ impl Figure for Map {
             }
         }
         lay.title(root, &self.title, text)?;
-        let vals: Vec<f64> = (0..=4)
-            .map(|k| {
-                let v = lo + k as f64 / 4.0 * (hi - lo);
-                if self.log_z {
-                    10f64.powf(v)
-                } else {
-                    v
-                }
-            })
-            .collect();
-        let ticks: Vec<(f64, String)> = if self.log_z {
-            vals.iter()
-                .enumerate()
-                .map(|(k, &v)| (k as f64 / 4.0, num_label(v)))
-                .collect()
-        } else {
-            let f = TickFmt::for_values(&vals, hi - lo, 1e-3);
-            vals.iter()
-                .enumerate()
-                .map(|(k, &v)| (k as f64 / 4.0, f.label(v)))
-                .collect()
-        };
-        let label = if self.log_z {
-            format!("{} (log)", self.names.2)
-        } else {
-            self.names.2.clone()
-        };
+        let (ticks, label) = self.colorbar_ticks(lo, hi);
         lay.colorbar(root, &|s| self.cmap.at(s), &ticks, &label, text)
     }
 }

@@ -201,7 +201,7 @@ pub fn write_figure<F: Figure>(fig: &F, out: &Path) -> Result<Vec<PathBuf>, Plot
     }
     let mut written: Vec<PathBuf> = Vec::new();
     for (path, bytes) in rendered {
-        let r = crate::export::write_atomically(&path, |w| {
+        let r = crate::snapshot::write_atomically(&path, |w| {
             w.write_all(&bytes).map_err(SnapshotError::Output)
         });
         if let Err(e) = r {

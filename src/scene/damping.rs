@@ -50,32 +50,8 @@ pub(crate) fn parse(
             ))
         }
     };
-    let keys = [
-        "damping",
-        "damping_si",
-        "restitution",
-        "impact_speed",
-        "impact_speed_si",
-    ];
     let Some(law) = law else {
-        for k in keys {
-            if get(chain_t, k).is_some() {
-                return Err(ctx.err(
-                    &kp("chain", k),
-                    "needs a dissipative law ([chain] law = \"viscoelastic\" or \"linear_dashpot\")",
-                ));
-            }
-        }
-        for side in ["left", "right"] {
-            for k in ["damping", "damping_si"] {
-                if wall_key(walls_t, side, k).is_some() {
-                    return Err(ctx.err(
-                        &format!("[walls.{side}].{k}"),
-                        "needs a dissipative law ([chain] law = \"viscoelastic\" or \"linear_dashpot\")",
-                    ));
-                }
-            }
-        }
+        refuse_damping_keys(ctx, chain_t, walls_t)?;
         return Ok(None);
     };
     let contact = contact_coefficients(ctx, chain_t, law, &arrays, scales)?;
@@ -119,6 +95,40 @@ pub(crate) fn parse(
         left_wall: wall[0],
         right_wall: wall[1],
     }))
+}
+
+/// A conservative scene (law `power`) refuses the damping keys of `[chain]` and the walls.
+fn refuse_damping_keys(
+    ctx: &Ctx,
+    chain_t: Option<&Table>,
+    walls_t: Option<&Table>,
+) -> Result<(), SceneError> {
+    let keys = [
+        "damping",
+        "damping_si",
+        "restitution",
+        "impact_speed",
+        "impact_speed_si",
+    ];
+    for k in keys {
+        if get(chain_t, k).is_some() {
+            return Err(ctx.err(
+                &kp("chain", k),
+                "needs a dissipative law ([chain] law = \"viscoelastic\" or \"linear_dashpot\")",
+            ));
+        }
+    }
+    for side in ["left", "right"] {
+        for k in ["damping", "damping_si"] {
+            if wall_key(walls_t, side, k).is_some() {
+                return Err(ctx.err(
+                    &format!("[walls.{side}].{k}"),
+                    "needs a dissipative law ([chain] law = \"viscoelastic\" or \"linear_dashpot\")",
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 fn plain_given(walls_t: Option<&Table>, side: &str) -> bool {

@@ -44,6 +44,28 @@ pub(crate) fn parse_hard(
     let Some(t) = t else {
         return Ok(None);
     };
+    let list = contact_list(ctx, t, nc)?;
+    let values = restitutions(ctx, t, &list)?;
+    let mut restitution = vec![None; nc];
+    for (c, e) in list.iter().zip(values) {
+        restitution[*c] = Some(e);
+    }
+    let given = opt_num(ctx, Some(t), "hard", "collapse_interval")?;
+    let collapse_interval = given.unwrap_or(f64::NAN);
+    if given.is_some() && !(collapse_interval > 0.0 && collapse_interval.is_finite()) {
+        return Err(ctx.err(
+            &kp("hard", "collapse_interval"),
+            format!("must be positive and finite, got {collapse_interval}"),
+        ));
+    }
+    Ok(Some(HardContacts {
+        restitution,
+        collapse_interval,
+    }))
+}
+
+/// `[hard].contacts`: `"all"`, a list of contact indices (each once) or `{ from, to }`.
+fn contact_list(ctx: &Ctx, t: &Table, nc: usize) -> Result<Vec<usize>, SceneError> {
     let key = kp("hard", "contacts");
     let list: Vec<usize> = match t.get("contacts") {
         None => {
@@ -100,6 +122,11 @@ pub(crate) fn parse_hard(
             ))
         }
     };
+    Ok(list)
+}
+
+/// `[hard].restitution`: one value for every hard contact or one per contact, each in [0, 1].
+fn restitutions(ctx: &Ctx, t: &Table, list: &[usize]) -> Result<Vec<f64>, SceneError> {
     let rkey = kp("hard", "restitution");
     let values: Vec<f64> = match get(Some(t), "restitution") {
         None => vec![1.0; list.len()],
@@ -129,22 +156,7 @@ pub(crate) fn parse_hard(
             ));
         }
     }
-    let mut restitution = vec![None; nc];
-    for (c, e) in list.iter().zip(values) {
-        restitution[*c] = Some(e);
-    }
-    let given = opt_num(ctx, Some(t), "hard", "collapse_interval")?;
-    let collapse_interval = given.unwrap_or(f64::NAN);
-    if given.is_some() && !(collapse_interval > 0.0 && collapse_interval.is_finite()) {
-        return Err(ctx.err(
-            &kp("hard", "collapse_interval"),
-            format!("must be positive and finite, got {collapse_interval}"),
-        ));
-    }
-    Ok(Some(HardContacts {
-        restitution,
-        collapse_interval,
-    }))
+    Ok(values)
 }
 
 /// Sets the default collapse interval (module docs) where `[hard]` did not give one.

@@ -191,20 +191,30 @@
 //! | `wall_reflection` | Solitary wave (n = 2.5, 60 beads) reflected by a rigid right wall with the chain's contact law |
 //! | `gravity_on_wall` | Six beads resting on a left wall under gravity g = 1 (static overlaps), top bead pushed down with v = 0.5: persistent contacts |
 
+mod arrays;
+mod builder;
+mod ctx;
 mod damping;
 pub mod error;
 pub(crate) mod hard;
+mod initial;
 mod keys;
+mod load;
+mod material;
 mod output;
 pub mod parse;
 pub mod presets;
+mod settings;
 pub mod show;
+mod tables;
 pub mod units;
 pub mod validate;
 pub mod values;
+mod walls;
 
 pub use error::SceneError;
-pub use parse::{load, parse_str};
+pub use load::load;
+pub use parse::parse_str;
 pub use presets::{preset, presets, PresetInfo};
 pub use units::UnitScales;
 pub use validate::validate;

@@ -5,7 +5,8 @@
 
 use super::error::SceneError;
 use super::values::{Ctx, Per};
-use super::Scene;
+use super::{RunSettings, Scene};
+use crate::model::Chain;
 use std::path::Path;
 
 /// How many indices a warning lists before summarising.
@@ -25,6 +26,45 @@ pub(crate) fn validate_in(scene: &Scene, file: &str) -> Result<Vec<String>, Scen
         seed: scene.seed,
     };
     check_name(&ctx, &scene.name)?;
+    check_lengths(&ctx, scene)?;
+    check_values(&ctx, scene)?;
+    super::hard::check_start(&ctx, scene)?;
+    let mut warnings = Vec::new();
+    check_walls(&ctx, scene, &mut warnings)?;
+    check_run(&ctx, &scene.run)?;
+    check_scales(&ctx, scene)?;
+    warn_soft_contacts(file, &scene.chain, &mut warnings);
+    let c = &scene.chain;
+    let n = c.mass.len();
+    let moving = scene.v0.iter().any(|v| *v != 0.0);
+    let pressed = c.field.is_some()
+        || (0..n - 1).any(|k| c.overlap(k, scene.u0[k], scene.u0[k + 1]) > 0.0)
+        || c.left_wall
+            .as_ref()
+            .is_some_and(|w| w.precompression - scene.u0[0] > 0.0)
+        || c.right_wall
+            .as_ref()
+            .is_some_and(|w| w.precompression + scene.u0[n - 1] > 0.0);
+    if !moving && !pressed {
+        warnings.push(format!(
+            "{file}: [initial]: every bead at rest with no force: nothing will move"
+        ));
+    }
+    let r = &scene.run;
+    if let Some(e) = r.every {
+        if e > r.until {
+            warnings.push(format!(
+                "{file}: [run].every: {e} > until {}: only the first and last frame",
+                r.until
+            ));
+        }
+    }
+    Ok(warnings)
+}
+
+/// At least two beads, and every array as long as the chain (per bead) or one shorter (per
+/// contact).
+fn check_lengths(ctx: &Ctx, scene: &Scene) -> Result<(), SceneError> {
     let c = &scene.chain;
     let n = c.mass.len();
     if n < 2 {
@@ -52,8 +92,12 @@ pub(crate) fn validate_in(scene: &Scene, file: &str) -> Result<Vec<String>, Scen
         len("[field].force", w.len(), n, Per::Bead)?;
     }
     len("[initial].displacement", scene.u0.len(), n, Per::Bead)?;
-    len("[initial].velocity", scene.v0.len(), n, Per::Bead)?;
+    len("[initial].velocity", scene.v0.len(), n, Per::Bead)
+}
 
+/// Every value finite; masses and prefactors > 0, exponents > 1 (eq. 1).
+fn check_values(ctx: &Ctx, scene: &Scene) -> Result<(), SceneError> {
+    let c = &scene.chain;
     let check = |key: &str, per: Per, v: &[f64], ok: &dyn Fn(f64) -> bool, need: &str| match v
         .iter()
         .position(|x| !x.is_finite() || !ok(*x))
@@ -93,10 +137,12 @@ pub(crate) fn validate_in(scene: &Scene, file: &str) -> Result<Vec<String>, Scen
         check("[field].force", Per::Bead, w, &any, "")?;
     }
     check("[initial].displacement", Per::Bead, &scene.u0, &any, "")?;
-    check("[initial].velocity", Per::Bead, &scene.v0, &any, "")?;
-    super::hard::check_start(&ctx, scene)?;
+    check("[initial].velocity", Per::Bead, &scene.v0, &any, "")
+}
 
-    let mut warnings = Vec::new();
+/// Walls: finite, exponent > 1, prefactor > 0; a warning for an exponent below 2.
+fn check_walls(ctx: &Ctx, scene: &Scene, warnings: &mut Vec<String>) -> Result<(), SceneError> {
+    let c = &scene.chain;
     for (side, wall) in [("left", &c.left_wall), ("right", &c.right_wall)] {
         let Some(w) = wall else { continue };
         let k = format!("[walls].{side}");
@@ -124,13 +170,16 @@ pub(crate) fn validate_in(scene: &Scene, file: &str) -> Result<Vec<String>, Scen
         }
         if w.exponent < 2.0 {
             warnings.push(format!(
-                "{file}: {k}.exponent: {} < 2: wall force not C¹ at contact (steps shrink there)",
-                w.exponent
+                "{}: {k}.exponent: {} < 2: wall force not C¹ at contact (steps shrink there)",
+                ctx.file, w.exponent
             ));
         }
     }
+    Ok(())
+}
 
-    let r = &scene.run;
+/// `[run]`: end time and interval finite and > 0, tolerances in (0, 1).
+fn check_run(ctx: &Ctx, r: &RunSettings) -> Result<(), SceneError> {
     let pos = |key: &str, x: f64| {
         if x.is_finite() && x > 0.0 {
             Ok(())
@@ -149,9 +198,12 @@ pub(crate) fn validate_in(scene: &Scene, file: &str) -> Result<Vec<String>, Scen
             }
         }
     }
+    Ok(())
+}
 
-    check_scales(&ctx, scene)?;
-
+/// A warning naming the contacts with an exponent below 2 (force not C¹ at contact).
+fn warn_soft_contacts(file: &str, c: &Chain, warnings: &mut Vec<String>) {
+    let n = c.mass.len();
     let soft: Vec<usize> = (0..n - 1).filter(|&k| c.exponent[k] < 2.0).collect();
     if !soft.is_empty() {
         let shown: Vec<String> = soft.iter().take(LIST_MAX).map(usize::to_string).collect();
@@ -166,29 +218,6 @@ pub(crate) fn validate_in(scene: &Scene, file: &str) -> Result<Vec<String>, Scen
             c.exponent[soft[0]]
         ));
     }
-    let moving = scene.v0.iter().any(|v| *v != 0.0);
-    let pressed = c.field.is_some()
-        || (0..n - 1).any(|k| c.overlap(k, scene.u0[k], scene.u0[k + 1]) > 0.0)
-        || c.left_wall
-            .as_ref()
-            .is_some_and(|w| w.precompression - scene.u0[0] > 0.0)
-        || c.right_wall
-            .as_ref()
-            .is_some_and(|w| w.precompression + scene.u0[n - 1] > 0.0);
-    if !moving && !pressed {
-        warnings.push(format!(
-            "{file}: [initial]: every bead at rest with no force: nothing will move"
-        ));
-    }
-    if let Some(e) = r.every {
-        if e > r.until {
-            warnings.push(format!(
-                "{file}: [run].every: {e} > until {}: only the first and last frame",
-                r.until
-            ));
-        }
-    }
-    Ok(warnings)
 }
 
 /// `[scene].name` names the default output `<name>.snap` in the working directory, so it must be

@@ -47,7 +47,7 @@ pub fn write_checkpoint(path: &Path, ck: &CheckpointFile) -> Result<(), Snapshot
     let mut h = crc32fast::Hasher::new();
     h.update(&payload);
     let crc = h.finalize();
-    crate::export::write_atomically(path, |out| {
+    super::write_atomically(path, |out| {
         let io = |e: std::io::Error| SnapshotError::Output(e);
         out.write_all(&CKPT_MAGIC).map_err(io)?;
         out.write_all(&CKPT_VERSION.to_le_bytes()).map_err(io)?;

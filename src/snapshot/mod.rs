@@ -108,6 +108,7 @@
 //! dead processes are removed first, a character device or FIFO is written in place, a symbolic
 //! link is refused (rules in [`crate::files`]).
 
+mod atomic;
 pub mod ckpt;
 mod header;
 pub mod header4;
@@ -117,6 +118,7 @@ pub mod select;
 pub mod size;
 mod writer;
 
+pub use atomic::write_atomically;
 pub use header::read_header;
 pub use reader::Snapshot;
 pub use select::{Fields, Selection};
@@ -384,7 +386,7 @@ pub enum SnapshotError {
         /// Encoder message.
         detail: String,
     },
-    /// Writing to an output stream failed (no path known yet; [`crate::export::write_atomically`]
+    /// Writing to an output stream failed (no path known yet; [`write_atomically`]
     /// turns this into [`SnapshotError::Io`] naming its file).
     #[error("writing output: {0}")]
     Output(#[from] std::io::Error),

@@ -3,15 +3,17 @@
 //!
 //! Each run uses the scene's own engine settings ([`RunConfig::from_scene`]) under a
 //! [`Watch`] (leading-wave track, incoming/reflected peak velocities; stop at bead `N − margin`,
-//! as `analysis::paper::run_watched`), optionally wrapped in [`SteadyStateStop`] (appendix A). A
+//! as `experiments::paper::run_watched`), optionally wrapped in [`SteadyStateStop`] (appendix A). A
 //! stopped run reports the counters of the engine state handed to the observer at the stop.
 
 use super::csv::{self, field, ResultFile};
 use super::expand::{format_value, RunPoint};
-use super::{SweepError, SweepSpec};
-use crate::analysis::paper::Watch;
-use crate::analysis::{energy_split, fit_exponential, fragmentation, SteadyStateStop};
+use super::{Decay, SweepError, SweepSpec};
+use crate::analysis::{
+    energy_split, fit_exponential, fragmentation, AnalysisError, ExpFit, SteadyStateStop,
+};
 use crate::engine::{self, Control, EngineError, EngineState, Observer, RunConfig};
+use crate::experiments::paper::Watch;
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -98,6 +100,12 @@ struct Capture<'a> {
 }
 
 impl Observer for Capture<'_> {
+    fn dissipated(&mut self, t: f64, energy: f64) -> Result<(), EngineError> {
+        self.inner.dissipated(t, energy)
+    }
+    fn events(&mut self, events: &[crate::engine::events::EventRecord]) -> Result<(), EngineError> {
+        self.inner.events(events)
+    }
     fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
         self.inner.frame(t, u, v)
     }
@@ -203,20 +211,7 @@ pub fn run_one(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<Str
         out.left_fraction = Some(sp.left / sp.total());
     }
     if let Some(d) = m.decay {
-        let e0 = watch
-            .track
-            .iter()
-            .find(|p| p.1 >= d.e0_bead)
-            .map_or(1.0, |p| p.2);
-        let (mut x, mut e) = (Vec::new(), Vec::<f64>::new());
-        for p in watch.track.iter().filter(|p| p.1 >= d.from) {
-            if e.last().is_some_and(|&prev| p.2 / e0 > d.jump * prev) {
-                break;
-            }
-            x.push(p.1 as f64);
-            e.push(p.2 / e0);
-        }
-        match fit_exponential(&x, &e) {
+        match decay_fit(&watch, &d) {
             Ok(f) => out.gamma = Some((f.gamma, f.gamma_stderr)),
             Err(err) => problem = Some(format!("decay fit: {err}")),
         }
@@ -228,6 +223,25 @@ pub fn run_one(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<Str
         out.fragments = Some(fragmentation(chain, &u, &v, g).fragments.len());
     }
     Ok((out, problem))
+}
+
+/// The leading wave's decay `E/E0 = a exp(−γ x)` over the tracked positions from `d.from`
+/// (`E0` at bead `d.e0_bead`), cut where the energy jumps up by more than `d.jump`.
+fn decay_fit(watch: &Watch, d: &Decay) -> Result<ExpFit, AnalysisError> {
+    let e0 = watch
+        .track
+        .iter()
+        .find(|p| p.1 >= d.e0_bead)
+        .map_or(1.0, |p| p.2);
+    let (mut x, mut e) = (Vec::new(), Vec::<f64>::new());
+    for p in watch.track.iter().filter(|p| p.1 >= d.from) {
+        if e.last().is_some_and(|&prev| p.2 / e0 > d.jump * prev) {
+            break;
+        }
+        x.push(p.1 as f64);
+        e.push(p.2 / e0);
+    }
+    fit_exponential(&x, &e)
 }
 
 /// The CSV row of a run (without newline).
@@ -305,16 +319,8 @@ pub fn run_sweep(
         .map(|c| field(c))
         .collect::<Vec<_>>()
         .join(",");
-    let partial = partial_path(&opts.out);
-    let mut done: BTreeMap<usize, String> = BTreeMap::new();
-    if partial.exists() {
-        let old = csv::read_result(&partial, true)?;
-        check_partial(spec, &partial, &old, &spec_line, &columns, &mine)?;
-        done = old.rows;
-    }
+    let (partial, done) = resume_partial(spec, opts, &mine, &spec_line, &columns)?;
     let resumed = done.len();
-    // Rewrite the partial file cleanly (drops a line cut short), then append to it.
-    csv::write_atomic(&partial, &csv::render(&spec_line, &columns, &done))?;
     let mut pending: Vec<&RunPoint> = mine
         .iter()
         .filter(|r| !done.contains_key(&r.index))
@@ -322,14 +328,7 @@ pub fn run_sweep(
     if let Some(mx) = opts.max_runs {
         pending.truncate(mx);
     }
-    let file = std::fs::OpenOptions::new()
-        .append(true)
-        .open(&partial)
-        .map_err(|e| SweepError::Io {
-            file: partial.display().to_string(),
-            action: "cannot open for appending".into(),
-            reason: e.to_string(),
-        })?;
+    let file = open_append(&partial)?;
     let sink = Mutex::new((file, done, resumed));
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.jobs.unwrap_or(0))
@@ -343,29 +342,14 @@ pub fn run_sweep(
             .par_iter()
             .try_for_each(|run| -> Result<(), SweepError> {
                 let t0 = Instant::now();
-                let res =
-                    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_one(spec, run)))
-                        .unwrap_or_else(|p| {
-                            let msg = p
-                                .downcast_ref::<String>()
-                                .cloned()
-                                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-                                .unwrap_or_default();
-                            Err(format!("panic: {msg}"))
-                        });
+                let res = run_caught(spec, run);
                 let wall = opts.timing.then(|| t0.elapsed().as_secs_f64());
                 let row = format_row(spec, run, &res, wall);
                 let mut g = sink
                     .lock()
                     .map_err(|_| SweepError::Options("a worker thread failed".into()))?;
                 let (file, rows, count) = &mut *g;
-                file.write_all(format!("{row}\n").as_bytes())
-                    .and_then(|_| file.flush())
-                    .map_err(|e| SweepError::Io {
-                        file: partial.display().to_string(),
-                        action: "cannot append a row".into(),
-                        reason: e.to_string(),
-                    })?;
+                append_row(file, &partial, &row)?;
                 rows.insert(run.index, row);
                 *count += 1;
                 progress(*count, n_mine);
@@ -393,6 +377,63 @@ pub fn run_sweep(
         failed,
         complete,
     })
+}
+
+/// The partial result file `OUT.partial` and the rows it already holds (checked against this
+/// sweep), rewritten cleanly (drops a line cut short) so rows can be appended.
+fn resume_partial(
+    spec: &SweepSpec,
+    opts: &SweepOptions,
+    mine: &[RunPoint],
+    spec_line: &str,
+    columns: &str,
+) -> Result<(PathBuf, BTreeMap<usize, String>), SweepError> {
+    let partial = partial_path(&opts.out);
+    let mut done: BTreeMap<usize, String> = BTreeMap::new();
+    if partial.exists() {
+        let old = csv::read_result(&partial, true)?;
+        check_partial(spec, &partial, &old, spec_line, columns, mine)?;
+        done = old.rows;
+    }
+    csv::write_atomic(&partial, &csv::render(spec_line, columns, &done))?;
+    Ok((partial, done))
+}
+
+/// Opens the partial file for appending rows.
+fn open_append(partial: &Path) -> Result<std::fs::File, SweepError> {
+    std::fs::OpenOptions::new()
+        .append(true)
+        .open(partial)
+        .map_err(|e| SweepError::Io {
+            file: partial.display().to_string(),
+            action: "cannot open for appending".into(),
+            reason: e.to_string(),
+        })
+}
+
+/// [`run_one`], with a panic turned into the run's error (`panic: MESSAGE`).
+fn run_caught(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<String>), String> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_one(spec, run))).unwrap_or_else(
+        |p| {
+            let msg = p
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_default();
+            Err(format!("panic: {msg}"))
+        },
+    )
+}
+
+/// Appends one result row to the partial file and flushes it (a resumed sweep keeps it).
+fn append_row(file: &mut std::fs::File, partial: &Path, row: &str) -> Result<(), SweepError> {
+    file.write_all(format!("{row}\n").as_bytes())
+        .and_then(|_| file.flush())
+        .map_err(|e| SweepError::Io {
+            file: partial.display().to_string(),
+            action: "cannot append a row".into(),
+            reason: e.to_string(),
+        })
 }
 
 fn is_error_row(row: &str) -> bool {

@@ -55,10 +55,10 @@
 //!   energy (Fig. 6) is `left_fraction − left_fraction(n2 = n1)` (the uniform run of the grid).
 //! - `gamma`, `gamma_se` (`decay`): fit `E/E0 = a e^{−γ x}` of the leading-wave energy (eq. 13)
 //!   against its peak bead `x ≥ from`, `E0` at the first frame with peak `≥ e0_bead`, up to the first
-//!   jump by more than `jump` between frames (as [`crate::analysis::paper::decay_gamma`], Sec. 5.2,
+//!   jump by more than `jump` between frames (as [`crate::experiments::paper::decay_gamma`], Sec. 5.2,
 //!   Fig. 20).
 //! - `v_ratio` (`impurity = K`): `|v_out/v_in|` of beads `min(K/2, 20)..K−3` over all frames
-//!   (Sec. 5.1, Fig. 18; [`crate::analysis::paper::Watch`]).
+//!   (Sec. 5.1, Fig. 18; [`crate::experiments::paper::Watch`]).
 //! - `fragments`: number of fragments of the final state ([`crate::analysis::fragmentation`]).
 //! - `wall_seconds` only with `--timing` (otherwise identical inputs give identical bytes).
 //!
@@ -75,13 +75,14 @@
 pub mod csv;
 pub mod exec;
 pub mod expand;
+mod parse;
 
 pub use csv::merge;
 pub use exec::{run_sweep, Shard, SweepOptions, SweepSummary};
 pub use expand::{RunPoint, MAX_RUNS};
 
-use crate::scene::{presets, SceneError};
-use std::path::{Path, PathBuf};
+use crate::scene::SceneError;
+use std::path::PathBuf;
 use toml::{Table, Value};
 
 /// Why a sweep could not be read, resumed, run or merged. Every message is one line naming the
@@ -157,7 +158,7 @@ pub struct Measure {
     pub fragments: Option<f64>,
 }
 
-/// Settings of the leading-wave decay fit (defaults as in `analysis::paper::decay_gamma`).
+/// Settings of the leading-wave decay fit (defaults as in `experiments::paper::decay_gamma`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Decay {
     /// Fit the points whose peak bead is at least this (default 25).
@@ -228,7 +229,8 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
     h
 }
 
-fn type_name(v: &Value) -> &'static str {
+/// The TOML type of a value, with its article, for messages.
+pub(crate) fn type_name(v: &Value) -> &'static str {
     match v {
         Value::String(_) => "a string",
         Value::Integer(_) => "an integer",
@@ -238,374 +240,4 @@ fn type_name(v: &Value) -> &'static str {
         Value::Array(_) => "an array",
         Value::Table(_) => "a table",
     }
-}
-
-impl SweepSpec {
-    /// Reads and checks a sweep file (the base scene is resolved relative to it).
-    pub fn load(path: &Path) -> Result<SweepSpec, SweepError> {
-        let file = path.display().to_string();
-        let text = crate::files::read_text(path).map_err(|e| SweepError::Io {
-            file: file.clone(),
-            action: "cannot read sweep file".into(),
-            reason: e.to_string(),
-        })?;
-        let dir = path.parent().unwrap_or(Path::new("."));
-        Self::parse_str(&text, dir, &file)
-    }
-
-    /// Parses sweep text; `dir` resolves a scene path, `file` names the sweep in messages.
-    pub fn parse_str(text: &str, dir: &Path, file: &str) -> Result<SweepSpec, SweepError> {
-        let key_err = |key: &str, message: String| SweepError::Key {
-            file: file.to_string(),
-            key: key.to_string(),
-            message,
-        };
-        let root: Table = toml::from_str(text).map_err(|e| {
-            let line = e.span().map_or(0, |s| {
-                text[..s.start.min(text.len())].matches('\n').count() + 1
-            });
-            SweepError::Csv {
-                file: file.to_string(),
-                line,
-                message: format!("malformed TOML: {}", e.message().trim().replace('\n', "; ")),
-            }
-        })?;
-        const TOP: &[&str] = &["scene", "set", "grid", "point", "seeds", "measure", "stop"];
-        for k in root.keys() {
-            if !TOP.contains(&k.as_str()) {
-                return Err(key_err(
-                    k,
-                    format!("unknown key (expected one of: {})", TOP.join(", ")),
-                ));
-            }
-        }
-        let scene_spec = match root.get("scene") {
-            Some(Value::String(s)) => s.clone(),
-            Some(v) => {
-                return Err(key_err(
-                    "scene",
-                    format!("expected a preset name or file, got {}", type_name(v)),
-                ))
-            }
-            None => {
-                return Err(key_err(
-                    "scene",
-                    "missing (base scene: preset or file)".into(),
-                ))
-            }
-        };
-        let (base_text, base_dir) = base_scene(&scene_spec, dir)
-            .map_err(|m| key_err("scene", format!("\"{scene_spec}\": {m}")))?;
-        let base: Table = toml::from_str(&base_text)
-            .map_err(|e| key_err("scene", format!("\"{scene_spec}\": malformed TOML: {e}")))?;
-
-        let table = |name: &str| -> Result<Option<&Table>, SweepError> {
-            match root.get(name) {
-                None => Ok(None),
-                Some(Value::Table(t)) => Ok(Some(t)),
-                Some(v) => Err(key_err(
-                    &format!("[{name}]"),
-                    format!("expected a table, got {}", type_name(v)),
-                )),
-            }
-        };
-        let check_key = |where_: &str, k: &str| -> Result<(), SweepError> {
-            let parts: Vec<&str> = k.split('.').collect();
-            if parts.len() < 2 || parts.iter().any(|p| p.is_empty()) {
-                return Err(key_err(
-                    &format!("{where_}.\"{k}\""),
-                    "expected a quoted dotted scene key such as \"chain.exponent\" (table.key; a whole table cannot be replaced)".into(),
-                ));
-            }
-            Ok(())
-        };
-        let overrides = |where_: &str, t: &Table| -> Result<Vec<(String, Value)>, SweepError> {
-            let mut out = Vec::new();
-            for (k, v) in t {
-                check_key(where_, k)?;
-                out.push((k.clone(), v.clone()));
-            }
-            Ok(out)
-        };
-        let set = match table("set")? {
-            Some(t) => overrides("[set]", t)?,
-            None => Vec::new(),
-        };
-        let mut grid = Vec::new();
-        if let Some(t) = table("grid")? {
-            for (k, v) in t {
-                check_key("[grid]", k)?;
-                let key = format!("[grid].\"{k}\"");
-                match v {
-                    Value::Array(a) if a.is_empty() => {
-                        return Err(key_err(&key, "empty list of values".into()))
-                    }
-                    Value::Array(a) => grid.push((k.clone(), a.clone())),
-                    v => {
-                        return Err(key_err(
-                            &key,
-                            format!("expected a list of values, got {}", type_name(v)),
-                        ))
-                    }
-                }
-            }
-        }
-        let mut points = Vec::new();
-        match root.get("point") {
-            None => {}
-            Some(Value::Array(a)) => {
-                for (i, p) in a.iter().enumerate() {
-                    let w = format!("[[point]] {i}");
-                    match p {
-                        Value::Table(t) => points.push(overrides(&w, t)?),
-                        v => {
-                            return Err(key_err(
-                                &w,
-                                format!("expected a table, got {}", type_name(v)),
-                            ))
-                        }
-                    }
-                }
-            }
-            Some(v) => {
-                return Err(key_err(
-                    "point",
-                    format!("expected [[point]] tables, got {}", type_name(v)),
-                ))
-            }
-        }
-        let seeds = match table("seeds")? {
-            None => None,
-            Some(t) => Some(parse_seeds(t, &key_err)?),
-        };
-        if let Some((k, _)) = &seeds {
-            check_key("[seeds].key", k)?;
-        }
-        let n_seeds = seeds.as_ref().map(|(_, v)| v.len());
-        if let Some(m) = expand::too_many_runs(&grid, points.len(), n_seeds) {
-            return Err(key_err("[grid]", m));
-        }
-        // A key may be set by only one of [set], [grid], [[point]], [seeds].
-        let mut claims: Vec<(&str, &str)> = Vec::new();
-        claims.extend(set.iter().map(|(k, _)| (k.as_str(), "[set]")));
-        claims.extend(grid.iter().map(|(k, _)| (k.as_str(), "[grid]")));
-        for p in &points {
-            claims.extend(p.iter().map(|(k, _)| (k.as_str(), "[[point]]")));
-        }
-        if let Some((k, _)) = &seeds {
-            claims.push((k.as_str(), "[seeds]"));
-        }
-        for (i, (k, by)) in claims.iter().enumerate() {
-            if let Some((_, first)) = claims[..i].iter().find(|(o, b)| o == k && b != by) {
-                return Err(key_err(
-                    &format!("{by}.\"{k}\""),
-                    format!("also set in {first} (each key may be set in one place only)"),
-                ));
-            }
-        }
-        let measure = match table("measure")? {
-            Some(t) => parse_measure(t, &key_err)?,
-            None => Measure::default(),
-        };
-        let stop = match table("stop")? {
-            Some(t) => parse_stop(t, &key_err)?,
-            None => Stop::default(),
-        };
-        let canon = format!(
-            "{}\n#--scene--\n{}",
-            toml::to_string(&root).unwrap_or_else(|_| text.to_string()),
-            toml::to_string(&base).unwrap_or_else(|_| base_text.clone())
-        );
-        Ok(SweepSpec {
-            file: file.to_string(),
-            scene_spec,
-            base,
-            base_dir,
-            set,
-            grid,
-            points,
-            seeds,
-            measure,
-            stop,
-            hash: fnv1a(canon.as_bytes()),
-            max_output_bytes: crate::snapshot::size::DEFAULT_MAX_OUTPUT_BYTES,
-        })
-    }
-}
-
-/// TOML text and base directory of the base scene: a file relative to `dir`, else a preset.
-fn base_scene(spec: &str, dir: &Path) -> Result<(String, PathBuf), String> {
-    let path = dir.join(spec);
-    if path.is_file() {
-        let text = crate::files::read_text(&path)
-            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-        let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
-        return Ok((text, base));
-    }
-    match presets::presets().iter().find(|p| p.name == spec) {
-        Some(p) => Ok((p.toml.to_string(), PathBuf::from("."))),
-        None => Err(format!(
-            "no scene file {} and no preset of that name (presets: {})",
-            path.display(),
-            presets::presets()
-                .iter()
-                .map(|p| p.name)
-                .collect::<Vec<_>>()
-                .join(", ")
-        )),
-    }
-}
-
-type KeyErr<'a> = dyn Fn(&str, String) -> SweepError + 'a;
-
-fn check_table_keys(t: &Table, name: &str, allowed: &[&str], e: &KeyErr) -> Result<(), SweepError> {
-    for k in t.keys() {
-        if !allowed.contains(&k.as_str()) {
-            return Err(e(
-                &format!("[{name}].{k}"),
-                format!("unknown key (expected one of: {})", allowed.join(", ")),
-            ));
-        }
-    }
-    Ok(())
-}
-
-fn get_usize(t: &Table, name: &str, key: &str, e: &KeyErr) -> Result<Option<usize>, SweepError> {
-    match t.get(key) {
-        None => Ok(None),
-        Some(Value::Integer(i)) if *i >= 0 => Ok(Some(*i as usize)),
-        Some(v) => Err(e(
-            &format!("[{name}].{key}"),
-            format!("expected a non-negative integer, got {v}"),
-        )),
-    }
-}
-
-fn get_f64(t: &Table, name: &str, key: &str, e: &KeyErr) -> Result<Option<f64>, SweepError> {
-    match t.get(key) {
-        None => Ok(None),
-        Some(Value::Float(x)) if x.is_finite() => Ok(Some(*x)),
-        Some(Value::Integer(i)) => Ok(Some(*i as f64)),
-        Some(v) => Err(e(
-            &format!("[{name}].{key}"),
-            format!("expected a finite number, got {v}"),
-        )),
-    }
-}
-
-fn parse_seeds(t: &Table, e: &KeyErr) -> Result<(String, Vec<Value>), SweepError> {
-    check_table_keys(t, "seeds", &["key", "values"], e)?;
-    let key = match t.get("key") {
-        Some(Value::String(s)) => s.clone(),
-        Some(v) => {
-            return Err(e(
-                "[seeds].key",
-                format!("expected a string, got {}", type_name(v)),
-            ))
-        }
-        None => {
-            return Err(e(
-                "[seeds].key",
-                "missing: name the scene key the seed goes to, e.g. \"scene.seed\"".into(),
-            ))
-        }
-    };
-    let values = match t.get("values") {
-        Some(Value::Array(a)) if a.is_empty() => {
-            return Err(e("[seeds].values", "empty list of seeds".into()))
-        }
-        Some(Value::Array(a)) => a.clone(),
-        Some(v) => {
-            return Err(e(
-                "[seeds].values",
-                format!("expected a list of integers, got {}", type_name(v)),
-            ))
-        }
-        None => return Err(e("[seeds].values", "missing".into())),
-    };
-    for (i, v) in values.iter().enumerate() {
-        if !matches!(v, Value::Integer(s) if *s >= 0) {
-            return Err(e(
-                &format!("[seeds].values[{i}]"),
-                format!("expected a non-negative integer, got {v}"),
-            ));
-        }
-    }
-    Ok((key, values))
-}
-
-fn parse_measure(t: &Table, e: &KeyErr) -> Result<Measure, SweepError> {
-    const M: &str = "measure";
-    check_table_keys(t, M, &["interface", "impurity", "decay", "fragments"], e)?;
-    let decay = match t.get("decay") {
-        None | Some(Value::Boolean(false)) => None,
-        Some(Value::Boolean(true)) => Some(Decay::default()),
-        Some(Value::Table(d)) => {
-            check_table_keys(d, "measure].decay", &["from", "e0_bead", "jump"], e)?;
-            let def = Decay::default();
-            let jump = get_f64(d, "measure].decay", "jump", e)?.unwrap_or(def.jump);
-            if jump <= 1.0 {
-                return Err(e(
-                    "[measure].decay.jump",
-                    format!("must be > 1, got {jump}"),
-                ));
-            }
-            Some(Decay {
-                from: get_usize(d, "measure].decay", "from", e)?.unwrap_or(def.from),
-                e0_bead: get_usize(d, "measure].decay", "e0_bead", e)?.unwrap_or(def.e0_bead),
-                jump,
-            })
-        }
-        Some(v) => {
-            return Err(e(
-                "[measure].decay",
-                format!("expected true/false or a table, got {}", type_name(v)),
-            ))
-        }
-    };
-    let fragments = match t.get("fragments") {
-        None | Some(Value::Boolean(false)) => None,
-        Some(Value::Boolean(true)) => Some(0.0),
-        Some(Value::Table(f)) => {
-            check_table_keys(f, "measure].fragments", &["gap_tol"], e)?;
-            let g = get_f64(f, "measure].fragments", "gap_tol", e)?.unwrap_or(0.0);
-            if g < 0.0 {
-                return Err(e(
-                    "[measure].fragments.gap_tol",
-                    format!("must be >= 0, got {g}"),
-                ));
-            }
-            Some(g)
-        }
-        Some(v) => {
-            return Err(e(
-                "[measure].fragments",
-                format!("expected true/false or a table, got {}", type_name(v)),
-            ))
-        }
-    };
-    Ok(Measure {
-        interface: get_usize(t, M, "interface", e)?,
-        impurity: get_usize(t, M, "impurity", e)?,
-        decay,
-        fragments,
-    })
-}
-
-fn parse_stop(t: &Table, e: &KeyErr) -> Result<Stop, SweepError> {
-    check_table_keys(t, "stop", &["margin", "steady_state"], e)?;
-    let steady_state = match t.get("steady_state") {
-        None => false,
-        Some(Value::Boolean(b)) => *b,
-        Some(v) => {
-            return Err(e(
-                "[stop].steady_state",
-                format!("expected true or false, got {}", type_name(v)),
-            ))
-        }
-    };
-    Ok(Stop {
-        margin: get_usize(t, "stop", "margin", e)?,
-        steady_state,
-    })
 }

@@ -9,7 +9,7 @@
 //! `--every` that fits (`until/(K−1)`, rounded up to a value that fits). The cap is stored in
 //! the snapshot header, so `resume --until T` is refused the same way.
 
-use crate::cli_files::short;
+use super::files::short;
 use anyhow::{bail, Result};
 use beadchain::snapshot::select::parse_beads;
 use beadchain::snapshot::size::{count_text, frame_count};

@@ -4,7 +4,7 @@
 //!
 //! **Appendix A.** The paper's error is the kinetic-energy error `|KE_start − KE_end| / KE_start`
 //! between `t = 0` and the separated steady state (criterion below eq. A.5:
-//! `v_{i+1} − v_i > −10⁻⁵ max|v|`, no overlaps; [`super::SteadyStateStop`]), where the energy is
+//! `v_{i+1} − v_i > −10⁻⁵ max|v|`, no overlaps; [`crate::analysis::SteadyStateStop`]), where the energy is
 //! purely kinetic again. [`energy_error`] runs a scene to that state and reports it together with
 //! the total-energy error at the same frame. The paper varies one tolerance with the other set to
 //! 0; our engines need both positive, so the "other" one is set where it no longer matters
@@ -20,9 +20,10 @@
 
 use super::impurities::{census, PulseRow};
 use super::paper::PaperError;
-use super::state::SteadyStateStop;
-use super::timings::{timing_run, InterfaceTimings};
-use super::wave::{leading_pulse, WaveOptions};
+use super::timings::timing_run;
+use crate::analysis::state::SteadyStateStop;
+use crate::analysis::timings::InterfaceTimings;
+use crate::analysis::wave::{leading_pulse, WaveOptions};
 use crate::engine::{self, EngineError, Observer, RunConfig};
 use crate::integrate::Method;
 use crate::scene::{Engine, Scene};

@@ -32,7 +32,7 @@ pub struct SweepArgs {
     pub quiet: bool,
     /// Per-run limit of the estimated frame data (`run.until / run.every` frames x beads).
     #[command(flatten)]
-    pub limit: crate::cli_files::SizeLimit,
+    pub limit: super::files::SizeLimit,
 }
 
 /// Arguments of `beadchain merge`.
@@ -66,10 +66,10 @@ pub fn cmd_sweep(a: SweepArgs) -> Result<i32> {
     let dir = a.file.parent().unwrap_or(std::path::Path::new("."));
     let scene_file = dir.join(&spec.scene_spec);
     let mut inputs = vec![("sweep file", a.file.clone())];
-    inputs.extend(crate::cli_files::labelled_scene_inputs(
+    inputs.extend(super::files::labelled_scene_inputs(
         &scene_file.to_string_lossy(),
     ));
-    crate::cli_files::check_not_input(&out, "--out", &inputs)?;
+    super::files::check_not_input(&out, "--out", &inputs)?;
     // before any run: a refused output (a symbolic link) would otherwise fail only at the end
     beadchain::files::classify_output(&out)?;
     let opts = SweepOptions {
@@ -119,7 +119,7 @@ pub fn cmd_sweep(a: SweepArgs) -> Result<i32> {
 /// Runs `beadchain merge`.
 pub fn cmd_merge(a: MergeArgs) -> Result<i32> {
     let inputs: Vec<_> = a.shards.iter().map(|s| ("shard file", s.clone())).collect();
-    crate::cli_files::check_not_input(&a.out, "OUT", &inputs)?;
+    super::files::check_not_input(&a.out, "OUT", &inputs)?;
     let m = sweep::merge(&a.out, &a.shards, a.allow_missing)?;
     if !m.missing.is_empty() {
         eprintln!(

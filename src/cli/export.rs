@@ -98,7 +98,7 @@ pub fn cmd_export(a: ExportArgs) -> Result<i32> {
     };
     let to_stdout = a.out.as_deref().is_none_or(|p| p.as_os_str() == "-");
     if let Some(p) = a.out.as_deref().filter(|_| !to_stdout) {
-        crate::cli_files::check_not_input(p, "--out", &[("snapshot", a.file.clone())])?;
+        super::files::check_not_input(p, "--out", &[("snapshot", a.file.clone())])?;
     }
     if format == Format::Npz && !a.events {
         let frames = sel.range(&snap)?.len() as u64;
@@ -108,7 +108,7 @@ pub fn cmd_export(a: ExportArgs) -> Result<i32> {
         }
     }
     match &a.out {
-        Some(p) if !to_stdout => export::write_atomically(p, write)?,
+        Some(p) if !to_stdout => beadchain::snapshot::write_atomically(p, write)?,
         _ => {
             if format != Format::Csv && !a.events && a.out.is_none() {
                 bail!("--format {} needs --out PATH (binary output is not written to a terminal; `--out -` writes it to standard output)", if format == Format::Npy { "npy" } else { "npz" });
@@ -120,6 +120,24 @@ pub fn cmd_export(a: ExportArgs) -> Result<i32> {
             write(&mut lock)?;
             lock.flush().context("writing to standard output")?;
         }
+    }
+    Ok(0)
+}
+
+/// `beadchain inspect FILE`: the report, then every frame's checksum verified; a damaged frame
+/// makes it exit 2 with one line naming the first damaged frame.
+pub fn cmd_inspect(file: &std::path::Path) -> Result<i32> {
+    let snap = Snapshot::open(file)?;
+    let chain = snap.header().scene.chain.clone();
+    let damaged = export::damaged_frames(&snap);
+    out!("{}", export::inspect_with(&snap, &chain, &damaged));
+    if let Some((k, e)) = damaged.first() {
+        bail!(
+            "{}: {} of {} frames damaged (first: frame {k}: {e})",
+            file.display(),
+            damaged.len(),
+            snap.frame_count()
+        );
     }
     Ok(0)
 }

@@ -11,8 +11,8 @@
 //! Every run stops when the leading pulse reaches a given bead ([`Watch`]); frames are a fifth of
 //! the time per bead of the slower medium apart, measured by [`time_per_bead`].
 
-use super::wave::{detect_pulses, leading_pulse, wave_energy, WaveOptions};
-use super::{energy_split, fit_exponential, least_squares, ExpFit, Pulse};
+use crate::analysis::wave::{detect_pulses, leading_pulse, wave_energy, WaveOptions};
+use crate::analysis::{energy_split, fit_exponential, least_squares, ExpFit, Pulse};
 use crate::engine::{self, Control, EngineError, Observer, RunConfig};
 use crate::model::Chain;
 use crate::scene::{self, Engine, Scene, SceneError};

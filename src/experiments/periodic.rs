@@ -1,4 +1,4 @@
-//! Periodic chains with the windowed tracker ([`super::window`]): paper Sec. 4, Figs. 10–14.
+//! Periodic chains with the windowed tracker ([`crate::analysis::window`]): paper Sec. 4, Figs. 10–14.
 //!
 //! Exponents alternate `n_a, n_b, n_a, …` from contact 0 (contact `c` joins beads `c` and
 //! `c + 1`, so the `n_a` pairs are beads `(2j, 2j + 1)`), Table 1 steel beads in the paper's units
@@ -11,8 +11,10 @@
 //! - [`run_observer`]: any observer on a generated scene with the hybrid (or dense) engine.
 
 use super::paper::{physical_scene, time_per_bead, PaperError};
-use super::window::{dominant_periods, leader_changes, pair_mismatch, windowed_decay, WindowWatch};
-use super::ExpFit;
+use crate::analysis::window::{
+    dominant_periods, leader_changes, pair_mismatch, windowed_decay, WindowWatch,
+};
+use crate::analysis::ExpFit;
 use crate::engine::{self, Observer, RunConfig};
 use crate::scene::{Engine, Scene};
 use std::time::Instant;

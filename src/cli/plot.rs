@@ -215,7 +215,7 @@ fn open(path: &Path) -> Result<Snapshot> {
 /// The output rule (`X.png`, `X.svg` or a base name), and no output file is the input.
 fn check_out(path: &Path, kind: &str, input: &Path) -> Result<()> {
     for (f, _) in plot::output_paths(path)? {
-        crate::cli_files::check_not_input(&f, "--out", &[(kind, input.to_path_buf())])?;
+        super::files::check_not_input(&f, "--out", &[(kind, input.to_path_buf())])?;
     }
     Ok(())
 }
@@ -247,18 +247,7 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             units,
             out,
         } => {
-            let opts = SpacetimeOptions {
-                beads: beads.unwrap_or_default(),
-                t: t.unwrap_or_default(),
-                scale: match scale {
-                    ScaleArg::Linear => Scale::Linear,
-                    ScaleArg::Log => Scale::Log,
-                },
-                units: units.get(),
-                cmap: Cmap::parse(&cmap)?,
-                colorbar: true,
-                size: out.size()?,
-            };
+            let opts = spacetime_options(beads, t, scale, &cmap, &units, &out)?;
             spacetime(&snapshots, &opts, &out)
         }
         PlotKind::Profile {
@@ -268,12 +257,7 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             units,
             out,
         } => {
-            let opts = plot::ProfileOptions {
-                times,
-                beads: beads.unwrap_or_default(),
-                units: units.get(),
-                size: out.size()?,
-            };
+            let opts = profile_options(times, beads, &units, &out)?;
             chart(&snapshot, "profile", &out, |s| profile::profile(s, &opts))
         }
         PlotKind::Trace {
@@ -283,12 +267,7 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             units,
             out,
         } => {
-            let opts = plot::TraceOptions {
-                beads,
-                t: t.unwrap_or_default(),
-                units: units.get(),
-                size: out.size()?,
-            };
+            let opts = trace_options(beads, t, &units, &out)?;
             chart(&snapshot, "trace", &out, |s| trace::trace(s, &opts))
         }
         PlotKind::Energy {
@@ -332,6 +311,59 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             map(&csv, &opts, &out)
         }
     }
+}
+
+/// Options of `plot spacetime`.
+fn spacetime_options(
+    beads: Option<BeadRange>,
+    t: Option<TimeRange>,
+    scale: ScaleArg,
+    cmap: &str,
+    units: &UnitsArg,
+    out: &Out,
+) -> Result<SpacetimeOptions> {
+    Ok(SpacetimeOptions {
+        beads: beads.unwrap_or_default(),
+        t: t.unwrap_or_default(),
+        scale: match scale {
+            ScaleArg::Linear => Scale::Linear,
+            ScaleArg::Log => Scale::Log,
+        },
+        units: units.get(),
+        cmap: Cmap::parse(cmap)?,
+        colorbar: true,
+        size: out.size()?,
+    })
+}
+
+/// Options of `plot profile`.
+fn profile_options(
+    times: Vec<f64>,
+    beads: Option<BeadRange>,
+    units: &UnitsArg,
+    out: &Out,
+) -> Result<plot::ProfileOptions> {
+    Ok(plot::ProfileOptions {
+        times,
+        beads: beads.unwrap_or_default(),
+        units: units.get(),
+        size: out.size()?,
+    })
+}
+
+/// Options of `plot trace`.
+fn trace_options(
+    beads: Vec<usize>,
+    t: Option<TimeRange>,
+    units: &UnitsArg,
+    out: &Out,
+) -> Result<plot::TraceOptions> {
+    Ok(plot::TraceOptions {
+        beads,
+        t: t.unwrap_or_default(),
+        units: units.get(),
+        size: out.size()?,
+    })
 }
 
 /// `plot profile` / `plot trace`: the line chart `build` makes of the snapshot, texts replaced.

@@ -9,17 +9,17 @@
 //! `m1`.
 //!
 //! `E_refl` is measured as in the `(n1, n2)` grid of Fig. 6 ([`super::paper::reflection_grid`]):
-//! the energy left of bead `k` ([`super::energy_split`]) when the front (furthest bead above
+//! the energy left of bead `k` ([`crate::analysis::energy_split`]) when the front (furthest bead above
 //! 0.1 % of `max |v|`) has reached bead `N − 12` and at least the time the incoming wave needs
 //! for `N − 12 − k` beads of the left medium has passed since it reached `k`, minus the same quantity for the uniform chain (the
 //! striker's rebound). [`contour_crossings`] extracts where `E_refl` crosses a level along each
 //! row of constant `Δn` (linear interpolation in `ln(m2/m1)`).
 
-use super::interface::energy_split;
 use super::paper::{time_per_bead, PaperError};
 use super::periodic::run_observer;
-use super::wave::{detect_pulses, wave_energy, WaveOptions};
-use super::window::front_bead;
+use crate::analysis::interface::energy_split;
+use crate::analysis::wave::{detect_pulses, wave_energy, WaveOptions};
+use crate::analysis::window::front_bead;
 use crate::engine::{Control, EngineError, Observer};
 use crate::model::Chain;
 use crate::scene::{self, Engine, Scene, SceneError};

@@ -12,11 +12,11 @@
 //! - [`bin_samples`], [`transfer_trend`]: binned means and the linear trend.
 //! - [`transfer_run`]: one disordered chain (contacts `0..20` uniform, as in Fig. 19).
 
-use super::fit::{least_squares, LinearFit};
 use super::paper::{physical_scene, time_per_bead, PaperError};
 use super::periodic::run_observer;
-use super::window::WindowWatch;
-use super::AnalysisError;
+use crate::analysis::fit::{least_squares, LinearFit};
+use crate::analysis::window::WindowWatch;
+use crate::analysis::AnalysisError;
 use crate::model::Chain;
 use crate::scene::Engine;
 

@@ -30,7 +30,7 @@ pub enum ShowFormat {
 pub fn cmd_scene(cmd: SceneCmd) -> anyhow::Result<i32> {
     match cmd {
         SceneCmd::Show { scene, format } => {
-            let s = crate::cli::load_scene(&scene)?;
+            let s = super::common::load_scene(&scene)?;
             let text = match format {
                 ShowFormat::Toml => beadchain::scene::show::to_toml(&s),
                 ShowFormat::Csv => beadchain::scene::show::to_csv(&s),

@@ -1,9 +1,31 @@
 //! `beadchain check`: prints the report of [`beadchain::check`] and its verdict.
 
+use super::common::{config, load_scene, Common};
 use anyhow::{Context, Result};
 use beadchain::check::{check_with_progress, CheckReport};
+use beadchain::engine;
 use beadchain::engine::RunConfig;
 use beadchain::scene::Scene;
+
+/// Arguments of `beadchain check`.
+#[derive(clap::Args, Debug)]
+pub struct CheckArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// Allowed trajectory deviation, relative to the largest |v| (for u: to the largest |u|
+    /// change), when the scene is not more sensitive than that [default: 1000·rtol].
+    #[arg(long)]
+    pub tol: Option<f64>,
+}
+
+/// Runs `beadchain check`; returns the exit code (1 when the engines disagree).
+pub fn cmd_check(a: CheckArgs) -> Result<i32> {
+    let scene = load_scene(&a.common.scene)?;
+    let base = config(&scene, &a.common);
+    engine::check_config(&scene, &base).with_context(|| scene.name.clone())?;
+    let tol = a.tol.unwrap_or(1000.0 * base.rtol);
+    compare(&scene, &base, tol, a.common.quiet)
+}
 
 fn print_report(scene: &Scene, cfg: &RunConfig, rep: &CheckReport) -> Result<()> {
     let (h, r) = &rep.runs;
@@ -69,7 +91,7 @@ fn print_report(scene: &Scene, cfg: &RunConfig, rep: &CheckReport) -> Result<()>
 
 /// Runs the check (progress bar on a terminal unless `quiet`); exit code 0 when every
 /// criterion holds, 1 otherwise.
-pub fn cmd_check(scene: &Scene, cfg: &RunConfig, tol: f64, quiet: bool) -> Result<i32> {
+fn compare(scene: &Scene, cfg: &RunConfig, tol: f64, quiet: bool) -> Result<i32> {
     let bar = beadchain::progress::RunProgress::new(quiet);
     let rep = check_with_progress(scene, scene, cfg, tol, &bar).context("check run failed")?;
     print_report(scene, cfg, &rep)?;

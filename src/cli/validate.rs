@@ -1,6 +1,5 @@
-//! `beadchain validate` (and `analyze`, re-exported from [`crate::cli_analyze`]).
+//! `beadchain validate --quick`: the paper's key numbers, reduced (library: [`beadchain::experiments::quick`]).
 
-pub use crate::cli_analyze::{cmd_analyze, AnalyzeArgs};
 use anyhow::{Context, Result};
 use std::path::PathBuf;
 
@@ -18,7 +17,7 @@ pub struct ValidateArgs {
 
 /// Runs `beadchain validate --quick`; exit code 1 when a check is outside its range.
 pub fn cmd_validate(args: ValidateArgs) -> Result<i32> {
-    use beadchain::analysis::quick::{checks_markdown, quick_checks};
+    use beadchain::experiments::quick::{checks_markdown, quick_checks};
     if !args.quick {
         anyhow::bail!(
             "only --quick is implemented here; the full report: cargo bench --bench paper_validation -- all (see validation/REPORT.md)"

@@ -13,7 +13,7 @@
 
 use super::paper::{physical_scene, run_watched, time_per_bead, PaperError};
 use super::timings::Window;
-use super::wave::{detect_pulses, wave_energy, WaveOptions};
+use crate::analysis::wave::{detect_pulses, wave_energy, WaveOptions};
 use crate::engine::{self, RunConfig};
 use crate::model::Chain;
 use crate::scene::Engine;

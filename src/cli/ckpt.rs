@@ -240,7 +240,7 @@ pub fn cmd_resume(
     file: &Path,
     until: Option<f64>,
     every: Option<f64>,
-    limit: crate::cli_files::SizeLimit,
+    limit: super::files::SizeLimit,
     quiet: bool,
 ) -> Result<i32> {
     let mut ck = read_checkpoint(file)?;
@@ -266,7 +266,7 @@ pub fn cmd_resume(
     };
     let span = (cfg.until, cfg.every);
     let keys = ("--until", "--frames-max");
-    crate::cli_select::check_frames_max(&what, &sel, span, keys, until_key)?;
+    super::select::check_frames_max(&what, &sel, span, keys, until_key)?;
     let n = ck.scene.chain.len();
     limit.check(
         &what,
@@ -300,7 +300,7 @@ pub fn cmd_resume(
     })?;
     match done {
         Ok(out) => {
-            crate::cli::print_outcome(&mut std::io::stdout().lock(), &ck.scene, &cfg, &out)?;
+            super::common::print_outcome(&mut std::io::stdout().lock(), &ck.scene, &cfg, &out)?;
             outln!(
                 "resumed from {}; wrote {}",
                 file.display(),

@@ -1,0 +1,163 @@
+//! Output of the work-precision study: the CSV ([`super::CSV_HEADER`]), the table printed by
+//! `beadchain accuracy`, and the files written into the output directory (CSV, SVG and PNG
+//! plots of [`super::plot`]).
+
+use super::{plot, AccuracyError, AccuracyReport, CSV_HEADER};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The CSV text (header [`CSV_HEADER`], one line per row; numbers in shortest round-trip form).
+pub fn to_csv(report: &AccuracyReport) -> String {
+    let mut s = String::from(CSV_HEADER);
+    s.push('\n');
+    for r in &report.rows {
+        let dt = r.verlet_dt.map(|x| x.to_string()).unwrap_or_default();
+        let status = match &r.failure {
+            None => "ok".to_string(),
+            // Keep the CSV one field: no commas, quotes or newlines in the message.
+            Some(m) => format!("failed: {}", m.replace([',', '"', '\n'], " ")),
+        };
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            r.engine.name(),
+            r.method.name(),
+            r.rtol,
+            r.atol,
+            dt,
+            status,
+            r.is_reference,
+            r.err_u,
+            r.err_v,
+            r.error,
+            r.energy_error,
+            r.ke_error,
+            r.wall_seconds,
+            r.steps,
+            r.rejected,
+            r.rhs_evals,
+            r.events,
+            r.bead_steps
+        );
+    }
+    s
+}
+
+/// The table printed by `beadchain accuracy`.
+pub fn format_table(report: &AccuracyReport) -> String {
+    let mut s = String::new();
+    let rf = &report.reference;
+    let _ = writeln!(
+        s,
+        "{}: {} beads, until {}, tau = L/V = {:.4}; reference dense radau5 rtol {:e} ({:.3} s); \
+         check vs rtol {:e}: err_u {:.2e}, err_v {:.2e}",
+        report.scene,
+        report.beads,
+        report.until,
+        report.tau,
+        rf.rtol,
+        rf.wall_seconds,
+        rf.check_rtol,
+        rf.check_err_u,
+        rf.check_err_v
+    );
+    let _ = writeln!(
+        s,
+        "{:<7} {:<7} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>8} {:>12}",
+        "engine",
+        "method",
+        "rtol/dt",
+        "err_u",
+        "err_v",
+        "energy",
+        "KE",
+        "wall [s]",
+        "steps",
+        "events",
+        "bead-steps"
+    );
+    for r in &report.rows {
+        let knob = match r.verlet_dt {
+            Some(_) => format!("{}τ", r.rtol),
+            None => format!("{:.0e}", r.rtol),
+        };
+        if let Some(f) = &r.failure {
+            let _ = writeln!(
+                s,
+                "{:<7} {:<7} {:>9} FAILED: {f}",
+                r.engine.name(),
+                r.method.name(),
+                knob
+            );
+            continue;
+        }
+        let _ = writeln!(
+            s,
+            "{:<7} {:<7} {:>9} {:>9.2e} {:>9.2e} {:>9.2e} {} {:>10.4} {:>9} {:>8} {:>12}{}",
+            r.engine.name(),
+            r.method.name(),
+            knob,
+            r.err_u,
+            r.err_v,
+            r.energy_error,
+            cell(r.ke_error, 9),
+            r.wall_seconds,
+            r.steps,
+            r.events,
+            r.bead_steps,
+            if r.is_reference { "  (reference)" } else { "" }
+        );
+    }
+    for n in &report.notes {
+        let _ = writeln!(s, "note: {n}");
+    }
+    s
+}
+
+/// `x` for a table or CSV cell: empty / "n/a" when NaN.
+fn cell(x: f64, width: usize) -> String {
+    if x.is_nan() {
+        format!("{:>width$}", "n/a")
+    } else {
+        format!("{:>width$.2e}", x)
+    }
+}
+
+/// Writes `bytes` to `path` through a temporary sibling and a rename.
+fn write_file(path: &Path, bytes: &[u8]) -> Result<(), AccuracyError> {
+    let io = |source| AccuracyError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let tmp = PathBuf::from(tmp);
+    std::fs::write(&tmp, bytes).map_err(io)?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io(e)
+    })
+}
+
+/// Writes the CSV and the plots into `dir` (created if needed).
+pub(super) fn write_outputs(report: &mut AccuracyReport, dir: &Path) -> Result<(), AccuracyError> {
+    std::fs::create_dir_all(dir).map_err(|source| AccuracyError::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let csv = dir.join("accuracy.csv");
+    write_file(&csv, to_csv(report).as_bytes())?;
+    report.files.push(csv);
+    let svg = dir.join("accuracy.svg");
+    let png = dir.join("accuracy.png");
+    let with_text = plot::write_plots(report, &svg, &png)?;
+    if !with_text {
+        report.notes.push(format!(
+            "no font file found (BEADCHAIN_FONT, {}): the plots are drawn without text",
+            plot::FONT_CANDIDATES.join(", ")
+        ));
+    }
+    report.files.push(svg);
+    report.files.push(png);
+    Ok(())
+}

@@ -1,0 +1,211 @@
+//! Pieces every run-like command shares: the engine/method/solver arguments, the run
+//! configuration from a scene and the command line, loading a scene with its warnings, and the
+//! run summary printed by `run` and `resume`. Imports nothing else from the CLI.
+
+use anyhow::Result;
+use beadchain::engine::{RunConfig, RunOutcome};
+use beadchain::integrate::Method;
+use beadchain::linalg::SolverKind;
+use beadchain::scene::{self, Engine, Scene};
+use clap::ValueEnum;
+use std::io::Write;
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum EngineArg {
+    Dense,
+    Hybrid,
+}
+
+impl From<EngineArg> for Engine {
+    fn from(e: EngineArg) -> Self {
+        match e {
+            EngineArg::Dense => Engine::Dense,
+            EngineArg::Hybrid => Engine::Hybrid,
+        }
+    }
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum MethodArg {
+    Radau5,
+    Dop853,
+    /// Fixed-step velocity Verlet; its step is rtol·L/V.
+    Verlet,
+    /// DOP853 while non-stiff, Radau IIA while stiff, per cluster.
+    Auto,
+}
+
+impl From<MethodArg> for Method {
+    fn from(m: MethodArg) -> Self {
+        match m {
+            MethodArg::Radau5 => Method::Radau5,
+            MethodArg::Dop853 => Method::Dop853,
+            MethodArg::Verlet => Method::Verlet,
+            MethodArg::Auto => Method::Auto,
+        }
+    }
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum SolverArg {
+    Auto,
+    Direct,
+    Faer,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct Common {
+    /// Scene file (TOML) or preset name (see `beadchain scenes`).
+    pub scene: String,
+    /// Integration method [default: the scene's, else auto].
+    #[arg(long, value_enum)]
+    pub method: Option<MethodArg>,
+    /// Relative tolerance [default: the scene's, else 1e-8].
+    #[arg(long)]
+    pub rtol: Option<f64>,
+    /// Absolute tolerance, relative to the run's characteristic length/velocity
+    /// [default: the scene's, else rtol/10^4, at least 1e-14 (1e-12 at the default rtol)].
+    #[arg(long)]
+    pub atol: Option<f64>,
+    /// End time [default: the scene's `[run] until`].
+    #[arg(long)]
+    pub until: Option<f64>,
+    /// Linear solver of the implicit method.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub solver: SolverArg,
+    /// Abort after this many integrator steps.
+    #[arg(long)]
+    pub max_steps: Option<u64>,
+    /// No progress bar (it is shown only when standard error is a terminal).
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// Below this relative tolerance, rounding in f64 (≈ 1.1e-16 per operation, accumulated over a
+/// step's stages) dominates the error estimate: a warning, not an error.
+const RTOL_F64_FLOOR: f64 = 1e-14;
+
+/// Loads a scene (file or preset) and prints its validation warnings on standard error.
+pub fn load_scene(spec: &str) -> Result<Scene> {
+    let scene = scene::load(spec)?;
+    for w in scene::validate(&scene)? {
+        eprintln!("beadchain: warning: {}: {w}", scene.name);
+    }
+    Ok(scene)
+}
+
+/// The run configuration: the scene's `[run]` settings overridden by the command line.
+pub fn config(scene: &Scene, c: &Common) -> RunConfig {
+    let mut cfg = RunConfig::from_scene(scene);
+    if let Some(m) = c.method {
+        cfg.method = m.into();
+    }
+    if let Some(r) = c.rtol {
+        cfg.rtol = r;
+        if scene.run.atol.is_none() {
+            cfg.atol = beadchain::integrate::default_atol(r);
+        }
+    }
+    if let Some(a) = c.atol {
+        cfg.atol = a;
+    }
+    if cfg.rtol > 0.0 && cfg.rtol < RTOL_F64_FLOOR {
+        eprintln!(
+            "beadchain: warning: rtol = {:e} is below what f64 arithmetic can deliver (~{RTOL_F64_FLOOR:e} relative): the error will stall there",
+            cfg.rtol
+        );
+    }
+    if let Some(t) = c.until {
+        cfg.until = t;
+    }
+    cfg.solver = match c.solver {
+        SolverArg::Auto => SolverKind::Auto,
+        SolverArg::Direct => SolverKind::Direct,
+        SolverArg::Faer => SolverKind::Faer,
+    };
+    cfg.max_steps = c.max_steps;
+    cfg
+}
+
+/// The run summary, on `w` (standard output, or standard error when the snapshot itself goes
+/// to a stream such as `/dev/stdout`).
+pub fn print_outcome(
+    w: &mut dyn Write,
+    scene: &Scene,
+    cfg: &RunConfig,
+    out: &RunOutcome,
+) -> Result<()> {
+    let s = &out.stats;
+    writeln!(
+        w,
+        "{}: {} beads, engine {}, method {}, rtol {:e}, atol {:e}",
+        scene.name,
+        scene.chain.len(),
+        cfg.engine.name(),
+        cfg.method.name(),
+        cfg.rtol,
+        cfg.atol
+    )?;
+    writeln!(
+        w,
+        "t = {} in {:.3} s: {} steps ({} rejected), {} active bead-steps, {} RHS evaluations, {} factorizations, {} Newton iterations ({} failures), largest cluster {}",
+        out.t_end,
+        out.wall_seconds,
+        s.steps,
+        s.rejected,
+        s.bead_steps,
+        s.rhs_evals,
+        s.factorizations,
+        s.newton_iters,
+        s.newton_failures,
+        out.largest_cluster
+    )?;
+    if cfg.method == Method::Auto {
+        writeln!(
+            w,
+            "method auto: {} steps dop853, {} steps radau5",
+            s.steps - out.implicit_steps,
+            out.implicit_steps
+        )?;
+    }
+    if !out.events_by_kind.is_empty() {
+        let ev: Vec<String> = out
+            .events_by_kind
+            .iter()
+            .filter(|(_, c)| *c > 0)
+            .map(|(k, c)| format!("{k} {c}"))
+            .collect();
+        writeln!(
+            w,
+            "events: {}",
+            if ev.is_empty() {
+                "none".into()
+            } else {
+                ev.join(", ")
+            }
+        )?;
+    }
+    if out.dissipated != 0.0 {
+        writeln!(
+            w,
+            "energy {:.12e} -> {:.12e}, dissipated {:.12e} (balance error {:.3e}); momentum {:.12e} -> {:.12e}",
+            out.energy_initial,
+            out.energy_final,
+            out.dissipated,
+            out.relative_energy_error(),
+            out.momentum_initial,
+            out.momentum_final
+        )?;
+        return Ok(());
+    }
+    writeln!(
+        w,
+        "energy {:.12e} -> {:.12e} (relative change {:.3e}); momentum {:.12e} -> {:.12e}",
+        out.energy_initial,
+        out.energy_final,
+        out.relative_energy_error(),
+        out.momentum_initial,
+        out.momentum_final
+    )?;
+    Ok(())
+}

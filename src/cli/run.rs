@@ -1,0 +1,175 @@
+//! `beadchain run`: checks the output files, writes the snapshot through the checkpointing
+//! sink of [`super::ckpt`], and prints the run summary.
+
+use super::ckpt;
+use super::common::{config, load_scene, print_outcome, Common, EngineArg};
+use super::files::SizeLimit;
+use super::select::OutputArgs;
+use anyhow::{bail, Context, Result};
+use beadchain::engine::{self, RunConfig};
+use beadchain::progress::RunProgress;
+use beadchain::scene::Scene;
+use beadchain::snapshot::{Header, Selection, SnapshotWriter};
+use std::io::Write;
+use std::path::PathBuf;
+
+/// Arguments of `beadchain run`.
+#[derive(clap::Args, Debug)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// Engine [default: the scene's, else hybrid].
+    #[arg(long, value_enum)]
+    pub engine: Option<EngineArg>,
+    /// Output interval [default: the scene's `[run] every`, else first and last frame].
+    #[arg(long)]
+    pub every: Option<f64>,
+    /// Output snapshot [default: `<scene name>.snap` in the current directory].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Write a resumable checkpoint `FILE.ckpt` every DT of simulated time (a checkpoint is
+    /// also written on SIGINT/SIGTERM; `beadchain resume FILE.ckpt` continues the run).
+    #[arg(long)]
+    pub checkpoint_every: Option<f64>,
+    /// Also store the wall-clock time in the snapshot (then two runs no longer give identical
+    /// bytes; by default it is only printed).
+    #[arg(long)]
+    pub timing: bool,
+    #[command(flatten)]
+    pub limit: SizeLimit,
+    #[command(flatten)]
+    pub output: OutputArgs,
+}
+
+/// Runs `beadchain run`; returns the exit code.
+pub fn cmd_run(a: RunArgs) -> Result<i32> {
+    let mut scene = load_scene(&a.common.scene)?;
+    let mut cfg = config(&scene, &a.common);
+    if let Some(e) = a.engine {
+        cfg.engine = e.into();
+    }
+    if a.every.is_some() {
+        cfg.every = a.every;
+    }
+    scene.run.until = cfg.until;
+    scene.run.every = cfg.every;
+    engine::check_config(&scene, &cfg).with_context(|| scene.name.clone())?;
+    let out_path = a
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("{}.snap", scene.name)));
+    let n = scene.chain.len();
+    let sel = (a.output).selection(&a.common.scene, n, scene.run.output.as_ref())?;
+    check_run_files(&a, &scene, &cfg, &sel, &out_path)?;
+    let created_by = std::env::args().collect::<Vec<_>>().join(" ");
+    let mut header = Header::new(
+        scene.clone(),
+        cfg.engine,
+        cfg.method,
+        cfg.rtol,
+        cfg.atol,
+        created_by,
+    );
+    note_output_size(&a, &scene, &cfg, &sel);
+    header.output = sel;
+    let writer = SnapshotWriter::create(&out_path, &header)?;
+    let ckpt_file = ckpt::ckpt_path(&out_path);
+    let sink = ckpt::SnapshotSink::new(
+        writer,
+        ckpt_file,
+        a.checkpoint_every,
+        &scene,
+        &cfg,
+        a.timing,
+    )?;
+    let bar = RunProgress::new(a.common.quiet);
+    let done = ckpt::drive(sink, &a.common.scene, |s| {
+        let r = engine::run(&scene, &cfg, &mut bar.watch(s, 0.0, cfg.until, ""));
+        bar.finish();
+        r
+    })?;
+    match done {
+        Ok(out) => {
+            // A snapshot written to a stream (`--out /dev/stdout`) must not get the text too.
+            let to_stream = beadchain::files::classify_output(&out_path)
+                .is_ok_and(|k| k == beadchain::files::OutputKind::Stream);
+            let (mut so, mut se) = (std::io::stdout().lock(), std::io::stderr().lock());
+            let w: &mut dyn Write = if to_stream { &mut se } else { &mut so };
+            print_outcome(w, &scene, &cfg, &out)?;
+            writeln!(w, "wrote {}", out_path.display())?;
+            w.flush()?;
+            Ok(0)
+        }
+        Err(code) => Ok(code),
+    }
+}
+
+/// Everything `run` checks before it touches a file: the checkpoint interval, the output is no
+/// input, a stream output takes no checkpoints, `--frames-max`, and the estimated output size.
+fn check_run_files(
+    a: &RunArgs,
+    scene: &Scene,
+    cfg: &RunConfig,
+    sel: &Selection,
+    out_path: &std::path::Path,
+) -> Result<()> {
+    use beadchain::files::{classify_output, OutputKind};
+    let what = &a.common.scene;
+    ckpt::check_checkpoint_every(what, a.checkpoint_every)?;
+    let inputs = super::files::labelled_scene_inputs(what);
+    super::files::check_not_input(out_path, "--out", &inputs)?;
+    let kind = classify_output(out_path)?;
+    if kind == OutputKind::Stream && a.checkpoint_every.is_some() {
+        bail!(
+            "{}: --checkpoint-every: the output is a stream (device or pipe), which cannot be resumed; write to a file",
+            out_path.display()
+        );
+    }
+    let until_key = if a.common.until.is_some() {
+        "--until"
+    } else {
+        "[run].until"
+    };
+    let span = (cfg.until, cfg.every);
+    let cap_key = if a.output.frames_max.is_some() {
+        "--frames-max"
+    } else {
+        "[output].frames_max"
+    };
+    super::select::check_frames_max(what, sel, span, (cap_key, cap_key), until_key)?;
+    let n = scene.chain.len();
+    a.limit.check(
+        what,
+        (n, sel.values_per_frame(n as u64).unwrap_or(u64::MAX)),
+        (0.0, cfg.until, cfg.every),
+        0,
+        until_key,
+    )
+}
+
+/// Estimated snapshot size from which `run` says, before it starts, how large its output will be.
+const NOTE_OUTPUT_BYTES: f64 = 16.0 * 1024.0 * 1024.0;
+
+/// Prints the snapshot size estimate on stderr before a run whose output is large (not with
+/// `-q`): a long run's disk use is known before it is spent.
+fn note_output_size(a: &RunArgs, scene: &Scene, cfg: &RunConfig, sel: &Selection) {
+    use beadchain::snapshot::size::{
+        count_text, frame_count_estimate, human_bytes, output_bytes_estimate_values,
+    };
+    let frames = frame_count_estimate(0.0, cfg.until, cfg.every);
+    let n = scene.chain.len();
+    let values = sel.values_per_frame(n as u64).unwrap_or(u64::MAX) as f64;
+    let bytes = output_bytes_estimate_values(n, values, frames);
+    if bytes >= NOTE_OUTPUT_BYTES && !a.common.quiet {
+        let of = if sel.is_full() {
+            format!("of {n} beads")
+        } else {
+            format!("storing {}", sel.describe(n as u64))
+        };
+        eprintln!(
+            "beadchain: note: the snapshot will be about {} ({} frames {of})",
+            human_bytes(bytes),
+            count_text(frames),
+        );
+    }
+}

@@ -1,0 +1,146 @@
+//! The parsing context of scene keys (file label, CSV directory, seed of the random builders)
+//! and the typed accessors every scene table uses: numbers, indices, unknown-key checks. Every
+//! failure is a [`SceneError`] naming the file and key path.
+//!
+//! Random draws come from `ChaCha8Rng::seed_from_u64(seed)` with the stream set to a 64-bit
+//! FNV-1a hash of the key path ([`Ctx::rng`]).
+
+use super::error::{one_line, SceneError};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use std::path::Path;
+use toml::Value;
+
+/// Whether an array is indexed by bead (`N` entries) or by contact (`N−1` entries).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Per {
+    /// One entry per bead.
+    Bead,
+    /// One entry per contact.
+    Contact,
+}
+
+impl Per {
+    /// `"bead"` or `"contact"`.
+    pub(crate) fn noun(self) -> &'static str {
+        match self {
+            Per::Bead => "bead",
+            Per::Contact => "contact",
+        }
+    }
+}
+
+/// Parsing context: the scene file label (for messages), CSV base directory and RNG seed.
+pub(crate) struct Ctx<'a> {
+    /// Scene file as named in messages.
+    pub file: &'a str,
+    /// Directory `{ file = ... }` paths are relative to.
+    pub base_dir: &'a Path,
+    /// Seed of every random builder.
+    pub seed: u64,
+}
+
+impl Ctx<'_> {
+    /// A key error.
+    pub(crate) fn err(&self, key: &str, message: impl Into<String>) -> SceneError {
+        SceneError::Key {
+            file: self.file.to_string(),
+            key: key.to_string(),
+            message: one_line(&message.into()),
+        }
+    }
+
+    /// An index error.
+    pub(crate) fn index_err(
+        &self,
+        key: &str,
+        per: Per,
+        index: usize,
+        message: impl Into<String>,
+    ) -> SceneError {
+        SceneError::Index {
+            file: self.file.to_string(),
+            key: key.to_string(),
+            what: per.noun(),
+            index,
+            message: one_line(&message.into()),
+        }
+    }
+
+    /// Reproducible random stream of one key.
+    pub(crate) fn rng(&self, key: &str) -> ChaCha8Rng {
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        rng.set_stream(fnv1a(key));
+        rng
+    }
+}
+
+/// 64-bit FNV-1a hash (stable across platforms and Rust versions).
+fn fnv1a(s: &str) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in s.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// TOML type name for messages.
+pub(crate) fn type_name(v: &Value) -> &'static str {
+    match v {
+        Value::String(_) => "a string",
+        Value::Integer(_) => "an integer",
+        Value::Float(_) => "a number",
+        Value::Boolean(_) => "a boolean",
+        Value::Datetime(_) => "a date",
+        Value::Array(_) => "an array",
+        Value::Table(_) => "a table",
+    }
+}
+
+/// A finite number (TOML integer or float).
+pub(crate) fn number(ctx: &Ctx, key: &str, v: &Value) -> Result<f64, SceneError> {
+    let x = match v {
+        Value::Integer(i) => *i as f64,
+        Value::Float(f) => *f,
+        other => {
+            return Err(ctx.err(key, format!("expected a number, got {}", type_name(other))));
+        }
+    };
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(ctx.err(key, format!("expected a finite number, got {x}")))
+    }
+}
+
+/// A non-negative integer (index or count).
+pub(crate) fn index(ctx: &Ctx, key: &str, v: &Value) -> Result<usize, SceneError> {
+    match v {
+        Value::Integer(i) if *i >= 0 => usize::try_from(*i)
+            .map_err(|_| ctx.err(key, format!("integer {i} too large for this platform"))),
+        Value::Integer(i) => Err(ctx.err(key, format!("expected a non-negative integer, got {i}"))),
+        other => Err(ctx.err(
+            key,
+            format!("expected a non-negative integer, got {}", type_name(other)),
+        )),
+    }
+}
+
+/// Reject keys of `table` not in `allowed`, naming the first unknown one.
+pub(crate) fn check_keys(
+    ctx: &Ctx,
+    path: &str,
+    table: &toml::Table,
+    allowed: &[&str],
+) -> Result<(), SceneError> {
+    for k in table.keys() {
+        if !allowed.contains(&k.as_str()) {
+            return Err(ctx.err(
+                &format!("{path}.{}", one_line(k)),
+                format!("unknown key (expected one of: {})", allowed.join(", ")),
+            ));
+        }
+    }
+    Ok(())
+}

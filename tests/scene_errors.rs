@@ -1,0 +1,262 @@
+//! Scene files through the library API: one test per bad-input class (each checks the one-line
+//! message names the file and key/index).
+
+use beadchain::scene::{load, parse_str, preset, presets, validate, SceneError};
+use std::path::Path;
+
+mod scene_support;
+use scene_support::*;
+
+#[test]
+fn malformed_toml_names_file_line_and_column() {
+    let m = err("[chain]\nbeads = 10\nmass = [1.0, 2.0\n[run]\nuntil = 1\n");
+    assert_contains(&m, &["t.toml:", "malformed TOML"]);
+    assert!(
+        m.starts_with("t.toml:3:") || m.starts_with("t.toml:4:"),
+        "{m}"
+    );
+    let m = err("[chain]\nbeads = = 3\n");
+    assert_contains(&m, &["t.toml:2:", "malformed TOML"]);
+}
+
+#[test]
+fn unknown_keys_and_tables_are_named() {
+    let m = err(&format!("[chain]\nbeads = 10\nmas = 1.0\n{RUN}"));
+    assert_contains(&m, &["t.toml", "[chain].mas", "unknown key", "mass"]);
+    let m = err(&format!("[chian]\nbeads = 10\n{RUN}"));
+    assert_contains(&m, &["t.toml", "[chian]", "unknown"]);
+    let m = err(&format!(
+        "[chain]\nbeads = 10\nexponent = {{ base = 3.0, segmnts = [] }}\n{RUN}"
+    ));
+    assert_contains(&m, &["[chain].exponent.segmnts", "unknown key"]);
+    let m = err(&format!(
+        "[chain]\nbeads = 10\n[walls]\nleft = {{ exponnent = 2 }}\n{RUN}"
+    ));
+    assert_contains(&m, &["[walls].left.exponnent"]);
+    let m = err(&format!(
+        "[chain]\nbeads = 10\n[initial]\nstriker_si = 1.0\n{RUN}"
+    ));
+    assert_contains(&m, &["[initial].striker_si", "physical"]);
+}
+
+#[test]
+fn wrong_array_length_names_key_and_counts() {
+    let m = err(&format!("[chain]\nbeads = 4\nmass = [1, 1, 1]\n{RUN}"));
+    assert_contains(
+        &m,
+        &["t.toml: [chain].mass: expected 4 values (one per bead), got 3"],
+    );
+    let m = err(&format!(
+        "[chain]\nbeads = 4\nexponent = [3, 3, 3, 3]\n{RUN}"
+    ));
+    assert_contains(
+        &m,
+        &[
+            "[chain].exponent",
+            "expected 3 values (one per contact), got 4",
+        ],
+    );
+    let m = err(&format!(
+        "[chain]\nbeads = 4\nexponent = {{ base = 3.0, segments = [{{ from = 2, to = 5, value = 2.5 }}] }}\n{RUN}"
+    ));
+    assert_contains(&m, &["[chain].exponent.segments[0]", "0..=2"]);
+}
+
+#[test]
+fn missing_csv_names_the_csv_and_key() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let e = parse_str(
+        &format!("[chain]\nbeads = 3\nmass = {{ file = \"nope.csv\" }}\n{RUN}"),
+        dir.path(),
+        "s.toml",
+    )
+    .expect_err("missing csv");
+    assert!(matches!(e, SceneError::CsvIo { .. }), "{e:?}");
+    assert_contains(&e.to_string(), &["s.toml", "[chain].mass", "nope.csv"]);
+}
+
+#[test]
+fn non_number_in_csv_names_its_line() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::write(dir.path().join("v.csv"), "0.0\n1.5\nabc\n2.0\n").expect("write");
+    let e = parse_str(
+        &format!("[chain]\nbeads = 4\n[initial]\nvelocity = {{ file = \"v.csv\" }}\n{RUN}"),
+        dir.path(),
+        "s.toml",
+    )
+    .expect_err("bad csv");
+    let m = e.to_string();
+    assert_contains(&m, &["s.toml", "[initial].velocity", "v.csv:3:", "abc"]);
+    std::fs::write(dir.path().join("w.csv"), "1.0\nNaN\n").expect("write");
+    let e = parse_str(
+        &format!("[chain]\nmass = {{ file = \"w.csv\" }}\n{RUN}"),
+        dir.path(),
+        "s.toml",
+    )
+    .expect_err("nan csv");
+    assert_contains(&e.to_string(), &["w.csv:2:", "finite"]);
+}
+
+#[test]
+fn nan_and_inf_are_rejected_with_their_key() {
+    let m = err(&format!("[chain]\nbeads = 3\nprefactor = nan\n{RUN}"));
+    assert_contains(&m, &["t.toml: [chain].prefactor", "finite"]);
+    let m = err(&format!(
+        "[chain]\nbeads = 3\nmass = [1.0, inf, 1.0]\n{RUN}"
+    ));
+    assert_contains(&m, &["[chain].mass[1]", "finite"]);
+    let m = err("[chain]\nbeads = 3\n[run]\nuntil = inf\n");
+    assert_contains(&m, &["[run].until", "finite"]);
+    // A resolved scene with a NaN (built in code) fails validate() with the index.
+    let mut s = preset("striker").expect("striker");
+    s.v0[7] = f64::NAN;
+    let m = validate(&s).expect_err("nan").to_string();
+    assert_contains(
+        &m,
+        &["striker: [initial].velocity: bead 7: not a finite number"],
+    );
+}
+
+#[test]
+fn exponent_at_most_one_names_the_contact() {
+    let m = err(&format!(
+        "[chain]\nbeads = 10\nexponent = {{ base = 2.5, impurity = {{ at = 4, value = 1.0 }} }}\n{RUN}"
+    ));
+    assert_contains(
+        &m,
+        &["t.toml: [chain].exponent: contact 4: exponent must be > 1, got 1"],
+    );
+    // Below 2 (but > 1) is only a warning.
+    let s = ok(&format!(
+        "[chain]\nbeads = 4\nexponent = [2.5, 1.8, 2.5]\n[initial]\nstriker = 1.0\n{RUN}"
+    ));
+    let w = validate(&s).expect("valid");
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert_contains(&w[0], &["contact 1", "C¹"]);
+}
+
+#[test]
+fn mass_at_most_zero_names_the_bead() {
+    let m = err(&format!("[chain]\nbeads = 4\nmass = [1, 1, -2, 1]\n{RUN}"));
+    assert_contains(
+        &m,
+        &["t.toml: [chain].mass: bead 2: mass must be > 0, got -2"],
+    );
+    let m = err(&format!(
+        "[chain]\nbeads = 4\nmass = {{ base = 1, segments = [{{ from = 3, value = 0 }}] }}\n{RUN}"
+    ));
+    assert_contains(&m, &["[chain].mass: bead 3"]);
+    let m = err(&format!("[chain]\nbeads = 3\nprefactor = [1, 0]\n{RUN}"));
+    assert_contains(&m, &["[chain].prefactor: contact 1: prefactor must be > 0"]);
+}
+
+#[test]
+fn fewer_than_two_beads_is_an_error() {
+    let m = err(&format!("[chain]\nbeads = 1\n{RUN}"));
+    assert_contains(&m, &["t.toml: [chain].beads", "at least 2 beads, got 1"]);
+    let m = err(&format!("[chain]\nmass = [1.0]\n{RUN}"));
+    assert_contains(&m, &["[chain].mass", "at least 2 beads"]);
+    let m = err(&format!("[chain]\nbeads = -3\n{RUN}"));
+    assert_contains(&m, &["[chain].beads", "non-negative integer"]);
+    let m = err(RUN);
+    assert_contains(&m, &["[chain].beads", "missing"]);
+}
+
+#[test]
+fn until_at_most_zero_and_bad_run_settings() {
+    let m = err("[chain]\nbeads = 3\n[run]\nuntil = 0.0\n");
+    assert_contains(&m, &["t.toml: [run].until", "> 0, got 0"]);
+    let m = err("[chain]\nbeads = 3\n[run]\nuntil = -1\n");
+    assert_contains(&m, &["[run].until", "got -1"]);
+    let m = err("[chain]\nbeads = 3\n");
+    assert_contains(&m, &["[run].until", "missing"]);
+    let m = err("[chain]\nbeads = 3\n[run]\nuntil = 1\nevery = 0\n");
+    assert_contains(&m, &["[run].every"]);
+    let m = err("[chain]\nbeads = 3\n[run]\nuntil = 1\nrtol = 1.5\n");
+    assert_contains(&m, &["[run].rtol", "(0, 1)"]);
+    let m = err("[chain]\nbeads = 3\n[run]\nuntil = 1\nmethod = \"euler\"\n");
+    assert_contains(&m, &["[run].method", "radau5"]);
+}
+
+#[test]
+fn wrong_types_are_named() {
+    let m = err(&format!("[chain]\nbeads = 3\nmass = \"heavy\"\n{RUN}"));
+    assert_contains(&m, &["[chain].mass", "a string"]);
+    let m = err(&format!("chain = 3\n{RUN}"));
+    assert_contains(&m, &["[chain]", "expected a table"]);
+    let m = err(&format!("[scene]\nseed = -1\n[chain]\nbeads = 3\n{RUN}"));
+    assert_contains(&m, &["[scene].seed"]);
+}
+
+#[test]
+fn load_names_both_file_and_preset_when_neither_exists() {
+    let e = load("no_such_scene_xyz.toml").expect_err("missing");
+    let m = e.to_string();
+    assert_contains(
+        &m,
+        &[
+            "no_such_scene_xyz.toml",
+            "no such scene file",
+            "preset",
+            "striker",
+        ],
+    );
+    let dir = tempfile::tempdir().expect("tempdir");
+    let p = dir.path().join("bad.toml");
+    std::fs::write(&p, "[chain]\nbeads = 1\n[run]\nuntil = 1\n").expect("write");
+    let m = load(p.to_str().expect("utf8"))
+        .expect_err("bad")
+        .to_string();
+    assert_contains(&m, &["bad.toml: [chain].beads"]);
+}
+
+#[test]
+fn validate_reports_wrong_lengths_of_resolved_scenes() {
+    let mut s = preset("striker").expect("striker");
+    s.chain.exponent.pop();
+    let m = validate(&s).expect_err("length").to_string();
+    assert_contains(
+        &m,
+        &["striker: [chain].exponent: expected 99 values (one per contact), got 98"],
+    );
+    let mut s = preset("striker").expect("striker");
+    s.run.until = f64::NAN;
+    assert_contains(
+        &validate(&s).expect_err("nan").to_string(),
+        &["[run].until"],
+    );
+}
+
+#[test]
+fn mutated_presets_never_panic() {
+    use rand::{Rng, SeedableRng};
+    // Seeded byte-level mutations of every preset: parsing must return Ok or a one-line Err.
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2024);
+    let alphabet = b"=[]{}\",.-+0123456789eEnaif \n#_xyz";
+    let mut errors = 0;
+    for p in presets() {
+        for _ in 0..60 {
+            let mut bytes = p.toml.as_bytes().to_vec();
+            for _ in 0..rng.random_range(1..4) {
+                let i = rng.random_range(0..bytes.len());
+                match rng.random_range(0..3) {
+                    0 => bytes[i] = alphabet[rng.random_range(0..alphabet.len())],
+                    1 => {
+                        bytes.remove(i);
+                    }
+                    _ => bytes.insert(i, alphabet[rng.random_range(0..alphabet.len())]),
+                }
+            }
+            let text = String::from_utf8_lossy(&bytes);
+            if let Err(e) = parse_str(&text, Path::new("."), "m.toml") {
+                errors += 1;
+                let m = e.to_string();
+                assert!(!m.contains('\n') && m.starts_with("m.toml"), "{m:?}");
+            }
+        }
+    }
+    assert!(
+        errors > 100,
+        "mutations should mostly break scenes, got {errors} errors"
+    );
+}
