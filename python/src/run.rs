@@ -1,0 +1,341 @@
+//! `run()`, `load()` and `energies()`: a whole run of a scene into NumPy arrays (and optionally
+//! the CLI's snapshot file), a snapshot file back into the same arrays, and per-frame energies.
+
+use crate::observe::{Collector, EventColumns};
+use crate::scene::Scene;
+use crate::{without_gil, RunError, SceneError, SnapshotError};
+use beadchain::engine::{self, EngineError, RunConfig, RunOutcome, Stop};
+use beadchain::integrate::{default_atol, Method};
+use beadchain::scene::{Engine as EngineKind, Scene as LibScene};
+use beadchain::snapshot::{Frame, Header, RunSummary, Snapshot, SnapshotWriter};
+use numpy::{PyArray1, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::PathBuf;
+
+/// Run options as Python gives them (None: the scene's setting, else the documented default).
+pub(crate) struct Options {
+    pub engine: Option<String>,
+    pub method: Option<String>,
+    pub rtol: Option<f64>,
+    pub atol: Option<f64>,
+    pub every: Option<f64>,
+    pub until: Option<f64>,
+    pub max_steps: Option<u64>,
+}
+
+fn bad(what: &str, expected: &str, got: &str) -> PyErr {
+    SceneError::new_err(format!("{what}: expected {expected}, got \"{got}\""))
+}
+
+/// The run configuration, as the CLI builds it from the scene and its options (`--rtol` sets
+/// `atol = rtol/10⁴` unless the scene or `--atol` gives one), and the scene with `[run]`
+/// `until`/`every` updated to what runs (the snapshot header records them), both checked.
+pub(crate) fn config(scene: &LibScene, o: &Options) -> PyResult<(LibScene, RunConfig)> {
+    let mut cfg = RunConfig::from_scene(scene);
+    if let Some(e) = &o.engine {
+        cfg.engine = match e.as_str() {
+            "hybrid" => EngineKind::Hybrid,
+            "dense" => EngineKind::Dense,
+            _ => return Err(bad("engine", "\"hybrid\" or \"dense\"", e)),
+        };
+    }
+    if let Some(m) = &o.method {
+        cfg.method = match m.as_str() {
+            "auto" => Method::Auto,
+            "radau5" => Method::Radau5,
+            "dop853" => Method::Dop853,
+            "verlet" => Method::Verlet,
+            _ => return Err(bad("method", "auto, radau5, dop853 or verlet", m)),
+        };
+    }
+    if let Some(r) = o.rtol {
+        cfg.rtol = r;
+        if scene.run.atol.is_none() {
+            cfg.atol = default_atol(r);
+        }
+    }
+    if let Some(a) = o.atol {
+        cfg.atol = a;
+    }
+    if let Some(t) = o.until {
+        cfg.until = t;
+    }
+    if o.every.is_some() {
+        cfg.every = o.every;
+    }
+    cfg.max_steps = o.max_steps;
+    let mut s = scene.clone();
+    s.run.until = cfg.until;
+    s.run.every = cfg.every;
+    engine::check_config(&s, &cfg).map_err(|e| config_err(&s, e))?;
+    Ok((s, cfg))
+}
+
+fn config_err(scene: &LibScene, e: EngineError) -> PyErr {
+    SceneError::new_err(format!("{}: {e}", scene.name))
+}
+
+/// An engine failure as a Python exception (the Python error first, if the observer has one).
+pub(crate) fn engine_err(scene: &LibScene, obs: &mut Collector, e: EngineError) -> PyErr {
+    if let Some(err) = obs.error.take() {
+        return err;
+    }
+    match e {
+        EngineError::Config(_) => config_err(scene, e),
+        _ => RunError::new_err(format!("{}: run failed: {e}", scene.name)),
+    }
+}
+
+/// The counters and energies of an outcome.
+pub(crate) fn stats<'py>(py: Python<'py>, o: &RunOutcome) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let s = &o.stats;
+    d.set_item("steps", s.steps)?;
+    d.set_item("implicit_steps", o.implicit_steps)?;
+    d.set_item("rejected", s.rejected)?;
+    d.set_item("rhs_evals", s.rhs_evals)?;
+    d.set_item("jac_evals", s.jac_evals)?;
+    d.set_item("factorizations", s.factorizations)?;
+    d.set_item("newton_iters", s.newton_iters)?;
+    d.set_item("newton_failures", s.newton_failures)?;
+    d.set_item("bead_steps", s.bead_steps)?;
+    d.set_item("t_end", o.t_end)?;
+    d.set_item("wall_seconds", o.wall_seconds)?;
+    d.set_item("energy_initial", o.energy_initial)?;
+    d.set_item("energy_final", o.energy_final)?;
+    d.set_item("energy_scale", o.energy_scale)?;
+    d.set_item("dissipated", o.dissipated)?;
+    d.set_item("relative_energy_error", o.relative_energy_error())?;
+    d.set_item("momentum_initial", o.momentum_initial)?;
+    d.set_item("momentum_final", o.momentum_final)?;
+    let ev = PyDict::new(py);
+    for (k, n) in &o.events_by_kind {
+        ev.set_item(k, n)?;
+    }
+    d.set_item("events_by_kind", ev)?;
+    d.set_item("largest_cluster", o.largest_cluster)?;
+    d.set_item("late_merges", o.late_merges)?;
+    Ok(d)
+}
+
+/// What `run` stores in the snapshot's STATS section (as `beadchain run` without `--timing`).
+fn summary(out: &RunOutcome) -> RunSummary {
+    RunSummary {
+        stats: out.stats.clone(),
+        wall_seconds: 0.0,
+        t_end: out.t_end,
+        energy_initial: out.energy_initial,
+        energy_final: out.energy_final,
+        momentum_initial: out.momentum_initial,
+        momentum_final: out.momentum_final,
+        events_by_kind: out.events_by_kind.clone(),
+        largest_cluster: out.largest_cluster,
+        notes: vec![
+            "wall time not recorded (identical inputs give identical bytes; see --timing)".into(),
+        ],
+    }
+}
+
+/// Moves the collected frames into a dict of arrays (`u`, `v` flat, `F·N`; no copy).
+pub(crate) fn frames_dict<'py>(
+    py: Python<'py>,
+    c: &mut Collector,
+    n: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("n", n)?;
+    d.set_item("t", PyArray1::from_vec(py, std::mem::take(&mut c.t)))?;
+    d.set_item("u", PyArray1::from_vec(py, std::mem::take(&mut c.u)))?;
+    d.set_item("v", PyArray1::from_vec(py, std::mem::take(&mut c.v)))?;
+    let dis = std::mem::take(&mut c.dissipated);
+    d.set_item(
+        "dissipated",
+        (!dis.is_empty()).then(|| PyArray1::from_vec(py, dis)),
+    )?;
+    d.set_item("events", std::mem::take(&mut c.events).into_dict(py)?)?;
+    Ok(d)
+}
+
+/// Runs `scene` to its end time; frames in memory (unless `record` is false) and, with `out`,
+/// the CLI's snapshot file (written under a temporary name, renamed when the run finishes).
+#[pyfunction]
+#[pyo3(signature = (scene, engine=None, method=None, rtol=None, atol=None, every=None, until=None, out=None, record=true, max_steps=None, observers=Vec::new()))]
+#[allow(clippy::too_many_arguments)]
+pub fn run<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    engine: Option<String>,
+    method: Option<String>,
+    rtol: Option<f64>,
+    atol: Option<f64>,
+    every: Option<f64>,
+    until: Option<f64>,
+    out: Option<PathBuf>,
+    record: bool,
+    max_steps: Option<u64>,
+    observers: Vec<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let o = Options {
+        engine,
+        method,
+        rtol,
+        atol,
+        every,
+        until,
+        max_steps,
+    };
+    let (s, cfg) = config(&scene.scene, &o)?;
+    let writer = match &out {
+        Some(path) => {
+            let mut header = Header::new(
+                s.clone(),
+                cfg.engine,
+                cfg.method,
+                cfg.rtol,
+                cfg.atol,
+                format!("python: beadchain.run({})", s.name),
+            );
+            header.output = s.run.output.clone().unwrap_or_default();
+            Some(
+                SnapshotWriter::create(path, &header)
+                    .map_err(|e| SnapshotError::new_err(e.to_string()))?,
+            )
+        }
+        None => None,
+    };
+    let mut obs = Collector::new(record, writer, observers);
+    let r = without_gil(py, || -> Result<(Stop, RunOutcome), EngineError> {
+        let mut e = engine::start(&s, &cfg)?;
+        let stop = e.advance(cfg.until, &mut obs)?;
+        Ok((stop, e.outcome()))
+    });
+    let (stop, outcome) = r.map_err(|e| engine_err(&s, &mut obs, e))?;
+    if let Some(err) = obs.error.take() {
+        return Err(err); // the unfinished output is removed when the writer drops
+    }
+    if let (Stop::Reached { .. }, Some(w)) = (stop, obs.writer.take()) {
+        w.finish(&[], &summary(&outcome))
+            .map_err(|e| SnapshotError::new_err(e.to_string()))?;
+    }
+    let d = frames_dict(py, &mut obs, s.chain.len())?;
+    d.set_item("stats", stats(py, &outcome)?)?;
+    d.set_item("scene", Scene::new(s)?)?;
+    Ok(d)
+}
+
+fn snap_err(e: beadchain::snapshot::SnapshotError) -> PyErr {
+    SnapshotError::new_err(e.to_string())
+}
+
+/// Reads a snapshot file: header (scene, engine settings), frames as flat arrays, events,
+/// summary. Frames of an output selection hold the stored beads (`beads`) only.
+#[pyfunction]
+pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
+    let snap = without_gil(py, || Snapshot::open(&path)).map_err(snap_err)?;
+    let h = snap.header();
+    let sel = &h.output;
+    let m = sel.beads.as_ref().map_or(h.n_beads as usize, |b| b.len());
+    let f = snap.frame_count();
+    let (mut t, mut u, mut v) = (Vec::with_capacity(f), Vec::new(), Vec::new());
+    if sel.fields.has_u() {
+        u.reserve_exact(f * m);
+    }
+    if sel.fields.has_v() {
+        v.reserve_exact(f * m);
+    }
+    let read = without_gil(py, || -> Result<(), beadchain::snapshot::SnapshotError> {
+        let mut fr = Frame::default();
+        for k in 0..f {
+            snap.read_frame_into(k, &mut fr)?;
+            t.push(fr.t);
+            u.extend_from_slice(&fr.u);
+            v.extend_from_slice(&fr.v);
+        }
+        Ok(())
+    });
+    read.map_err(snap_err)?;
+    let mut ev = EventColumns::default();
+    for e in snap.events() {
+        ev.push(e);
+    }
+    let d = PyDict::new(py);
+    d.set_item("n", m)?;
+    d.set_item("t", PyArray1::from_vec(py, t))?;
+    d.set_item("u", sel.fields.has_u().then(|| PyArray1::from_vec(py, u)))?;
+    d.set_item("v", sel.fields.has_v().then(|| PyArray1::from_vec(py, v)))?;
+    d.set_item("beads", sel.beads.clone())?;
+    d.set_item("events", ev.into_dict(py)?)?;
+    d.set_item("engine", h.engine.name())?;
+    d.set_item("method", h.method.name())?;
+    d.set_item("rtol", h.rtol)?;
+    d.set_item("atol", h.atol)?;
+    d.set_item("created_by", h.created_by.clone())?;
+    d.set_item("format_version", h.format_version)?;
+    d.set_item("complete", snap.is_complete())?;
+    d.set_item("warnings", snap.warnings().to_vec())?;
+    let sum = match snap.summary() {
+        Some(s) => {
+            let o = PyDict::new(py);
+            o.set_item("steps", s.stats.steps)?;
+            o.set_item("rejected", s.stats.rejected)?;
+            o.set_item("rhs_evals", s.stats.rhs_evals)?;
+            o.set_item("bead_steps", s.stats.bead_steps)?;
+            o.set_item("t_end", s.t_end)?;
+            o.set_item("wall_seconds", s.wall_seconds)?;
+            o.set_item("energy_initial", s.energy_initial)?;
+            o.set_item("energy_final", s.energy_final)?;
+            o.set_item("momentum_initial", s.momentum_initial)?;
+            o.set_item("momentum_final", s.momentum_final)?;
+            o.set_item(
+                "events_by_kind",
+                s.events_by_kind
+                    .iter()
+                    .cloned()
+                    .collect::<std::collections::BTreeMap<_, _>>(),
+            )?;
+            o.set_item("largest_cluster", s.largest_cluster)?;
+            o.set_item("notes", s.notes.clone())?;
+            Some(o)
+        }
+        None => None,
+    };
+    d.set_item("stats", sum)?;
+    let scene = h.scene.clone();
+    d.set_item(
+        "scene",
+        Scene {
+            scene,
+            warnings: Vec::new(),
+        },
+    )?;
+    Ok(d)
+}
+
+/// Kinetic and potential energy of every frame (`u`, `v` flat, `F·N`; computer units; the
+/// potential holds contacts, walls and the field, as `beadchain inspect` reports it).
+#[pyfunction]
+pub fn energies<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    u: PyReadonlyArray1<'py, f64>,
+    v: PyReadonlyArray1<'py, f64>,
+) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    let chain = &scene.scene.chain;
+    let n = chain.len();
+    let (u, v) = (u.as_slice()?, v.as_slice()?);
+    if u.len() != v.len() || u.len() % n != 0 {
+        return Err(SceneError::new_err(format!(
+            "{}: energies: u and v must hold whole frames of {n} beads (got {} and {} values)",
+            scene.scene.name,
+            u.len(),
+            v.len()
+        )));
+    }
+    let (ke, pe): (Vec<f64>, Vec<f64>) = u
+        .chunks_exact(n)
+        .zip(v.chunks_exact(n))
+        .map(|(u, v)| (chain.kinetic_energy(v), chain.potential_energy(u)))
+        .unzip();
+    Ok((PyArray1::from_vec(py, ke), PyArray1::from_vec(py, pe)))
+}
