@@ -244,6 +244,12 @@ class Scene:
             return np.asarray(r, dtype=float)
         return None
 
+    @property
+    def source(self) -> Optional[str]:
+        """The TOML text this scene was made from (file, text, preset or the text written for
+        Python values); None for a scene read from a snapshot."""
+        return self._text
+
     def to_toml(self) -> str:
         """The resolved scene as TOML (every array written out)."""
         return self._s.to_toml()
