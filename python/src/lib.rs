@@ -22,6 +22,7 @@ mod observe;
 mod run;
 mod scene;
 mod sim;
+mod study;
 
 use pyo3::create_exception;
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
@@ -75,5 +76,8 @@ fn _beadchain(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
     m.add_function(wrap_pyfunction!(run::load, m)?)?;
     m.add_function(wrap_pyfunction!(run::energies, m)?)?;
+    m.add_function(wrap_pyfunction!(study::check, m)?)?;
+    m.add_function(wrap_pyfunction!(study::_sweep_spec, m)?)?;
+    m.add_function(wrap_pyfunction!(study::_sweep_run, m)?)?;
     Ok(())
 }

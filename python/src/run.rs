@@ -312,6 +312,9 @@ pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
     Ok(d)
 }
 
+/// A 1-D float array owned by Python.
+type Array<'py> = Bound<'py, PyArray1<f64>>;
+
 /// Kinetic and potential energy of every frame (`u`, `v` flat, `F·N`; computer units; the
 /// potential holds contacts, walls and the field, as `beadchain inspect` reports it).
 #[pyfunction]
@@ -320,7 +323,7 @@ pub fn energies<'py>(
     scene: &Scene,
     u: PyReadonlyArray1<'py, f64>,
     v: PyReadonlyArray1<'py, f64>,
-) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+) -> PyResult<(Array<'py>, Array<'py>)> {
     let chain = &scene.scene.chain;
     let n = chain.len();
     let (u, v) = (u.as_slice()?, v.as_slice()?);
