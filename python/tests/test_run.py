@@ -162,3 +162,9 @@ def test_dissipative_run_reports_dissipated_energy():
     e = r.energy()
     assert e["dissipated"][-1] > 0.0 and e["dissipated"][0] == 0.0
     np.testing.assert_allclose(e["balance"], np.full(len(r.t), 0.5), rtol=1e-6, atol=0)
+
+
+def test_help_states_the_defaults():
+    doc = bc.run.__doc__
+    for s in ('"hybrid"`` (default)', '"auto"`` (default)', "1e-8", "rtol/1e4", "first and last frame"):
+        assert s in doc, s
