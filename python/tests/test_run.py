@@ -168,3 +168,14 @@ def test_help_states_the_defaults():
     doc = bc.run.__doc__
     for s in ('"hybrid"`` (default)', '"auto"`` (default)', "1e-8", "rtol/1e4", "first and last frame"):
         assert s in doc, s
+
+
+def test_load_reads_an_output_selection(cli, tmp_path, striker_run):
+    code, _, err = run_cli(cli, "run", "striker", "--every", "10", "--beads", "0:100:10",
+                           "--fields", "v", "--out", "sel.snap", cwd=tmp_path)
+    assert code == 0, err
+    r = bc.load(tmp_path / "sel.snap")
+    assert list(r.beads) == list(range(0, 100, 10)) and r.u is None
+    np.testing.assert_array_equal(r.v, striker_run.v[:, ::10])
+    with pytest.raises(bc.SceneError):
+        r.energy()
