@@ -96,5 +96,17 @@ def check(
     until: Optional[float] = None,
     tol: Optional[float] = None,
 ) -> dict[str, Any]: ...
+def accuracy(
+    scene: Scene,
+    engines: Optional[Sequence[str]] = None,
+    methods: Optional[Sequence[str]] = None,
+    rtols: Optional[Sequence[float]] = None,
+    verlet_steps: Optional[Sequence[float]] = None,
+    atol_ratio: Optional[float] = None,
+    until: Optional[float] = None,
+    repeat: Optional[int] = None,
+    reference_rtol: Optional[float] = None,
+    max_steps: Optional[int] = None,
+) -> dict[str, Any]: ...
 def _sweep_spec(path: str) -> dict[str, Any]: ...
 def _sweep_run(path: str, index: int) -> dict[str, Any]: ...

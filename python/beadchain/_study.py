@@ -75,3 +75,24 @@ def sweep(path: str | os.PathLike, executor: Any = None,
         else:
             out[c] = vals
     return out
+
+
+def accuracy(scene: Scene, engines: Optional[list] = None, methods: Optional[list] = None,
+             rtols: Optional[list] = None, verlet_steps: Optional[list] = None,
+             atol_ratio: Optional[float] = None, until: Optional[float] = None,
+             repeat: Optional[int] = None, reference_rtol: Optional[float] = None,
+             max_steps: Optional[int] = None) -> dict:
+    """``beadchain accuracy``: the work-precision study of ``scene`` against a tight dense
+    Radau IIA reference (docs/benchmarks.md). None keeps the CLI's default: ``engines``
+    ["hybrid", "dense"], ``methods`` ["radau5", "dop853", "verlet"], ``rtols`` [1e-4, 1e-6,
+    1e-8, 1e-10], ``verlet_steps`` [0.1, 0.03, 0.01, 0.003] (in tau = L/V), ``atol_ratio``
+    0.01, ``until`` the scene's, ``repeat`` 1, ``reference_rtol`` the smallest rtol.
+
+    Returns ``rows`` (columns ``engine``, ``method``, ``rtol``, ``atol``, ``err_u``, ``err_v``,
+    ``error``, ``energy_error``, ``wall_seconds``, ``steps``, ...: ``pandas.DataFrame(r["rows"])``),
+    ``reference``, ``until``, ``tau`` and ``notes``. Writes no file.
+    """
+    return _beadchain.accuracy(scene._s, engines=engines, methods=methods, rtols=rtols,
+                               verlet_steps=verlet_steps, atol_ratio=atol_ratio, until=until,
+                               repeat=repeat, reference_rtol=reference_rtol,
+                               max_steps=max_steps)

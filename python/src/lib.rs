@@ -18,6 +18,7 @@
 //!
 //! [`Engine`]: beadchain::engine::Engine
 
+mod accuracy;
 mod observe;
 mod run;
 mod scene;
@@ -77,6 +78,7 @@ fn _beadchain(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::load, m)?)?;
     m.add_function(wrap_pyfunction!(run::energies, m)?)?;
     m.add_function(wrap_pyfunction!(study::check, m)?)?;
+    m.add_function(wrap_pyfunction!(accuracy::accuracy, m)?)?;
     m.add_function(wrap_pyfunction!(study::_sweep_spec, m)?)?;
     m.add_function(wrap_pyfunction!(study::_sweep_run, m)?)?;
     Ok(())

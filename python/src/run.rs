@@ -28,26 +28,36 @@ fn bad(what: &str, expected: &str, got: &str) -> PyErr {
     SceneError::new_err(format!("{what}: expected {expected}, got \"{got}\""))
 }
 
+/// An engine name as the CLI's `--engine` takes it.
+pub(crate) fn parse_engine(e: &str) -> PyResult<EngineKind> {
+    match e {
+        "hybrid" => Ok(EngineKind::Hybrid),
+        "dense" => Ok(EngineKind::Dense),
+        _ => Err(bad("engine", "\"hybrid\" or \"dense\"", e)),
+    }
+}
+
+/// A method name as the CLI's `--method` takes it.
+pub(crate) fn parse_method(m: &str) -> PyResult<Method> {
+    match m {
+        "auto" => Ok(Method::Auto),
+        "radau5" => Ok(Method::Radau5),
+        "dop853" => Ok(Method::Dop853),
+        "verlet" => Ok(Method::Verlet),
+        _ => Err(bad("method", "auto, radau5, dop853 or verlet", m)),
+    }
+}
+
 /// The run configuration, as the CLI builds it from the scene and its options (`--rtol` sets
 /// `atol = rtol/10⁴` unless the scene or `--atol` gives one), and the scene with `[run]`
 /// `until`/`every` updated to what runs (the snapshot header records them), both checked.
 pub(crate) fn config(scene: &LibScene, o: &Options) -> PyResult<(LibScene, RunConfig)> {
     let mut cfg = RunConfig::from_scene(scene);
     if let Some(e) = &o.engine {
-        cfg.engine = match e.as_str() {
-            "hybrid" => EngineKind::Hybrid,
-            "dense" => EngineKind::Dense,
-            _ => return Err(bad("engine", "\"hybrid\" or \"dense\"", e)),
-        };
+        cfg.engine = parse_engine(e)?;
     }
     if let Some(m) = &o.method {
-        cfg.method = match m.as_str() {
-            "auto" => Method::Auto,
-            "radau5" => Method::Radau5,
-            "dop853" => Method::Dop853,
-            "verlet" => Method::Verlet,
-            _ => return Err(bad("method", "auto, radau5, dop853 or verlet", m)),
-        };
+        cfg.method = parse_method(m)?;
     }
     if let Some(r) = o.rtol {
         cfg.rtol = r;

@@ -75,3 +75,35 @@ def test_bad_sweep_raises_before_running(tmp_path):
     assert "mass" in str(e.value) and "\n" not in str(e.value)
     with pytest.raises(bc.SceneError):
         bc.sweep_run(GRID, 99)
+
+
+def test_accuracy_matches_the_clis_table(cli, tmp_path):
+    args = dict(engines=["hybrid"], methods=["radau5", "dop853"], rtols=[1e-4, 1e-6, 1e-8],
+                until=30.0)
+    r = bc.accuracy(bc.Scene.preset("striker"), **args)
+    rows = r["rows"]
+    assert r["reference"]["rtol"] == 1e-8 and r["until"] == 30.0
+    assert set(rows["method"]) == {"radau5", "dop853"} and set(rows["engine"]) == {"hybrid"}
+    code, _, err = run_cli(cli, "accuracy", "striker", "--engines", "hybrid", "--methods",
+                           "radau5,dop853", "--rtols", "1e-4,1e-6,1e-8", "--until", "30",
+                           "--out", tmp_path, "--quiet")
+    assert code == 0, err
+    with open(tmp_path / "accuracy.csv") as f:
+        table = [row for row in csv.DictReader(f) if not row.get("engine", "").startswith("#")]
+    by_key = {(row["engine"], row["method"], float(row["rtol"])): row for row in table}
+    for i in range(len(rows["rtol"])):
+        row = by_key[(rows["engine"][i], rows["method"][i], rows["rtol"][i])]
+        assert float(row["err_v"]) == pytest.approx(rows["err_v"][i], rel=1e-6, abs=1e-300)
+        assert int(row["steps"]) == rows["steps"][i]
+    # the error falls with the tolerance
+    for m in ("radau5", "dop853"):
+        e = [rows["error"][i] for i in range(len(rows["rtol"])) if rows["method"][i] == m
+             and not rows["is_reference"][i]]
+        assert e == sorted(e, reverse=True)
+
+
+def test_accuracy_rejects_bad_options():
+    with pytest.raises(bc.SceneError):
+        bc.accuracy(bc.Scene.preset("striker"), rtols=[2.0])
+    with pytest.raises(bc.SceneError):
+        bc.accuracy(bc.Scene.preset("striker"), methods=["euler"])
