@@ -12,6 +12,9 @@ from . import _beadchain
 from ._scene import Scene, Units, _need_units
 
 
+_UNREAD = object()
+
+
 class Run:
     """Frames of a run (or of a snapshot file) and what the engine reported.
 
@@ -21,15 +24,20 @@ class Run:
     ``kind``, ``rel_velocity``, ``peak_overlap``) that ``pandas.DataFrame`` takes as it is;
     ``stats``: counters and energies; ``scene``: the :class:`Scene` that ran; ``dissipated``:
     energy dissipated up to each frame (dissipative scenes run from Python; else None).
+    A loaded snapshot reads its frames when ``u``/``v`` are first used; ``frames(index)`` reads
+    only the frames asked for.
     """
 
-    def __init__(self, raw: dict, scene: Scene, meta: Optional[dict] = None):
-        n = raw["n"]
-        self.t: np.ndarray = raw["t"]
-        f = len(self.t)
-        shape = (f, n)
-        self.u: Optional[np.ndarray] = None if raw["u"] is None else raw["u"].reshape(shape)
-        self.v: Optional[np.ndarray] = None if raw["v"] is None else raw["v"].reshape(shape)
+    def __init__(self, raw: dict, scene: Scene, meta: Optional[dict] = None, file: Any = None):
+        self._n = raw["n"]
+        self._file = file
+        if file is None:
+            self.t: np.ndarray = raw["t"]
+            self._u = None if raw["u"] is None else raw["u"].reshape(len(self.t), self._n)
+            self._v = None if raw["v"] is None else raw["v"].reshape(len(self.t), self._n)
+        else:  # frames are read from the file when first used
+            self.t = raw["times"]
+            self._u = self._v = _UNREAD
         self.dissipated: Optional[np.ndarray] = raw.get("dissipated")
         ev = raw["events"]
         ev["kind"] = np.asarray(ev["kind"], dtype=str)
@@ -40,6 +48,44 @@ class Run:
         )
         self.scene: Scene = scene
         self.meta: dict = meta or {}
+
+    def _read_all(self) -> None:
+        if self._u is _UNREAD:
+            _, u, v = self._file.read(list(range(len(self.t))))
+            shape = (len(self.t), self._n)
+            self._u = None if u is None else u.reshape(shape)
+            self._v = None if v is None else v.reshape(shape)
+
+    @property
+    def u(self) -> Optional[np.ndarray]:
+        """Displacements (F, N) (a loaded snapshot reads its frames on first use)."""
+        self._read_all()
+        return self._u
+
+    @property
+    def v(self) -> Optional[np.ndarray]:
+        """Velocities (F, N) (a loaded snapshot reads its frames on first use)."""
+        self._read_all()
+        return self._v
+
+    def frames(self, index) -> tuple:
+        """``(t, u, v)`` of the frames ``index`` (an int, slice or list of ints) without reading
+        the others from a loaded snapshot (``u``/``v`` (k, N); None when not stored)."""
+        idx = np.arange(len(self.t))[index]
+        one = np.ndim(idx) == 0
+        idx = np.atleast_1d(idx)
+        if self._file is not None and self._u is _UNREAD:
+            t, u, v = self._file.read([int(i) for i in idx])
+            shape = (len(idx), self._n)
+            u = None if u is None else u.reshape(shape)
+            v = None if v is None else v.reshape(shape)
+        else:
+            t = self.t[idx]
+            u = None if self.u is None else self.u[idx]
+            v = None if self.v is None else self.v[idx]
+        if one:
+            return t[0], None if u is None else u[0], None if v is None else v[0]
+        return t, u, v
 
     def __len__(self) -> int:
         return len(self.t)
@@ -136,13 +182,15 @@ def run(
 
 
 def load(path: str | os.PathLike) -> Run:
-    """Reads a snapshot file written by ``beadchain run`` (or ``run(out=...)``) into a
-    :class:`Run`: the same numbers, bit for bit. ``meta`` holds the engine settings, the
+    """Opens a snapshot file written by ``beadchain run`` (or ``run(out=...)``) as a
+    :class:`Run`: the same numbers, bit for bit. Only the header, the frame times, the event
+    log and the summary are read here; the frames when ``u``/``v`` are first used, or
+    selected ones with ``Run.frames(index)``. ``meta`` holds the engine settings, the
     command that wrote it, the format version and any reader warnings (an unfinished file)."""
     raw = _beadchain.load(os.fspath(path))
     keys = ("engine", "method", "rtol", "atol", "created_by", "format_version", "complete",
             "warnings")
-    return Run(raw, Scene._wrap(raw["scene"]), {k: raw[k] for k in keys})
+    return Run(raw, Scene._wrap(raw["scene"]), {k: raw[k] for k in keys}, file=raw["file"])
 
 
 class Stop(NamedTuple):

@@ -23,6 +23,7 @@ mod observe;
 mod run;
 mod scene;
 mod sim;
+mod snapfile;
 mod study;
 
 use pyo3::create_exception;
@@ -72,10 +73,11 @@ fn _beadchain(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<scene::Scene>()?;
     m.add_class::<sim::Simulation>()?;
+    m.add_class::<snapfile::SnapshotFile>()?;
     m.add_function(wrap_pyfunction!(scene::presets, m)?)?;
     m.add_function(wrap_pyfunction!(scene::_preset_toml, m)?)?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
-    m.add_function(wrap_pyfunction!(run::load, m)?)?;
+    m.add_function(wrap_pyfunction!(snapfile::load, m)?)?;
     m.add_function(wrap_pyfunction!(run::energies, m)?)?;
     m.add_function(wrap_pyfunction!(study::check, m)?)?;
     m.add_function(wrap_pyfunction!(accuracy::accuracy, m)?)?;

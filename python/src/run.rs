@@ -1,13 +1,13 @@
 //! `run()`, `load()` and `energies()`: a whole run of a scene into NumPy arrays (and optionally
 //! the CLI's snapshot file), a snapshot file back into the same arrays, and per-frame energies.
 
-use crate::observe::{Collector, EventColumns};
+use crate::observe::Collector;
 use crate::scene::Scene;
 use crate::{without_gil, RunError, SceneError, SnapshotError};
 use beadchain::engine::{self, EngineError, RunConfig, RunOutcome, Stop};
 use beadchain::integrate::{default_atol, Method};
 use beadchain::scene::{Engine as EngineKind, Scene as LibScene};
-use beadchain::snapshot::{Frame, Header, RunSummary, Snapshot, SnapshotWriter};
+use beadchain::snapshot::{Header, RunSummary, SnapshotWriter};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -231,94 +231,6 @@ pub fn run<'py>(
     let d = frames_dict(py, &mut obs, s.chain.len())?;
     d.set_item("stats", stats(py, &outcome)?)?;
     d.set_item("scene", Scene::new(s)?)?;
-    Ok(d)
-}
-
-fn snap_err(e: beadchain::snapshot::SnapshotError) -> PyErr {
-    SnapshotError::new_err(e.to_string())
-}
-
-/// Reads a snapshot file: header (scene, engine settings), frames as flat arrays, events,
-/// summary. Frames of an output selection hold the stored beads (`beads`) only.
-#[pyfunction]
-pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
-    let snap = without_gil(py, || Snapshot::open(&path)).map_err(snap_err)?;
-    let h = snap.header();
-    let sel = &h.output;
-    let m = sel.beads.as_ref().map_or(h.n_beads as usize, |b| b.len());
-    let f = snap.frame_count();
-    let (mut t, mut u, mut v) = (Vec::with_capacity(f), Vec::new(), Vec::new());
-    if sel.fields.has_u() {
-        u.reserve_exact(f * m);
-    }
-    if sel.fields.has_v() {
-        v.reserve_exact(f * m);
-    }
-    let read = without_gil(py, || -> Result<(), beadchain::snapshot::SnapshotError> {
-        let mut fr = Frame::default();
-        for k in 0..f {
-            snap.read_frame_into(k, &mut fr)?;
-            t.push(fr.t);
-            u.extend_from_slice(&fr.u);
-            v.extend_from_slice(&fr.v);
-        }
-        Ok(())
-    });
-    read.map_err(snap_err)?;
-    let mut ev = EventColumns::default();
-    for e in snap.events() {
-        ev.push(e);
-    }
-    let d = PyDict::new(py);
-    d.set_item("n", m)?;
-    d.set_item("t", PyArray1::from_vec(py, t))?;
-    d.set_item("u", sel.fields.has_u().then(|| PyArray1::from_vec(py, u)))?;
-    d.set_item("v", sel.fields.has_v().then(|| PyArray1::from_vec(py, v)))?;
-    d.set_item("beads", sel.beads.clone())?;
-    d.set_item("events", ev.into_dict(py)?)?;
-    d.set_item("engine", h.engine.name())?;
-    d.set_item("method", h.method.name())?;
-    d.set_item("rtol", h.rtol)?;
-    d.set_item("atol", h.atol)?;
-    d.set_item("created_by", h.created_by.clone())?;
-    d.set_item("format_version", h.format_version)?;
-    d.set_item("complete", snap.is_complete())?;
-    d.set_item("warnings", snap.warnings().to_vec())?;
-    let sum = match snap.summary() {
-        Some(s) => {
-            let o = PyDict::new(py);
-            o.set_item("steps", s.stats.steps)?;
-            o.set_item("rejected", s.stats.rejected)?;
-            o.set_item("rhs_evals", s.stats.rhs_evals)?;
-            o.set_item("bead_steps", s.stats.bead_steps)?;
-            o.set_item("t_end", s.t_end)?;
-            o.set_item("wall_seconds", s.wall_seconds)?;
-            o.set_item("energy_initial", s.energy_initial)?;
-            o.set_item("energy_final", s.energy_final)?;
-            o.set_item("momentum_initial", s.momentum_initial)?;
-            o.set_item("momentum_final", s.momentum_final)?;
-            o.set_item(
-                "events_by_kind",
-                s.events_by_kind
-                    .iter()
-                    .cloned()
-                    .collect::<std::collections::BTreeMap<_, _>>(),
-            )?;
-            o.set_item("largest_cluster", s.largest_cluster)?;
-            o.set_item("notes", s.notes.clone())?;
-            Some(o)
-        }
-        None => None,
-    };
-    d.set_item("stats", sum)?;
-    let scene = h.scene.clone();
-    d.set_item(
-        "scene",
-        Scene {
-            scene,
-            warnings: Vec::new(),
-        },
-    )?;
     Ok(d)
 }
 

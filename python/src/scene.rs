@@ -25,6 +25,14 @@ pub(crate) fn scene_err(e: SceneError) -> PyErr {
 }
 
 impl Scene {
+    /// A scene as a snapshot stored it (validated when it ran; warnings not repeated).
+    pub(crate) fn unchecked(scene: LibScene) -> Self {
+        Self {
+            scene,
+            warnings: Vec::new(),
+        }
+    }
+
     pub(crate) fn new(scene: LibScene) -> PyResult<Self> {
         let warnings = scene::validate(&scene).map_err(scene_err)?;
         Ok(Self { scene, warnings })

@@ -179,3 +179,18 @@ def test_load_reads_an_output_selection(cli, tmp_path, striker_run):
     np.testing.assert_array_equal(r.v, striker_run.v[:, ::10])
     with pytest.raises(bc.SceneError):
         r.energy()
+
+
+def test_load_opens_without_reading_frames_and_reads_selected_ones(tmp_path, striker_run):
+    p = tmp_path / "s.snap"
+    bc.run(bc.Scene.preset("striker"), every=10.0, out=p, record=False)
+    r = bc.load(p)
+    assert r._u is bc._run._UNREAD  # nothing read yet
+    np.testing.assert_array_equal(r.t, striker_run.t)
+    t, u, v = r.frames(-1)
+    assert t == 100.0 and u.shape == (100,)
+    np.testing.assert_array_equal(v, striker_run.v[-1])
+    t, u, v = r.frames([0, 5])
+    np.testing.assert_array_equal(u, striker_run.u[[0, 5]])
+    np.testing.assert_array_equal(r.v, striker_run.v)  # now everything
+    np.testing.assert_array_equal(r.frames(slice(2, 4))[2], striker_run.v[2:4])
