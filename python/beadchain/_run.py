@@ -1,0 +1,286 @@
+"""Runs: ``run()``, ``load()``, :class:`Run` (frames as NumPy arrays, events, stats, energies,
+SI units) and :class:`Simulation` (the steppable engine)."""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Callable, Iterable, NamedTuple, Optional
+
+import numpy as np
+
+from . import _beadchain
+from ._scene import Scene, Units, _need_units
+
+
+_UNREAD = object()
+
+
+class Run:
+    """Frames of a run (or of a snapshot file) and what the engine reported.
+
+    Attributes: ``t`` (F,), ``u`` and ``v`` (F, N) arrays in computer units (``u``/``v`` are
+    None when a snapshot does not store that field; with an output selection N is the number of
+    stored beads, listed in ``beads``); ``events``: a dict of columns (``t``, ``contact``,
+    ``kind``, ``rel_velocity``, ``peak_overlap``) that ``pandas.DataFrame`` takes as it is;
+    ``stats``: counters and energies; ``scene``: the :class:`Scene` that ran; ``dissipated``:
+    energy dissipated up to each frame (dissipative scenes run from Python; else None).
+    A loaded snapshot reads its frames when ``u``/``v`` are first used; ``frames(index)`` reads
+    only the frames asked for.
+    """
+
+    def __init__(self, raw: dict, scene: Scene, meta: Optional[dict] = None, file: Any = None):
+        self._n = raw["n"]
+        self._file = file
+        if file is None:
+            self.t: np.ndarray = raw["t"]
+            self._u = None if raw["u"] is None else raw["u"].reshape(len(self.t), self._n)
+            self._v = None if raw["v"] is None else raw["v"].reshape(len(self.t), self._n)
+        else:  # frames are read from the file when first used
+            self.t = raw["times"]
+            self._u = self._v = _UNREAD
+        self.dissipated: Optional[np.ndarray] = raw.get("dissipated")
+        ev = raw["events"]
+        ev["kind"] = np.asarray(ev["kind"], dtype=str)
+        self.events: dict = ev
+        self.stats: dict = raw.get("stats") or {}
+        self.beads: Optional[np.ndarray] = (
+            None if raw.get("beads") is None else np.asarray(raw["beads"], dtype=np.int64)
+        )
+        self.scene: Scene = scene
+        self.meta: dict = meta or {}
+
+    def _read_all(self) -> None:
+        if self._u is _UNREAD:
+            _, u, v = self._file.read(list(range(len(self.t))))
+            shape = (len(self.t), self._n)
+            self._u = None if u is None else u.reshape(shape)
+            self._v = None if v is None else v.reshape(shape)
+
+    @property
+    def u(self) -> Optional[np.ndarray]:
+        """Displacements (F, N) (a loaded snapshot reads its frames on first use)."""
+        self._read_all()
+        return self._u
+
+    @property
+    def v(self) -> Optional[np.ndarray]:
+        """Velocities (F, N) (a loaded snapshot reads its frames on first use)."""
+        self._read_all()
+        return self._v
+
+    def frames(self, index) -> tuple:
+        """``(t, u, v)`` of the frames ``index`` (an int, slice or list of ints) without reading
+        the others from a loaded snapshot (``u``/``v`` (k, N); None when not stored)."""
+        idx = np.arange(len(self.t))[index]
+        one = np.ndim(idx) == 0
+        idx = np.atleast_1d(idx)
+        if self._file is not None and self._u is _UNREAD:
+            t, u, v = self._file.read([int(i) for i in idx])
+            shape = (len(idx), self._n)
+            u = None if u is None else u.reshape(shape)
+            v = None if v is None else v.reshape(shape)
+        else:
+            t = self.t[idx]
+            u = None if self.u is None else self.u[idx]
+            v = None if self.v is None else self.v[idx]
+        if one:
+            return t[0], None if u is None else u[0], None if v is None else v[0]
+        return t, u, v
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def __repr__(self) -> str:
+        n = None if self.u is None and self.v is None else (self.u if self.u is not None else self.v).shape[1]
+        return f"Run(scene={self.scene.name!r}, frames={len(self.t)}, beads={n}, events={len(self.events['t'])})"
+
+    # --- energies -------------------------------------------------------------------------
+    def energy(self, units: str = "computer") -> dict:
+        """Energy of every frame: ``kinetic``, ``potential`` (contacts, walls and field),
+        ``total`` and, for dissipative runs, ``dissipated`` (up to the frame) and ``balance``
+        (total + dissipated, constant up to the integration error). ``units="si"`` gives joules
+        (physical scenes only)."""
+        if self.u is None or self.v is None or self.beads is not None:
+            raise _beadchain.SceneError(
+                f"{self.scene.name}: energy() needs every bead's u and v in the frames "
+                "(this snapshot stores an output selection)"
+            )
+        ke, pe = _beadchain.energies(self.scene._s, self.u.reshape(-1), self.v.reshape(-1))
+        out = {"kinetic": ke, "potential": pe, "total": ke + pe}
+        if self.dissipated is not None:
+            out["dissipated"] = self.dissipated
+            out["balance"] = out["total"] + self.dissipated
+        if units == "si":
+            scale = self._units("energy(units='si')")
+            return {k: scale.energy(x) for k, x in out.items()}
+        if units != "computer":
+            raise ValueError(f"units: expected \"computer\" or \"si\", got {units!r}")
+        return out
+
+    def energy_si(self) -> dict:
+        """``energy(units="si")``: joules."""
+        return self.energy(units="si")
+
+    # --- SI units -------------------------------------------------------------------------
+    def _units(self, what: str) -> Units:
+        return _need_units(self.scene.units, f"{self.scene.name}: {what}")
+
+    @property
+    def t_si(self) -> np.ndarray:
+        """Frame times in seconds (``t * beta``; physical scenes only)."""
+        return self._units("t_si").time(self.t)
+
+    @property
+    def u_si(self) -> np.ndarray:
+        """Displacements in metres (lengths are not rescaled; physical scenes only)."""
+        return self._units("u_si").displacement(self.u)
+
+    @property
+    def v_si(self) -> np.ndarray:
+        """Velocities in m/s (``v / beta``; physical scenes only)."""
+        return self._units("v_si").velocity(self.v)
+
+
+def run(
+    scene: Scene,
+    engine: Optional[str] = None,
+    method: Optional[str] = None,
+    rtol: Optional[float] = None,
+    atol: Optional[float] = None,
+    every: Optional[float] = None,
+    until: Optional[float] = None,
+    out: Optional[str | os.PathLike] = None,
+    record: bool = True,
+    max_steps: Optional[int] = None,
+    observers: Iterable[Callable[[float, np.ndarray, np.ndarray], Any]] = (),
+) -> Run:
+    """Runs ``scene`` to its end time and returns a :class:`Run`.
+
+    Every option left at None takes the scene's ``[run]`` setting, else the CLI's default:
+
+    - ``engine``: ``"hybrid"`` (default) or ``"dense"``;
+    - ``method``: ``"auto"`` (default), ``"radau5"``, ``"dop853"`` or ``"verlet"``;
+    - ``rtol``: 1e-8; ``atol``: rtol/1e4 (at least 1e-14), relative to the run's scales;
+    - ``every``: output interval (default: first and last frame only);
+    - ``until``: end time in computer units (the scene's ``[run] until``);
+    - ``out``: also write the snapshot file ``beadchain run --out`` writes (None: no file);
+    - ``record``: keep the frames in memory (False with ``out`` for long runs);
+    - ``max_steps``: abort after this many accepted steps (None: no limit);
+    - ``observers``: callables ``f(t, u, v)`` called at every frame.
+
+    The GIL is released while the engine runs; Ctrl-C stops it and raises KeyboardInterrupt
+    (an ``out`` file is then not written). Bad options raise :class:`SceneError` with the CLI's
+    message; an engine failure raises :class:`RunError`.
+    """
+    raw = _beadchain.run(
+        scene._s, engine=engine, method=method, rtol=rtol, atol=atol, every=every, until=until,
+        out=None if out is None else os.fspath(out), record=record, max_steps=max_steps,
+        observers=list(observers),
+    )
+    ran = Scene._wrap(raw["scene"], scene._text)
+    return Run(raw, ran)
+
+
+def load(path: str | os.PathLike) -> Run:
+    """Opens a snapshot file written by ``beadchain run`` (or ``run(out=...)``) as a
+    :class:`Run`: the same numbers, bit for bit. Only the header, the frame times, the event
+    log and the summary are read here; the frames when ``u``/``v`` are first used, or
+    selected ones with ``Run.frames(index)``. ``meta`` holds the engine settings, the
+    command that wrote it, the format version and any reader warnings (an unfinished file)."""
+    raw = _beadchain.load(os.fspath(path))
+    keys = ("engine", "method", "rtol", "atol", "created_by", "format_version", "complete",
+            "warnings")
+    return Run(raw, Scene._wrap(raw["scene"]), {k: raw[k] for k in keys}, file=raw["file"])
+
+
+class Stop(NamedTuple):
+    """Why :meth:`Simulation.advance` returned: ``reason`` is ``"reached"`` (the requested
+    time) or ``"requested"`` (an observer asked to stop), at engine time ``t``."""
+
+    reason: str
+    t: float
+
+
+class State(NamedTuple):
+    """Every bead at time ``t``: displacements ``u`` and velocities ``v`` (N,)."""
+
+    t: float
+    u: np.ndarray
+    v: np.ndarray
+
+
+class Simulation:
+    """A scene advanced in pieces (the library's steppable engine).
+
+    ``Simulation(scene, engine=None, method=None, rtol=None, atol=None, every=None,
+    until=None, record=True, observers=())``: options as :func:`run`. Then ``advance(t)``
+    (returns a :class:`Stop`), ``state`` (a :class:`State`), ``set_velocities(v)`` between
+    advances, ``add_observer(f)`` (``f(t, u, v)`` called at frames, not per step), ``stats()``
+    and ``frames()`` (a :class:`Run` of the frames so far). Advancing in pieces gives the same
+    frames as one :func:`run`, until a state is changed.
+    """
+
+    def __init__(self, scene: Scene, engine: Optional[str] = None, method: Optional[str] = None,
+                 rtol: Optional[float] = None, atol: Optional[float] = None,
+                 every: Optional[float] = None, until: Optional[float] = None,
+                 record: bool = True,
+                 observers: Iterable[Callable[[float, np.ndarray, np.ndarray], Any]] = ()):
+        self._sim = _beadchain.Simulation(
+            scene._s, engine=engine, method=method, rtol=rtol, atol=atol, every=every,
+            until=until, record=record, observers=list(observers),
+        )
+        self.scene = Scene._wrap(self._sim.scene, scene._text)
+        self._chunks: list = []
+
+    def advance(self, until: Optional[float] = None) -> Stop:
+        """Advances to ``until`` (default: the run's end time, at most that)."""
+        reason, t = self._sim.advance(until)
+        return Stop(reason, t)
+
+    @property
+    def time(self) -> float:
+        """The engine clock."""
+        return self._sim.time
+
+    @property
+    def until(self) -> float:
+        """The run's end time."""
+        return self._sim.until
+
+    @property
+    def state(self) -> State:
+        """Every bead at the engine clock."""
+        return State(*self._sim.state)
+
+    def set_velocities(self, v) -> None:
+        """New velocities (N,) at the engine clock; the integration restarts there."""
+        self._sim.set_velocities(np.ascontiguousarray(v, dtype=np.float64))
+
+    def add_observer(self, f: Callable[[float, np.ndarray, np.ndarray], Any]) -> None:
+        """Calls ``f(t, u, v)`` at every later frame."""
+        self._sim.add_observer(f)
+
+    def stats(self) -> dict:
+        """Counters and energies at the engine clock."""
+        return self._sim.stats()
+
+    def frames(self) -> Run:
+        """The frames recorded so far, as a :class:`Run`."""
+        raw = self._sim._take_frames()
+        if len(raw["t"]) or not self._chunks:
+            self._chunks.append(raw)
+        if len(self._chunks) > 1:
+            merged = dict(self._chunks[-1])
+            for k in ("t", "u", "v"):
+                merged[k] = np.concatenate([c[k] for c in self._chunks])
+            dis = [c["dissipated"] for c in self._chunks if c["dissipated"] is not None]
+            merged["dissipated"] = np.concatenate(dis) if dis else None
+            merged["events"] = {
+                k: np.concatenate([np.asarray(c["events"][k]) for c in self._chunks])
+                for k in self._chunks[-1]["events"]
+            }
+            self._chunks = [merged]
+        raw = dict(self._chunks[0])
+        raw["events"] = {k: np.asarray(v) for k, v in raw["events"].items()}
+        raw["stats"] = self.stats()
+        return Run(raw, self.scene)

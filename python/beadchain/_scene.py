@@ -1,0 +1,263 @@
+"""Scenes: from TOML (file or text), presets, or Python values; the resolved chain; units."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from typing import Any, Mapping, Optional
+
+import numpy as np
+
+from . import _beadchain, _toml
+
+# Keyword arguments of Scene(...) and the TOML table each belongs to (see docs/scenes.md).
+_KEYS = {
+    "scene": ("name", "description", "seed"),
+    "chain": ("beads", "mass", "exponent", "prefactor", "precompression", "radius", "law",
+              "damping", "damping_si", "restitution", "impact_speed", "impact_speed_si"),
+    "initial": ("velocity", "displacement", "striker", "striker_right", "pulse", "velocity_si",
+                "striker_si", "striker_right_si"),
+    "field": ("force", "gravity", "force_si", "gravity_si"),
+    "run": ("until", "every", "until_si", "every_si", "rtol", "atol", "method", "engine"),
+}
+_TABLES = ("walls", "units", "hard", "output")
+_WHERE = {k: t for t, ks in _KEYS.items() for k in ks}
+
+
+@dataclass(frozen=True)
+class Units:
+    """Unit scales of a physical scene (paper eqs. 10-11): time unit ``beta`` (s), mass unit
+    ``m0`` (kg), ``mu`` (order of magnitude of the prefactor) and ``n0`` (typical exponent).
+
+    Computer -> SI: time ``t * beta`` (s), velocity ``v / beta`` (m/s), displacement ``u`` (m,
+    unchanged), energy ``E * m0 / beta**2`` (J), mass ``m * m0`` (kg), prefactor
+    ``a * m0 / beta**2``. The values are those recorded in the scene's description (seven
+    significant digits), which the CLI's ``--units si`` uses too.
+    """
+
+    beta: float
+    m0: float
+    mu: float
+    n0: float
+
+    def time(self, t):
+        """SI time (s) of computer time ``t``."""
+        return np.asarray(t) * self.beta
+
+    def velocity(self, v):
+        """SI velocity (m/s) of computer velocity ``v``."""
+        return np.asarray(v) / self.beta
+
+    def displacement(self, u):
+        """SI displacement (m): lengths are not rescaled."""
+        return np.asarray(u)
+
+    def energy(self, e):
+        """SI energy (J) of computer energy ``e``."""
+        return np.asarray(e) * (self.m0 / self.beta**2)
+
+    def mass(self, m):
+        """SI mass (kg) of computer mass ``m``."""
+        return np.asarray(m) * self.m0
+
+
+@dataclass(frozen=True)
+class Chain:
+    """The resolved chain (computer units): ``mass`` (N,), ``exponent``, ``prefactor`` (N-1,),
+    ``precompression`` (N-1,) or None, ``field`` (N,) or None, ``law`` ("elastic" or the damped
+    law's name) and ``damping`` (N-1,) or None, walls (dicts or None), ``hard_restitution``
+    (N-1,, NaN where the contact is soft) or None, ``units`` (:class:`Units`, physical scenes
+    only) and ``radius``: the sphere radii in metres of a physical scene whose ``[units].radius``
+    is one number or one per bead (None otherwise; dimensionless radii are folded into masses
+    and prefactors)."""
+
+    mass: np.ndarray
+    exponent: np.ndarray
+    prefactor: np.ndarray
+    precompression: Optional[np.ndarray]
+    field: Optional[np.ndarray]
+    law: str
+    damping: Optional[np.ndarray]
+    damping_walls: Optional[tuple]
+    left_wall: Optional[dict]
+    right_wall: Optional[dict]
+    hard_restitution: Optional[np.ndarray]
+    collapse_interval: Optional[float]
+    units: Optional[Units]
+    radius: Optional[np.ndarray]
+
+    @property
+    def n_beads(self) -> int:
+        return len(self.mass)
+
+    def mass_si(self) -> np.ndarray:
+        """Masses in kg (physical scenes)."""
+        return _need_units(self.units, "mass_si").mass(self.mass)
+
+
+def _need_units(units: Optional[Units], what: str) -> Units:
+    if units is None:
+        raise _beadchain.SceneError(
+            f"{what}: the scene is dimensionless (computer units only); SI values need a "
+            'physical scene ([units] system = "physical")'
+        )
+    return units
+
+
+def _looks_like_text(s: str) -> bool:
+    return "\n" in s or "=" in s or s.lstrip().startswith("[")
+
+
+class Scene:
+    """A validated scene: chain, initial state and run settings.
+
+    Make one with :meth:`Scene.from_toml` (file path or TOML text), :meth:`Scene.preset`, or
+    from Python values::
+
+        Scene(mass=np.ones(1000), exponent=2.5, prefactor=1.0, striker=1.0, until=800.0)
+
+    Keywords are the scene file's keys (docs/scenes.md): ``name``, ``description``, ``seed``;
+    ``beads``, ``mass``, ``exponent``, ``prefactor``, ``precompression``, ``radius``, ``law``,
+    ``damping``...; ``velocity``, ``displacement``, ``striker``, ``striker_right``, ``pulse``;
+    ``force``, ``gravity``; ``until``, ``every``, ``rtol``, ``atol``, ``method``, ``engine`` (and
+    their ``*_si`` twins); whole tables as dicts: ``walls``, ``units``, ``hard``, ``output``.
+    Values are numbers, arrays (one per bead or per contact) or builder dicts. They are written
+    as TOML and go through the same parser and validator as a scene file: bad values raise
+    :class:`SceneError` (a ``ValueError``) with the CLI's one-line message naming the key,
+    bead or contact.
+    """
+
+    __slots__ = ("_s", "_text")
+
+    def __init__(self, **kwargs: Any):
+        tables: dict = {t: {} for t in (*_KEYS, *_TABLES)}
+        for k, v in kwargs.items():
+            if k in _TABLES:
+                if not isinstance(v, Mapping):
+                    raise TypeError(f"Scene(): {k} must be a dict (the [{k}] table)")
+                tables[k] = dict(v)
+            elif k in _WHERE:
+                tables[_WHERE[k]][k] = v
+            else:
+                raise TypeError(f"Scene(): unexpected keyword {k!r}")
+        text = _toml.document(tables)
+        origin = str(kwargs.get("name") or "scene")
+        self._s = _beadchain.Scene._from_text(text, origin, ".")
+        self._text = text
+
+    @classmethod
+    def _wrap(cls, s, text: Optional[str] = None) -> "Scene":
+        obj = cls.__new__(cls)
+        obj._s = s
+        obj._text = text
+        return obj
+
+    @classmethod
+    def from_toml(cls, path_or_text, name: Optional[str] = None) -> "Scene":
+        """A scene from a TOML file (path) or from TOML text. ``name`` names text in messages
+        (default ``"scene"``; it is also the default scene name)."""
+        if isinstance(path_or_text, os.PathLike) or (
+            isinstance(path_or_text, str) and not _looks_like_text(path_or_text)
+        ):
+            path = os.fspath(path_or_text)
+            if not os.path.exists(path):
+                raise _beadchain.SceneError(f"{path}: cannot read scene file: no such file")
+            with open(path, encoding="utf-8") as f:
+                text = f.read()
+            return cls._wrap(_beadchain.Scene._load(path), text)
+        text = str(path_or_text)
+        return cls._wrap(_beadchain.Scene._from_text(text, name or "scene", "."), text)
+
+    @classmethod
+    def preset(cls, name: str) -> "Scene":
+        """A built-in preset (``presets()`` lists them; the CLI's ``beadchain scenes``)."""
+        return cls._wrap(_beadchain.Scene._preset(name), _beadchain._preset_toml(name))
+
+    @property
+    def name(self) -> str:
+        return self._s.name
+
+    @property
+    def description(self) -> str:
+        return self._s.description
+
+    @property
+    def n_beads(self) -> int:
+        return self._s.n_beads
+
+    @property
+    def seed(self) -> int:
+        return self._s.seed
+
+    @property
+    def warnings(self) -> list:
+        """The validator's warnings (the CLI prints them as ``beadchain: warning: ...``)."""
+        return self._s.warnings
+
+    @property
+    def u0(self) -> np.ndarray:
+        """Initial displacements, shape (N,)."""
+        return self._s.u0
+
+    @property
+    def v0(self) -> np.ndarray:
+        """Initial velocities, shape (N,)."""
+        return self._s.v0
+
+    @property
+    def run_settings(self) -> dict:
+        """The ``[run]`` settings (None: the default applies)."""
+        return self._s.run_settings
+
+    @property
+    def until(self) -> float:
+        return self._s.run_settings["until"]
+
+    @property
+    def units(self) -> Optional[Units]:
+        """Unit scales of a physical scene; None for a dimensionless one."""
+        u = self._s._units
+        return None if u is None else Units(**u)
+
+    @property
+    def is_physical(self) -> bool:
+        return self.units is not None
+
+    @property
+    def chain(self) -> Chain:
+        """The resolved chain (arrays in computer units; see :class:`Chain`)."""
+        d = self._s._chain
+        units = self.units
+        return Chain(units=units, radius=self._radius(units), **d)
+
+    def _radius(self, units: Optional[Units]) -> Optional[np.ndarray]:
+        if units is None or self._text is None:
+            return None
+        try:
+            import tomllib  # Python >= 3.11
+        except ImportError:  # pragma: no cover
+            return None
+        r = tomllib.loads(self._text).get("units", {}).get("radius")
+        if isinstance(r, (int, float)):
+            return np.full(self.n_beads, float(r))
+        if isinstance(r, list) and len(r) == self.n_beads:
+            return np.asarray(r, dtype=float)
+        return None
+
+    @property
+    def source(self) -> Optional[str]:
+        """The TOML text this scene was made from (file, text, preset or the text written for
+        Python values); None for a scene read from a snapshot."""
+        return self._text
+
+    def to_toml(self) -> str:
+        """The resolved scene as TOML (every array written out)."""
+        return self._s.to_toml()
+
+    def __repr__(self) -> str:
+        return f"Scene(name={self.name!r}, n_beads={self.n_beads}, until={self.until})"
+
+
+def presets() -> list:
+    """The built-in presets as a list of ``(name, description)``."""
+    return _beadchain.presets()

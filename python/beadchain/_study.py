@@ -1,0 +1,98 @@
+"""``check()`` (hybrid against the dense reference) and ``sweep()`` (a sweep file's runs, in
+order, or through any ``concurrent.futures``-style executor)."""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Callable, Optional
+
+import numpy as np
+
+from . import _beadchain
+from ._scene import Scene
+
+
+def check(scene: Scene, method: Optional[str] = None, rtol: Optional[float] = None,
+          atol: Optional[float] = None, until: Optional[float] = None,
+          tol: Optional[float] = None) -> dict:
+    """``beadchain check``: runs ``scene`` with the hybrid engine and with the dense reference
+    and judges the difference against the scene's own sensitivity.
+
+    Defaults as :func:`run` (``method="auto"``, ``rtol=1e-8``, ``atol=rtol/1e4``, the scene's
+    ``until``); ``tol`` defaults to ``1000 * rtol``. Returns ``passed`` (bool), ``sensitive``,
+    ``reference``, ``criteria`` (columns ``what``, ``value``, ``bound``, ``holds``:
+    ``pandas.DataFrame(result["criteria"])``), ``deviation`` and ``sensitivity`` (largest
+    ``du``, ``dv`` and where).
+    """
+    return _beadchain.check(scene._s, method=method, rtol=rtol, atol=atol, until=until, tol=tol)
+
+
+def sweep_run(path: str | os.PathLike, index: int) -> dict:
+    """Runs point ``index`` of the sweep file ``path``: one result row (a dict), the values
+    ``beadchain sweep`` writes for it. Each point is independent of the others, so this is
+    the function to hand to an executor."""
+    return _beadchain._sweep_run(os.fspath(path), int(index))
+
+
+def sweep_size(path: str | os.PathLike) -> int:
+    """Number of runs of a sweep file (every run's scene is built and checked)."""
+    return _beadchain._sweep_spec(os.fspath(path))["runs"]
+
+
+def sweep(path: str | os.PathLike, executor: Any = None,
+          progress: Optional[Callable[[int, int], Any]] = None) -> dict:
+    """Runs every point of the sweep file ``path`` (docs/sweeps.md) and returns the results
+    as columns (``run``, one column per swept key as text, ``status``, ``t_end``,
+    ``energy_error``, ``steps``, ``events`` and the ``[measure]`` columns), ready for
+    ``pandas.DataFrame``.
+
+    ``executor``: None runs the points here one after the other (the GIL is released while
+    each runs); any object with ``map(fn, *iterables)`` spreads them: a
+    ``concurrent.futures.ThreadPoolExecutor`` or ``ProcessPoolExecutor``, Dask's
+    ``distributed.Client.get_executor()``, or Ray's ``ray.util.multiprocessing.Pool``-style
+    executors. ``progress(done, total)`` is called after each point (without an executor).
+    A bad sweep file raises :class:`SceneError` before anything runs.
+    """
+    path = os.path.abspath(os.fspath(path))
+    spec = _beadchain._sweep_spec(path)
+    n = spec["runs"]
+    if executor is None:
+        rows = []
+        for i in range(n):
+            rows.append(sweep_run(path, i))
+            if progress is not None:
+                progress(i + 1, n)
+    else:
+        rows = list(executor.map(sweep_run, [path] * n, range(n)))
+    cols = ["run", *spec["columns"], "status", "t_end", "energy_error", "steps", "events",
+            *spec["measure"]]
+    out = {}
+    for c in cols:
+        vals = [r.get(c) for r in rows]
+        numeric = c not in spec["columns"] and c != "status"
+        if numeric and all(v is not None for v in vals):
+            out[c] = np.asarray(vals)
+        else:
+            out[c] = vals
+    return out
+
+
+def accuracy(scene: Scene, engines: Optional[list] = None, methods: Optional[list] = None,
+             rtols: Optional[list] = None, verlet_steps: Optional[list] = None,
+             atol_ratio: Optional[float] = None, until: Optional[float] = None,
+             repeat: Optional[int] = None, reference_rtol: Optional[float] = None,
+             max_steps: Optional[int] = None) -> dict:
+    """``beadchain accuracy``: the work-precision study of ``scene`` against a tight dense
+    Radau IIA reference (docs/benchmarks.md). None keeps the CLI's default: ``engines``
+    ["hybrid", "dense"], ``methods`` ["radau5", "dop853", "verlet"], ``rtols`` [1e-4, 1e-6,
+    1e-8, 1e-10], ``verlet_steps`` [0.1, 0.03, 0.01, 0.003] (in tau = L/V), ``atol_ratio``
+    0.01, ``until`` the scene's, ``repeat`` 1, ``reference_rtol`` the smallest rtol.
+
+    Returns ``rows`` (columns ``engine``, ``method``, ``rtol``, ``atol``, ``err_u``, ``err_v``,
+    ``error``, ``energy_error``, ``wall_seconds``, ``steps``, ...: ``pandas.DataFrame(r["rows"])``),
+    ``reference``, ``until``, ``tau`` and ``notes``. Writes no file.
+    """
+    return _beadchain.accuracy(scene._s, engines=engines, methods=methods, rtols=rtols,
+                               verlet_steps=verlet_steps, atol_ratio=atol_ratio, until=until,
+                               repeat=repeat, reference_rtol=reference_rtol,
+                               max_steps=max_steps)

@@ -1,0 +1,164 @@
+//! The observer of Python runs: collects frames into flat vectors (handed to NumPy without a
+//! copy), the event log as columns and the dissipated energy; optionally streams the same
+//! snapshot file the CLI writes; calls Python observers at frames; and polls for signals so
+//! Ctrl-C stops the engine (Control::Stop) instead of waiting for the run's end.
+
+use beadchain::engine::{Control, EngineError, EngineState, Observer};
+use beadchain::snapshot::{EventRecord, SnapshotWriter};
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use std::time::{Duration, Instant};
+
+/// Wall time between two signal checks while the engine runs.
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
+
+/// The event log as columns (a `pandas.DataFrame` takes them as they are).
+#[derive(Default)]
+pub(crate) struct EventColumns {
+    pub t: Vec<f64>,
+    pub contact: Vec<u64>,
+    pub kind: Vec<&'static str>,
+    pub rel_velocity: Vec<f64>,
+    pub peak_overlap: Vec<f64>,
+}
+
+impl EventColumns {
+    pub fn push(&mut self, e: &EventRecord) {
+        self.t.push(e.t);
+        self.contact.push(e.contact);
+        self.kind.push(e.kind.name());
+        self.rel_velocity.push(e.rel_velocity);
+        self.peak_overlap.push(e.peak_overlap);
+    }
+
+    /// Moves the columns into a dict of arrays (`kind` as a list of names).
+    pub fn into_dict(self, py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
+        let d = pyo3::types::PyDict::new(py);
+        d.set_item("t", PyArray1::from_vec(py, self.t))?;
+        d.set_item("contact", PyArray1::from_vec(py, self.contact))?;
+        d.set_item("kind", self.kind)?;
+        d.set_item("rel_velocity", PyArray1::from_vec(py, self.rel_velocity))?;
+        d.set_item("peak_overlap", PyArray1::from_vec(py, self.peak_overlap))?;
+        Ok(d)
+    }
+}
+
+/// Frames, events, dissipated energy; output file; Python observers; signal polling.
+pub(crate) struct Collector {
+    /// Keep frames in memory.
+    pub record: bool,
+    pub t: Vec<f64>,
+    /// Displacements, frame after frame (`F·N`).
+    pub u: Vec<f64>,
+    /// Velocities, frame after frame (`F·N`).
+    pub v: Vec<f64>,
+    pub dissipated: Vec<f64>,
+    pub events: EventColumns,
+    pub writer: Option<SnapshotWriter>,
+    /// Python callables `f(t, u, v)` called at every frame.
+    pub callbacks: Vec<Py<PyAny>>,
+    /// The first Python exception (a signal handler's KeyboardInterrupt, an observer's error):
+    /// the engine is asked to stop and the caller raises it.
+    pub error: Option<PyErr>,
+    last_poll: Instant,
+    polls: u32,
+}
+
+impl Collector {
+    pub fn new(record: bool, writer: Option<SnapshotWriter>, callbacks: Vec<Py<PyAny>>) -> Self {
+        Self {
+            record,
+            t: Vec::new(),
+            u: Vec::new(),
+            v: Vec::new(),
+            dissipated: Vec::new(),
+            events: EventColumns::default(),
+            writer,
+            callbacks,
+            error: None,
+            last_poll: Instant::now(),
+            polls: 0,
+        }
+    }
+
+    /// Runs Python's signal handlers (KeyboardInterrupt on Ctrl-C); keeps the first error.
+    fn check_signals(&mut self) {
+        if self.error.is_none() {
+            if let Err(e) = Python::attach(|py| py.check_signals()) {
+                self.error = Some(e);
+            }
+        }
+        self.last_poll = Instant::now();
+    }
+
+    fn call_observers(&mut self, t: f64, u: &[f64], v: &[f64]) {
+        if self.callbacks.is_empty() || self.error.is_some() {
+            return;
+        }
+        let r = Python::attach(|py| -> PyResult<()> {
+            let (pu, pv) = (PyArray1::from_slice(py, u), PyArray1::from_slice(py, v));
+            for cb in &self.callbacks {
+                cb.call1(py, (t, pu.clone(), pv.clone()))?;
+            }
+            Ok(())
+        });
+        if let Err(e) = r {
+            self.error = Some(e);
+        }
+    }
+}
+
+fn io(e: beadchain::snapshot::SnapshotError) -> EngineError {
+    EngineError::Observer(e.to_string())
+}
+
+impl Observer for Collector {
+    fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
+        if self.record {
+            self.t.push(t);
+            self.u.extend_from_slice(u);
+            self.v.extend_from_slice(v);
+        }
+        if let Some(w) = self.writer.as_mut() {
+            w.write_frame(t, u, v).map_err(io)?;
+        }
+        self.call_observers(t, u, v);
+        self.check_signals();
+        Ok(())
+    }
+
+    fn dissipated(&mut self, _t: f64, energy: f64) -> Result<(), EngineError> {
+        if self.record {
+            self.dissipated.push(energy);
+        }
+        Ok(())
+    }
+
+    fn events(&mut self, events: &[EventRecord]) -> Result<(), EngineError> {
+        if self.record {
+            for e in events {
+                self.events.push(e);
+            }
+        }
+        if let Some(w) = self.writer.as_mut() {
+            w.write_events(events).map_err(io)?;
+        }
+        Ok(())
+    }
+
+    fn control(&mut self, _t: f64) -> Control {
+        self.polls = self.polls.wrapping_add(1);
+        if self.polls % 64 == 0 && self.last_poll.elapsed() >= SIGNAL_POLL {
+            self.check_signals();
+        }
+        if self.error.is_some() {
+            Control::Stop
+        } else {
+            Control::Continue
+        }
+    }
+
+    fn checkpoint(&mut self, _state: &EngineState) -> Result<(), EngineError> {
+        Ok(())
+    }
+}

@@ -1,0 +1,266 @@
+//! `run()`, `load()` and `energies()`: a whole run of a scene into NumPy arrays (and optionally
+//! the CLI's snapshot file), a snapshot file back into the same arrays, and per-frame energies.
+
+use crate::observe::Collector;
+use crate::scene::Scene;
+use crate::{without_gil, RunError, SceneError, SnapshotError};
+use beadchain::engine::{self, EngineError, RunConfig, RunOutcome, Stop};
+use beadchain::integrate::{default_atol, Method};
+use beadchain::scene::{Engine as EngineKind, Scene as LibScene};
+use beadchain::snapshot::{Header, RunSummary, SnapshotWriter};
+use numpy::{PyArray1, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::PathBuf;
+
+/// Run options as Python gives them (None: the scene's setting, else the documented default).
+pub(crate) struct Options {
+    pub engine: Option<String>,
+    pub method: Option<String>,
+    pub rtol: Option<f64>,
+    pub atol: Option<f64>,
+    pub every: Option<f64>,
+    pub until: Option<f64>,
+    pub max_steps: Option<u64>,
+}
+
+fn bad(what: &str, expected: &str, got: &str) -> PyErr {
+    SceneError::new_err(format!("{what}: expected {expected}, got \"{got}\""))
+}
+
+/// An engine name as the CLI's `--engine` takes it.
+pub(crate) fn parse_engine(e: &str) -> PyResult<EngineKind> {
+    match e {
+        "hybrid" => Ok(EngineKind::Hybrid),
+        "dense" => Ok(EngineKind::Dense),
+        _ => Err(bad("engine", "\"hybrid\" or \"dense\"", e)),
+    }
+}
+
+/// A method name as the CLI's `--method` takes it.
+pub(crate) fn parse_method(m: &str) -> PyResult<Method> {
+    match m {
+        "auto" => Ok(Method::Auto),
+        "radau5" => Ok(Method::Radau5),
+        "dop853" => Ok(Method::Dop853),
+        "verlet" => Ok(Method::Verlet),
+        _ => Err(bad("method", "auto, radau5, dop853 or verlet", m)),
+    }
+}
+
+/// The run configuration, as the CLI builds it from the scene and its options (`--rtol` sets
+/// `atol = rtol/10⁴` unless the scene or `--atol` gives one), and the scene with `[run]`
+/// `until`/`every` updated to what runs (the snapshot header records them), both checked.
+pub(crate) fn config(scene: &LibScene, o: &Options) -> PyResult<(LibScene, RunConfig)> {
+    let mut cfg = RunConfig::from_scene(scene);
+    if let Some(e) = &o.engine {
+        cfg.engine = parse_engine(e)?;
+    }
+    if let Some(m) = &o.method {
+        cfg.method = parse_method(m)?;
+    }
+    if let Some(r) = o.rtol {
+        cfg.rtol = r;
+        if scene.run.atol.is_none() {
+            cfg.atol = default_atol(r);
+        }
+    }
+    if let Some(a) = o.atol {
+        cfg.atol = a;
+    }
+    if let Some(t) = o.until {
+        cfg.until = t;
+    }
+    if o.every.is_some() {
+        cfg.every = o.every;
+    }
+    cfg.max_steps = o.max_steps;
+    let mut s = scene.clone();
+    s.run.until = cfg.until;
+    s.run.every = cfg.every;
+    engine::check_config(&s, &cfg).map_err(|e| config_err(&s, e))?;
+    Ok((s, cfg))
+}
+
+fn config_err(scene: &LibScene, e: EngineError) -> PyErr {
+    SceneError::new_err(format!("{}: {e}", scene.name))
+}
+
+/// An engine failure as a Python exception (the Python error first, if the observer has one).
+pub(crate) fn engine_err(scene: &LibScene, obs: &mut Collector, e: EngineError) -> PyErr {
+    if let Some(err) = obs.error.take() {
+        return err;
+    }
+    match e {
+        EngineError::Config(_) => config_err(scene, e),
+        _ => RunError::new_err(format!("{}: run failed: {e}", scene.name)),
+    }
+}
+
+/// The counters and energies of an outcome.
+pub(crate) fn stats<'py>(py: Python<'py>, o: &RunOutcome) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let s = &o.stats;
+    d.set_item("steps", s.steps)?;
+    d.set_item("implicit_steps", o.implicit_steps)?;
+    d.set_item("rejected", s.rejected)?;
+    d.set_item("rhs_evals", s.rhs_evals)?;
+    d.set_item("jac_evals", s.jac_evals)?;
+    d.set_item("factorizations", s.factorizations)?;
+    d.set_item("newton_iters", s.newton_iters)?;
+    d.set_item("newton_failures", s.newton_failures)?;
+    d.set_item("bead_steps", s.bead_steps)?;
+    d.set_item("t_end", o.t_end)?;
+    d.set_item("wall_seconds", o.wall_seconds)?;
+    d.set_item("energy_initial", o.energy_initial)?;
+    d.set_item("energy_final", o.energy_final)?;
+    d.set_item("energy_scale", o.energy_scale)?;
+    d.set_item("dissipated", o.dissipated)?;
+    d.set_item("relative_energy_error", o.relative_energy_error())?;
+    d.set_item("momentum_initial", o.momentum_initial)?;
+    d.set_item("momentum_final", o.momentum_final)?;
+    let ev = PyDict::new(py);
+    for (k, n) in &o.events_by_kind {
+        ev.set_item(k, n)?;
+    }
+    d.set_item("events_by_kind", ev)?;
+    d.set_item("largest_cluster", o.largest_cluster)?;
+    d.set_item("late_merges", o.late_merges)?;
+    Ok(d)
+}
+
+/// What `run` stores in the snapshot's STATS section (as `beadchain run` without `--timing`).
+fn summary(out: &RunOutcome) -> RunSummary {
+    RunSummary {
+        stats: out.stats.clone(),
+        wall_seconds: 0.0,
+        t_end: out.t_end,
+        energy_initial: out.energy_initial,
+        energy_final: out.energy_final,
+        momentum_initial: out.momentum_initial,
+        momentum_final: out.momentum_final,
+        events_by_kind: out.events_by_kind.clone(),
+        largest_cluster: out.largest_cluster,
+        notes: vec![
+            "wall time not recorded (identical inputs give identical bytes; see --timing)".into(),
+        ],
+    }
+}
+
+/// Moves the collected frames into a dict of arrays (`u`, `v` flat, `F·N`; no copy).
+pub(crate) fn frames_dict<'py>(
+    py: Python<'py>,
+    c: &mut Collector,
+    n: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("n", n)?;
+    d.set_item("t", PyArray1::from_vec(py, std::mem::take(&mut c.t)))?;
+    d.set_item("u", PyArray1::from_vec(py, std::mem::take(&mut c.u)))?;
+    d.set_item("v", PyArray1::from_vec(py, std::mem::take(&mut c.v)))?;
+    let dis = std::mem::take(&mut c.dissipated);
+    d.set_item(
+        "dissipated",
+        (!dis.is_empty()).then(|| PyArray1::from_vec(py, dis)),
+    )?;
+    d.set_item("events", std::mem::take(&mut c.events).into_dict(py)?)?;
+    Ok(d)
+}
+
+/// Runs `scene` to its end time; frames in memory (unless `record` is false) and, with `out`,
+/// the CLI's snapshot file (written under a temporary name, renamed when the run finishes).
+#[pyfunction]
+#[pyo3(signature = (scene, engine=None, method=None, rtol=None, atol=None, every=None, until=None, out=None, record=true, max_steps=None, observers=Vec::new()))]
+#[allow(clippy::too_many_arguments)]
+pub fn run<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    engine: Option<String>,
+    method: Option<String>,
+    rtol: Option<f64>,
+    atol: Option<f64>,
+    every: Option<f64>,
+    until: Option<f64>,
+    out: Option<PathBuf>,
+    record: bool,
+    max_steps: Option<u64>,
+    observers: Vec<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let o = Options {
+        engine,
+        method,
+        rtol,
+        atol,
+        every,
+        until,
+        max_steps,
+    };
+    let (s, cfg) = config(&scene.scene, &o)?;
+    let writer = match &out {
+        Some(path) => {
+            let mut header = Header::new(
+                s.clone(),
+                cfg.engine,
+                cfg.method,
+                cfg.rtol,
+                cfg.atol,
+                format!("python: beadchain.run({})", s.name),
+            );
+            header.output = s.run.output.clone().unwrap_or_default();
+            Some(
+                SnapshotWriter::create(path, &header)
+                    .map_err(|e| SnapshotError::new_err(e.to_string()))?,
+            )
+        }
+        None => None,
+    };
+    let mut obs = Collector::new(record, writer, observers);
+    let r = without_gil(py, || -> Result<(Stop, RunOutcome), EngineError> {
+        let mut e = engine::start(&s, &cfg)?;
+        let stop = e.advance(cfg.until, &mut obs)?;
+        Ok((stop, e.outcome()))
+    });
+    let (stop, outcome) = r.map_err(|e| engine_err(&s, &mut obs, e))?;
+    if let Some(err) = obs.error.take() {
+        return Err(err); // the unfinished output is removed when the writer drops
+    }
+    if let (Stop::Reached { .. }, Some(w)) = (stop, obs.writer.take()) {
+        w.finish(&[], &summary(&outcome))
+            .map_err(|e| SnapshotError::new_err(e.to_string()))?;
+    }
+    let d = frames_dict(py, &mut obs, s.chain.len())?;
+    d.set_item("stats", stats(py, &outcome)?)?;
+    d.set_item("scene", Scene::new(s)?)?;
+    Ok(d)
+}
+
+/// A 1-D float array owned by Python.
+type Array<'py> = Bound<'py, PyArray1<f64>>;
+
+/// Kinetic and potential energy of every frame (`u`, `v` flat, `F·N`; computer units; the
+/// potential holds contacts, walls and the field, as `beadchain inspect` reports it).
+#[pyfunction]
+pub fn energies<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    u: PyReadonlyArray1<'py, f64>,
+    v: PyReadonlyArray1<'py, f64>,
+) -> PyResult<(Array<'py>, Array<'py>)> {
+    let chain = &scene.scene.chain;
+    let n = chain.len();
+    let (u, v) = (u.as_slice()?, v.as_slice()?);
+    if u.len() != v.len() || u.len() % n != 0 {
+        return Err(SceneError::new_err(format!(
+            "{}: energies: u and v must hold whole frames of {n} beads (got {} and {} values)",
+            scene.scene.name,
+            u.len(),
+            v.len()
+        )));
+    }
+    let (ke, pe): (Vec<f64>, Vec<f64>) = u
+        .chunks_exact(n)
+        .zip(v.chunks_exact(n))
+        .map(|(u, v)| (chain.kinetic_energy(v), chain.potential_energy(u)))
+        .unzip();
+    Ok((PyArray1::from_vec(py, ke), PyArray1::from_vec(py, pe)))
+}

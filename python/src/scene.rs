@@ -1,0 +1,226 @@
+//! `Scene`: a resolved, validated scene (the library's [`beadchain::scene::Scene`]) with the
+//! resolved per-bead and per-contact arrays and, for physical scenes, the unit conversion.
+//!
+//! Every way to make one goes through the library's parser and validator
+//! ([`beadchain::scene::parse_str`], [`beadchain::scene::load`], [`beadchain::scene::preset`]),
+//! so a scene built from Python values (the Python layer writes them as TOML text) gets the same
+//! checks and the same one-line messages as a scene file given to the CLI.
+
+use crate::SceneError as PySceneError;
+use beadchain::scene::{self, Scene as LibScene, SceneError};
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use std::path::Path;
+
+/// A validated scene (chain, initial state, run settings).
+#[pyclass(module = "beadchain._beadchain", frozen)]
+pub struct Scene {
+    pub(crate) scene: LibScene,
+    pub(crate) warnings: Vec<String>,
+}
+
+pub(crate) fn scene_err(e: SceneError) -> PyErr {
+    PySceneError::new_err(e.to_string())
+}
+
+impl Scene {
+    /// A scene as a snapshot stored it (validated when it ran; warnings not repeated).
+    pub(crate) fn unchecked(scene: LibScene) -> Self {
+        Self {
+            scene,
+            warnings: Vec::new(),
+        }
+    }
+
+    pub(crate) fn new(scene: LibScene) -> PyResult<Self> {
+        let warnings = scene::validate(&scene).map_err(scene_err)?;
+        Ok(Self { scene, warnings })
+    }
+}
+
+fn array<'py>(py: Python<'py>, x: &[f64]) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_slice(py, x)
+}
+
+#[pymethods]
+impl Scene {
+    /// Parses scene TOML text; `origin` names it in messages (its stem is the default scene
+    /// name), `base_dir` resolves `{ file = ... }` CSVs.
+    #[staticmethod]
+    #[pyo3(signature = (text, origin="scene", base_dir="."))]
+    fn _from_text(text: &str, origin: &str, base_dir: &str) -> PyResult<Self> {
+        Self::new(scene::parse_str(text, Path::new(base_dir), origin).map_err(scene_err)?)
+    }
+
+    /// Loads a scene file, or a preset when no file of that name exists (as the CLI does).
+    #[staticmethod]
+    fn _load(spec: &str) -> PyResult<Self> {
+        Self::new(scene::load(spec).map_err(scene_err)?)
+    }
+
+    /// A built-in preset by name (`presets()` lists them).
+    #[staticmethod]
+    fn _preset(name: &str) -> PyResult<Self> {
+        Self::new(scene::preset(name).map_err(scene_err)?)
+    }
+
+    /// Scene name.
+    #[getter]
+    fn name(&self) -> &str {
+        &self.scene.name
+    }
+
+    /// Free-text description (physical scenes record their unit scales in it).
+    #[getter]
+    fn description(&self) -> &str {
+        &self.scene.description
+    }
+
+    /// Number of beads N.
+    #[getter]
+    fn n_beads(&self) -> usize {
+        self.scene.chain.len()
+    }
+
+    /// Seed of the scene's random builders.
+    #[getter]
+    fn seed(&self) -> u64 {
+        self.scene.seed
+    }
+
+    /// The validator's warnings (exponent below 2, nothing moving, every > until).
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.warnings.clone()
+    }
+
+    /// Initial displacements u(0), shape (N,).
+    #[getter]
+    fn u0<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array(py, &self.scene.u0)
+    }
+
+    /// Initial velocities v(0), shape (N,).
+    #[getter]
+    fn v0<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        array(py, &self.scene.v0)
+    }
+
+    /// The `[run]` settings as resolved (None: the documented default applies).
+    #[getter]
+    fn run_settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let r = &self.scene.run;
+        let d = PyDict::new(py);
+        d.set_item("until", r.until)?;
+        d.set_item("every", r.every)?;
+        d.set_item("rtol", r.rtol)?;
+        d.set_item("atol", r.atol)?;
+        d.set_item("method", r.method.map(|m| m.name()))?;
+        d.set_item("engine", r.engine.map(|e| e.name()))?;
+        Ok(d)
+    }
+
+    /// The resolved chain: arrays in computer units (see the Python `Chain`).
+    #[getter]
+    fn _chain<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let c = &self.scene.chain;
+        let d = PyDict::new(py);
+        d.set_item("mass", array(py, &c.mass))?;
+        d.set_item("exponent", array(py, &c.exponent))?;
+        d.set_item("prefactor", array(py, &c.prefactor))?;
+        d.set_item(
+            "precompression",
+            c.precompression.as_deref().map(|x| array(py, x)),
+        )?;
+        d.set_item("field", c.field.as_deref().map(|x| array(py, x)))?;
+        let wall = |w: &Option<beadchain::model::Wall>| -> PyResult<Option<Bound<'py, PyDict>>> {
+            let Some(w) = w else { return Ok(None) };
+            let d = PyDict::new(py);
+            d.set_item("exponent", w.exponent)?;
+            d.set_item("prefactor", w.prefactor)?;
+            d.set_item("precompression", w.precompression)?;
+            d.set_item("hard", w.restitution.is_some())?;
+            d.set_item("restitution", w.restitution)?;
+            Ok(Some(d))
+        };
+        d.set_item("left_wall", wall(&c.left_wall)?)?;
+        d.set_item("right_wall", wall(&c.right_wall)?)?;
+        match &c.damping {
+            Some(dm) => {
+                d.set_item("law", dm.law.name())?;
+                d.set_item("damping", array(py, &dm.contact))?;
+                d.set_item("damping_walls", (dm.left_wall, dm.right_wall))?;
+            }
+            None => {
+                d.set_item("law", "elastic")?;
+                d.set_item("damping", py.None())?;
+                d.set_item("damping_walls", py.None())?;
+            }
+        }
+        match &c.hard {
+            Some(h) => {
+                let r: Vec<f64> = h
+                    .restitution
+                    .iter()
+                    .map(|x| x.unwrap_or(f64::NAN))
+                    .collect();
+                d.set_item("hard_restitution", array(py, &r))?;
+                d.set_item("collapse_interval", h.collapse_interval)?;
+            }
+            None => {
+                d.set_item("hard_restitution", py.None())?;
+                d.set_item("collapse_interval", py.None())?;
+            }
+        }
+        Ok(d)
+    }
+
+    /// Unit scales of a physical scene, as recorded in its description (the values the CLI's
+    /// `--units si` uses): `{"beta": s, "m0": kg, "mu": .., "n0": ..}`; None when dimensionless.
+    #[getter]
+    fn _units<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(s) = beadchain::plot::units::scene_scales(&self.scene) else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("beta", s.time)?;
+        d.set_item("m0", s.mass)?;
+        d.set_item("mu", s.mu)?;
+        d.set_item("n0", s.n0)?;
+        Ok(Some(d))
+    }
+
+    /// The resolved scene as TOML text (every array written out; parses back to this scene).
+    fn to_toml(&self) -> String {
+        scene::show::to_toml(&self.scene)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Scene(name={:?}, n_beads={}, until={})",
+            self.scene.name,
+            self.scene.chain.len(),
+            self.scene.run.until
+        )
+    }
+}
+
+/// The built-in presets: a list of `(name, description)`.
+#[pyfunction]
+pub fn presets<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+    let items: Vec<(&str, &str)> = scene::presets()
+        .iter()
+        .map(|p| (p.name, p.description))
+        .collect();
+    PyList::new(py, items)
+}
+
+/// The TOML text of a built-in preset (None for an unknown name).
+#[pyfunction]
+pub fn _preset_toml(name: &str) -> Option<&'static str> {
+    scene::presets()
+        .iter()
+        .find(|p| p.name == name)
+        .map(|p| p.toml)
+}

@@ -1,0 +1,175 @@
+//! `Simulation`: the steppable engine ([`beadchain::engine::Engine`]) from Python: `advance(t)`
+//! returns why it stopped, `state` is every bead at the engine clock, `set_velocities(v)` changes
+//! the state between advances, and Python observers are called at frames (never per step).
+//! Advancing in pieces gives the same frames as one `run()` (the library guarantees it).
+
+use crate::observe::Collector;
+use crate::run::{config, engine_err, frames_dict, stats, Options};
+use crate::scene::Scene;
+use crate::{without_gil, SceneError};
+use beadchain::engine::{self, Engine, RunConfig, Stop};
+use beadchain::scene::Scene as LibScene;
+use numpy::{PyArray1, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// A running engine with the scene and configuration it borrows.
+///
+/// `engine` borrows `*scene` and `*cfg`: both are boxed (their addresses never change while the
+/// boxes live) and never mutated, and `engine` is declared first, so it is dropped before them.
+struct Running {
+    engine: Box<dyn Engine + 'static>,
+    obs: Collector,
+    cfg: Box<RunConfig>,
+    scene: Box<LibScene>,
+}
+
+impl Running {
+    fn start(scene: LibScene, cfg: RunConfig, obs: Collector) -> Result<Self, engine::EngineError> {
+        let scene = Box::new(scene);
+        let cfg = Box::new(cfg);
+        // SAFETY: see the struct docs (stable heap addresses, drop order, no mutation).
+        let (s, c): (&'static LibScene, &'static RunConfig) = unsafe {
+            (
+                &*(scene.as_ref() as *const LibScene),
+                &*(cfg.as_ref() as *const RunConfig),
+            )
+        };
+        let engine = engine::start(s, c)?;
+        Ok(Self {
+            engine,
+            obs,
+            cfg,
+            scene,
+        })
+    }
+}
+
+/// A simulation advanced step by step (see the Python `Simulation`).
+#[pyclass(module = "beadchain._beadchain", unsendable)]
+pub struct Simulation {
+    run: Running,
+}
+
+#[pymethods]
+impl Simulation {
+    #[new]
+    #[pyo3(signature = (scene, engine=None, method=None, rtol=None, atol=None, every=None, until=None, record=true, observers=Vec::new()))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        scene: &Scene,
+        engine: Option<String>,
+        method: Option<String>,
+        rtol: Option<f64>,
+        atol: Option<f64>,
+        every: Option<f64>,
+        until: Option<f64>,
+        record: bool,
+        observers: Vec<Py<PyAny>>,
+    ) -> PyResult<Self> {
+        let o = Options {
+            engine,
+            method,
+            rtol,
+            atol,
+            every,
+            until,
+            max_steps: None,
+        };
+        let (s, cfg) = config(&scene.scene, &o)?;
+        let name = s.name.clone();
+        let obs = Collector::new(record, None, observers);
+        let run =
+            Running::start(s, cfg, obs).map_err(|e| SceneError::new_err(format!("{name}: {e}")))?;
+        Ok(Self { run })
+    }
+
+    /// Adds a Python observer `f(t, u, v)`, called at every later frame.
+    fn add_observer(&mut self, f: Py<PyAny>) {
+        self.run.obs.callbacks.push(f);
+    }
+
+    /// Advances to `until` (default: the run's end time); returns `("reached", t)` or
+    /// `("requested", t)` (an observer raised or Ctrl-C: the exception is raised instead).
+    #[pyo3(signature = (until=None))]
+    fn advance(&mut self, py: Python<'_>, until: Option<f64>) -> PyResult<(&'static str, f64)> {
+        let target = until.unwrap_or(self.run.cfg.until);
+        let Running { engine, obs, .. } = &mut self.run;
+        let r = without_gil(py, || engine.advance(target, obs));
+        let stop = r.map_err(|e| engine_err(&self.run.scene, &mut self.run.obs, e))?;
+        if let Some(err) = self.run.obs.error.take() {
+            return Err(err);
+        }
+        Ok(match stop {
+            Stop::Reached { t } => ("reached", t),
+            Stop::Requested { t } => ("requested", t),
+        })
+    }
+
+    /// The engine clock.
+    #[getter]
+    fn time(&self) -> f64 {
+        self.run.engine.time()
+    }
+
+    /// The run's end time.
+    #[getter]
+    fn until(&self) -> f64 {
+        self.run.cfg.until
+    }
+
+    /// `(t, u, v)`: every bead at the engine clock.
+    #[getter]
+    fn state<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> (f64, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>) {
+        let s = self.run.engine.state();
+        (
+            s.t,
+            PyArray1::from_vec(py, s.u),
+            PyArray1::from_vec(py, s.v),
+        )
+    }
+
+    /// Gives every bead the velocity `v` at the engine clock (displacements unchanged).
+    fn set_velocities(&mut self, v: PyReadonlyArray1<'_, f64>) -> PyResult<()> {
+        let v = v.as_slice()?;
+        let n = self.run.scene.chain.len();
+        if v.len() != n {
+            return Err(SceneError::new_err(format!(
+                "{}: set_velocities: expected {n} velocities (one per bead), got {}",
+                self.run.scene.name,
+                v.len()
+            )));
+        }
+        if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+            return Err(SceneError::new_err(format!(
+                "{}: set_velocities: bead {i}: velocity must be finite, got {}",
+                self.run.scene.name, v[i]
+            )));
+        }
+        let name = self.run.scene.name.clone();
+        self.run
+            .engine
+            .set_velocities(v)
+            .map_err(|e| SceneError::new_err(format!("{name}: {e}")))
+    }
+
+    /// Counters and energies at the engine clock (as `run().stats`).
+    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        stats(py, &self.run.engine.outcome())
+    }
+
+    /// Takes the frames recorded so far (a dict as `run()` returns; later frames start anew).
+    fn _take_frames<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let n = self.run.scene.chain.len();
+        frames_dict(py, &mut self.run.obs, n)
+    }
+
+    /// The scene as it runs (with `[run]` until/every of this simulation).
+    #[getter]
+    fn scene(&self) -> PyResult<Scene> {
+        Scene::new(self.run.scene.as_ref().clone())
+    }
+}

@@ -1,0 +1,69 @@
+"""Simulation: advance in pieces, state, set_velocities, observers."""
+
+import numpy as np
+import pytest
+
+import beadchain as bc
+
+
+def test_advancing_in_pieces_gives_the_frames_of_one_run():
+    scene = bc.Scene.preset("striker")
+    whole = bc.run(scene, every=5.0)
+    sim = bc.Simulation(scene, every=5.0)
+    assert sim.advance(33.0) == bc.Stop("reached", 33.0)
+    assert sim.time == 33.0
+    assert sim.advance() == bc.Stop("reached", 100.0)
+    r = sim.frames()
+    np.testing.assert_array_equal(r.t, whole.t)
+    np.testing.assert_array_equal(r.u, whole.u)
+    np.testing.assert_array_equal(r.v, whole.v)
+    for k in whole.events:
+        np.testing.assert_array_equal(r.events[k], whole.events[k])
+
+
+def test_state_and_set_velocities():
+    scene = bc.Scene(beads=50, striker=1.0, until=200.0, every=10.0)
+    sim = bc.Simulation(scene)
+    sim.advance(20.0)
+    st = sim.state
+    assert st.t == 20.0 and st.u.shape == (50,) and st.v.shape == (50,)
+    # momentum is carried by the wave
+    assert st.v.sum() == pytest.approx(1.0, rel=1e-9, abs=0)
+    v = st.v.copy()
+    v[49] = -0.5  # a second striker from the right end
+    sim.set_velocities(v)
+    np.testing.assert_array_equal(sim.state.v, v)
+    sim.advance()
+    assert sim.stats()["momentum_final"] == pytest.approx(0.5, rel=1e-9, abs=1e-12)
+    f = sim.frames()
+    assert f.t[0] == 0.0 and f.t[-1] == 200.0 and len(f.t) == 21
+
+
+def test_set_velocities_checks_its_input():
+    sim = bc.Simulation(bc.Scene(beads=10, striker=1.0, until=5.0))
+    with pytest.raises(bc.SceneError) as e:
+        sim.set_velocities(np.zeros(9))
+    assert str(e.value) == "scene: set_velocities: expected 10 velocities (one per bead), got 9"
+    v = np.zeros(10)
+    v[3] = np.nan
+    with pytest.raises(bc.SceneError) as e:
+        sim.set_velocities(v)
+    assert "bead 3: velocity must be finite" in str(e.value)
+
+
+def test_observers_see_frames_not_steps():
+    seen = []
+    sim = bc.Simulation(bc.Scene.preset("striker"), every=20.0,
+                        observers=[lambda t, u, v: seen.append(t)])
+    sim.advance(50.0)
+    sim.add_observer(lambda t, u, v: seen.append(-t))
+    sim.advance()
+    assert seen == [0.0, 20.0, 40.0, 60.0, -60.0, 80.0, -80.0, 100.0, -100.0]
+    assert sim.stats()["steps"] > 100  # many steps, few calls
+
+
+def test_advance_beyond_the_end_is_refused():
+    sim = bc.Simulation(bc.Scene(beads=10, striker=1.0, until=5.0))
+    with pytest.raises(bc.SceneError) as e:
+        sim.advance(6.0)
+    assert "beyond the run's end time 5" in str(e.value)

@@ -1,0 +1,54 @@
+"""SI units of physical scenes, against conversions computed by hand (paper eqs. 3-4, 10)."""
+
+import math
+
+import numpy as np
+import pytest
+
+import beadchain as bc
+
+R, RHO, Y, NU = 4e-3, 7650.0, 2.26e11, 0.3
+
+
+def beta_by_hand(n0=2.5):
+    m = RHO * 4.0 / 3.0 * math.pi * R**3
+    d = 0.75 * 2.0 * (1.0 - NU**2) / Y
+    a = 2.0 / (5.0 * d) * math.sqrt(R / 2.0)
+    mu = 10.0 ** math.floor(math.log10(a))
+    return m, math.sqrt(m / (mu * n0))
+
+
+@pytest.fixture(scope="module")
+def phys():
+    return bc.run(bc.Scene.preset("hertz_spheres_physical"), every=200.0, until=1000.0)
+
+
+def test_si_arrays(phys):
+    m0, beta = beta_by_hand()
+    np.testing.assert_allclose(phys.t_si, phys.t * beta, rtol=1e-6, atol=0)
+    np.testing.assert_allclose(phys.v_si, phys.v / beta, rtol=1e-6, atol=0)
+    np.testing.assert_array_equal(phys.u_si, phys.u)  # metres in both systems
+    # the striker was given as striker_si = 0.11 m/s
+    assert phys.v_si[0, 0] == pytest.approx(0.11, rel=1e-6, abs=0)
+    assert phys.t_si[-1] == pytest.approx(1000.0 * beta, rel=1e-6, abs=0)
+
+
+def test_si_energy(phys):
+    m0, beta = beta_by_hand()
+    e, es = phys.energy(), phys.energy(units="si")
+    np.testing.assert_allclose(es["total"], e["total"] * m0 / beta**2, rtol=2e-6, atol=0)
+    # kinetic energy of the striker at t = 0: 1/2 m v^2 with v = 0.11 m/s
+    assert es["kinetic"][0] == pytest.approx(0.5 * m0 * 0.11**2, rel=3e-6, abs=0)
+    assert phys.energy_si()["total"][0] == es["total"][0]
+
+
+def test_dimensionless_scene_raises_a_clear_error():
+    r = bc.run(bc.Scene(beads=10, striker=1.0, until=5.0))
+    for what in ("t_si", "u_si", "v_si"):
+        with pytest.raises(bc.SceneError) as e:
+            getattr(r, what)
+        assert str(e.value).startswith(f"scene: {what}: the scene is dimensionless")
+    with pytest.raises(bc.SceneError):
+        r.energy(units="si")
+    with pytest.raises(ValueError):
+        r.energy(units="furlongs")
