@@ -23,7 +23,8 @@ class Run:
     stored beads, listed in ``beads``); ``events``: a dict of columns (``t``, ``contact``,
     ``kind``, ``rel_velocity``, ``peak_overlap``) that ``pandas.DataFrame`` takes as it is;
     ``stats``: counters and energies; ``scene``: the :class:`Scene` that ran; ``dissipated``:
-    energy dissipated up to each frame (dissipative scenes run from Python; else None).
+    energy dissipated up to each frame (dissipative scenes; None for conservative ones and for
+    snapshot files before format 4, which did not store it).
     A loaded snapshot reads its frames when ``u``/``v`` are first used; ``frames(index)`` reads
     only the frames asked for.
     """
@@ -38,7 +39,8 @@ class Run:
         else:  # frames are read from the file when first used
             self.t = raw["times"]
             self._u = self._v = _UNREAD
-        self.dissipated: Optional[np.ndarray] = raw.get("dissipated")
+        self._dissipative = raw.get("dissipative", False)
+        self._dissipated = raw.get("dissipated") if file is None else _UNREAD
         ev = raw["events"]
         ev["kind"] = np.asarray(ev["kind"], dtype=str)
         self.events: dict = ev
@@ -49,9 +51,18 @@ class Run:
         self.scene: Scene = scene
         self.meta: dict = meta or {}
 
+    @property
+    def dissipated(self) -> Optional[np.ndarray]:
+        """Energy dissipated from t = 0 up to each frame (F,), computer units (None when the
+        scene is conservative or the file predates format 4)."""
+        if self._dissipated is _UNREAD:
+            self._read_all()
+        return self._dissipated
+
     def _read_all(self) -> None:
-        if self._u is _UNREAD:
-            _, u, v = self._file.read(list(range(len(self.t))))
+        if self._u is _UNREAD or self._dissipated is _UNREAD:
+            _, u, v, d = self._file.read(list(range(len(self.t))))
+            self._dissipated = d if self._dissipative else None
             shape = (len(self.t), self._n)
             self._u = None if u is None else u.reshape(shape)
             self._v = None if v is None else v.reshape(shape)
@@ -75,7 +86,7 @@ class Run:
         one = np.ndim(idx) == 0
         idx = np.atleast_1d(idx)
         if self._file is not None and self._u is _UNREAD:
-            t, u, v = self._file.read([int(i) for i in idx])
+            t, u, v, _ = self._file.read([int(i) for i in idx])
             shape = (len(idx), self._n)
             u = None if u is None else u.reshape(shape)
             v = None if v is None else v.reshape(shape)

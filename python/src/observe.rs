@@ -128,6 +128,9 @@ impl Observer for Collector {
     }
 
     fn dissipated(&mut self, _t: f64, energy: f64) -> Result<(), EngineError> {
+        if let Some(w) = self.writer.as_mut() {
+            w.set_dissipated(energy);
+        }
         if self.record {
             self.dissipated.push(energy);
         }

@@ -31,13 +31,14 @@ impl SnapshotFile {
         self.snap.frame_count()
     }
 
-    /// Reads frames `indices` (in that order): `(t, u, v)`, `u` and `v` flat (`len·M` for `M`
-    /// stored beads), None for a field the file does not store.
+    /// Reads frames `indices` (in that order): `(t, u, v, dissipated)`, `u` and `v` flat
+    /// (`len·M` for `M` stored beads), None for a field the file does not store; `dissipated`
+    /// (energy dissipated up to each frame) is None for files before format 4.
     fn read<'py>(
         &self,
         py: Python<'py>,
         indices: Vec<usize>,
-    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Flat<'py>, Flat<'py>)> {
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Flat<'py>, Flat<'py>, Flat<'py>)> {
         let sel = &self.snap.header().output;
         let m = sel
             .beads
@@ -48,6 +49,7 @@ impl SnapshotFile {
         let mut t = Vec::with_capacity(f);
         let mut u = Vec::with_capacity(if has_u { f * m } else { 0 });
         let mut v = Vec::with_capacity(if has_v { f * m } else { 0 });
+        let mut dis = Some(Vec::with_capacity(f));
         let snap = &self.snap;
         without_gil(py, || -> Result<(), beadchain::snapshot::SnapshotError> {
             let mut fr = Frame::default();
@@ -56,6 +58,10 @@ impl SnapshotFile {
                 t.push(fr.t);
                 u.extend_from_slice(&fr.u);
                 v.extend_from_slice(&fr.v);
+                match (dis.as_mut(), fr.dissipated) {
+                    (Some(d), Some(x)) => d.push(x),
+                    _ => dis = None,
+                }
             }
             Ok(())
         })
@@ -64,6 +70,7 @@ impl SnapshotFile {
             PyArray1::from_vec(py, t),
             has_u.then(|| PyArray1::from_vec(py, u)),
             has_v.then(|| PyArray1::from_vec(py, v)),
+            dis.map(|d| PyArray1::from_vec(py, d)),
         ))
     }
 }
@@ -95,6 +102,7 @@ pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
     d.set_item("complete", snap.is_complete())?;
     d.set_item("warnings", snap.warnings().to_vec())?;
     d.set_item("stats", summary(py, &snap)?)?;
+    d.set_item("dissipative", h.scene.chain.damping.is_some())?;
     d.set_item("scene", Scene::unchecked(h.scene.clone()))?;
     d.set_item("file", SnapshotFile { snap })?;
     Ok(d)

@@ -194,3 +194,23 @@ def test_load_opens_without_reading_frames_and_reads_selected_ones(tmp_path, str
     np.testing.assert_array_equal(u, striker_run.u[[0, 5]])
     np.testing.assert_array_equal(r.v, striker_run.v)  # now everything
     np.testing.assert_array_equal(r.frames(slice(2, 4))[2], striker_run.v[2:4])
+
+
+def test_snapshots_store_the_dissipated_energy(cli, tmp_path):
+    """Format-4 frames carry E_d: a file written by the CLI and one written by run(out=...) give
+    the same E_d as the run itself (bit for bit); conservative scenes give None."""
+    s = bc.Scene(beads=20, striker=1.0, until=40.0, every=1.0, law="linear_dashpot", damping=0.05)
+    r = bc.run(s, out=tmp_path / "py.snap")
+    from_py = bc.load(tmp_path / "py.snap")
+    np.testing.assert_array_equal(from_py.dissipated, r.dissipated)
+    code, _, err = run_cli(cli, "run", "damped_striker", "--every", "10", "--out", "d.snap",
+                           cwd=tmp_path)
+    assert code == 0, err
+    d = bc.load(tmp_path / "d.snap")
+    e = d.energy()
+    assert e["dissipated"][0] == 0.0 and e["dissipated"][-1] > 0.05 * e["total"][0]
+    # E + E_d is conserved: rtol 1e-6 (default tolerances), atol 0
+    np.testing.assert_allclose(e["balance"], np.full(len(d.t), e["total"][0]), rtol=1e-6, atol=0)
+    assert bc.load(tmp_path / "d.snap").dissipated is not None  # without reading u, v first
+    bc.run(bc.Scene.preset("striker"), until=10.0, out=tmp_path / "c.snap", record=False)
+    assert bc.load(tmp_path / "c.snap").dissipated is None
