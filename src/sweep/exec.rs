@@ -12,7 +12,7 @@ use super::{Decay, SweepError, SweepSpec};
 use crate::analysis::{
     energy_split, fit_exponential, fragmentation, AnalysisError, ExpFit, SteadyStateStop,
 };
-use crate::engine::{self, Control, EngineError, EngineState, Observer, RunConfig};
+use crate::engine::{self, Observer, RunConfig};
 use crate::experiments::paper::Watch;
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -92,46 +92,6 @@ pub fn partial_path(out: &Path) -> PathBuf {
     out.with_file_name(name)
 }
 
-/// Observer that keeps the integrator-step and event counts of the state handed over at a stop.
-struct Capture<'a> {
-    inner: &'a mut dyn Observer,
-    steps: Option<u64>,
-    events: Option<u64>,
-}
-
-impl Observer for Capture<'_> {
-    fn dissipated(&mut self, t: f64, energy: f64) -> Result<(), EngineError> {
-        self.inner.dissipated(t, energy)
-    }
-    fn events(&mut self, events: &[crate::engine::events::EventRecord]) -> Result<(), EngineError> {
-        self.inner.events(events)
-    }
-    fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
-        self.inner.frame(t, u, v)
-    }
-    fn control(&mut self, t: f64) -> Control {
-        self.inner.control(t)
-    }
-    fn checkpoint(&mut self, state: &EngineState) -> Result<(), EngineError> {
-        match state {
-            EngineState::Dense(d) => {
-                self.steps = Some(d.integ.stats.steps);
-                self.events = Some(0);
-            }
-            EngineState::Hybrid(h) => {
-                let cl: u64 = h
-                    .clusters
-                    .iter()
-                    .flatten()
-                    .map(|c| c.integ.stats.steps)
-                    .sum();
-                self.steps = Some(h.stats.steps + cl);
-                self.events = Some(h.counts.iter().sum());
-            }
-        }
-        self.inner.checkpoint(state)
-    }
-}
 
 /// Measured values of one run (`None`: not asked for or not available).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -164,44 +124,27 @@ pub fn run_one(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<Str
     let stop_at = spec.stop.margin.map_or(usize::MAX, |g| n - g);
     let k = m.impurity.or(m.interface).unwrap_or(5);
     let mut watch = Watch::new(scene.chain.clone(), k, stop_at);
-    let (res, steps, events) = {
+    let res = {
         let mut ss;
-        let inner: &mut dyn Observer = if spec.stop.steady_state {
+        let obs: &mut dyn Observer = if spec.stop.steady_state {
             ss = SteadyStateStop::new(&mut watch, &scene.chain);
             &mut ss
         } else {
             &mut watch
         };
-        let mut cap = Capture {
-            inner,
-            steps: None,
-            events: None,
-        };
-        let r = engine::run(&scene, &cfg, &mut cap);
-        (r, cap.steps, cap.events)
+        engine::run_to_stop(&scene, &cfg, obs)
     };
     let chain = &scene.chain;
     let mut out = Measured::default();
+    // A stop requested by the steady-state or margin watch is a `Stop`, not an error: the
+    // outcome is the state at that time.
     let (u, v) = match res {
-        Ok(o) => {
+        Ok((_stop, o)) => {
             out.t_end = o.t_end;
             out.energy_error = o.relative_energy_error();
             out.steps = Some(o.stats.steps);
             out.events = Some(o.events_by_kind.iter().map(|(_, c)| c).sum());
             (o.u, o.v)
-        }
-        Err(EngineError::Interrupted(_)) => {
-            let (t, u, v) = std::mem::take(&mut watch.last);
-            let e0 = chain.energy(&scene.u0, &scene.v0);
-            out.t_end = t;
-            let scale = chain
-                .energy_scale(&scene.u0, &scene.v0)
-                .max(chain.energy_scale(&u, &v));
-            out.energy_error =
-                crate::model::relative_energy_change(e0, chain.energy(&u, &v), scale);
-            out.steps = steps;
-            out.events = events;
-            (u, v)
         }
         Err(e) => return Err(e.to_string()),
     };
