@@ -97,7 +97,7 @@ fn radau_step(c: &mut Criterion) {
         let saved = r.save();
         g.bench_with_input(BenchmarkId::from_parameter(m), &m, |b, _| {
             b.iter(|| {
-                r.load(&saved);
+                r.load(&saved).expect("same integrator");
                 r.step(&sys, f64::INFINITY).expect("step")
             })
         });

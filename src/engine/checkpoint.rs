@@ -148,3 +148,39 @@ pub struct HybridState {
     /// segments before an integrator restart).
     pub dissipated: f64,
 }
+
+impl HybridState {
+    /// The consistency check on load: every per-bead and per-contact array fits a chain of `n`
+    /// beads, and every cluster covers beads inside it (an inconsistent state is an error,
+    /// never a panic or a silently different run).
+    pub fn check(&self, n: usize) -> Result<(), String> {
+        let nc = n.saturating_sub(1);
+        let lens = [
+            ("owner", self.owner.len(), n),
+            ("free", self.free.len(), n),
+            ("version", self.version.len(), n),
+            ("peak", self.peak.len(), n + 1),
+            ("last_hard", self.last_hard.len(), n + 1),
+            ("stuck", self.stuck.len(), nc),
+        ];
+        for (name, got, want) in lens {
+            if got != want {
+                return Err(format!(
+                    "hybrid state `{name}` holds {got} entries, a chain of {n} beads needs {want}"
+                ));
+            }
+        }
+        for (k, c) in self.clusters.iter().enumerate() {
+            let Some(c) = c else { continue };
+            if c.lo + 2 > c.hi || c.hi > n as u64 || c.mass.len() as u64 != c.hi - c.lo {
+                return Err(format!(
+                    "cluster slot {k}: beads {}..{} with {} masses do not fit a chain of {n} beads",
+                    c.lo,
+                    c.hi,
+                    c.mass.len()
+                ));
+            }
+        }
+        Ok(())
+    }
+}

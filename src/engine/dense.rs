@@ -31,7 +31,7 @@ pub fn run_from(
     from: Option<&DenseState>,
     obs: &mut dyn Observer,
 ) -> Result<RunOutcome, EngineError> {
-    let mut e = DenseEngine::new(scene, cfg, from);
+    let mut e = DenseEngine::new(scene, cfg, from)?;
     match e.advance(cfg.until, obs)? {
         Stop::Reached { .. } => Ok(e.outcome()),
         Stop::Requested { t } => Err(EngineError::Interrupted(t)),
@@ -60,7 +60,11 @@ pub struct DenseEngine<'a> {
 
 impl<'a> DenseEngine<'a> {
     /// A dense engine at `t = 0`, or at a checkpointed state.
-    pub fn new(scene: &'a Scene, cfg: &'a RunConfig, from: Option<&DenseState>) -> Self {
+    pub fn new(
+        scene: &'a Scene,
+        cfg: &'a RunConfig,
+        from: Option<&DenseState>,
+    ) -> Result<Self, EngineError> {
         let chain = &scene.chain;
         let n = chain.len();
         let tol = Tolerances {
@@ -88,7 +92,9 @@ impl<'a> DenseEngine<'a> {
                 e.integ.reset(&sys, 0.0, &scene.u0, &scene.v0);
             }
             Some(d) => {
-                e.integ.load(&d.integ);
+                e.integ
+                    .load(&d.integ)
+                    .map_err(|m| EngineError::Config(format!("checkpoint: {m}")))?;
                 e.next = d.next_frame;
                 e.last_frame_t = d.last_frame_t;
                 e.clock = d.clock;
@@ -96,7 +102,7 @@ impl<'a> DenseEngine<'a> {
                 e.fresh = false;
             }
         }
-        e
+        Ok(e)
     }
 
     fn sys(&self) -> ChainRange<'a> {

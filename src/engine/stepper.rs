@@ -77,8 +77,8 @@ pub fn start<'a>(
 ) -> Result<Box<dyn Engine + 'a>, EngineError> {
     super::check_config(scene, cfg)?;
     Ok(match cfg.engine {
-        EngineKind::Dense => Box::new(super::dense::DenseEngine::new(scene, cfg, None)),
-        EngineKind::Hybrid => Box::new(super::hybrid::HybridEngine::new(scene, cfg, None)),
+        EngineKind::Dense => Box::new(super::dense::DenseEngine::new(scene, cfg, None)?),
+        EngineKind::Hybrid => Box::new(super::hybrid::HybridEngine::new(scene, cfg, None)?),
     })
 }
 
@@ -97,11 +97,13 @@ pub fn restore<'a>(
         )));
     }
     Ok(match (cfg.engine, state) {
-        (EngineKind::Dense, EngineState::Dense(d)) => {
-            Box::new(super::dense::DenseEngine::new(scene, cfg, Some(d.as_ref())))
-        }
+        (EngineKind::Dense, EngineState::Dense(d)) => Box::new(super::dense::DenseEngine::new(
+            scene,
+            cfg,
+            Some(d.as_ref()),
+        )?),
         (EngineKind::Hybrid, EngineState::Hybrid(h)) => {
-            Box::new(super::hybrid::HybridEngine::new(scene, cfg, Some(h)))
+            Box::new(super::hybrid::HybridEngine::new(scene, cfg, Some(h))?)
         }
         _ => {
             return Err(EngineError::Config(

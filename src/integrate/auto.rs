@@ -287,9 +287,20 @@ impl Integrator for Auto {
         s
     }
 
-    fn load(&mut self, s: &IntegratorState) {
-        self.mode = s.auto.unwrap_or_default();
-        self.active_mut().load(s);
+    fn load(&mut self, s: &IntegratorState) -> Result<(), String> {
+        let mode = s.auto.ok_or_else(|| {
+            format!(
+                "the state of a {} integrator cannot continue as auto",
+                s.method.name()
+            )
+        })?;
+        let before = self.mode;
+        self.mode = mode;
+        if let Err(e) = self.active_mut().load(s) {
+            self.mode = before;
+            return Err(e);
+        }
         self.stats = s.stats.clone();
+        Ok(())
     }
 }

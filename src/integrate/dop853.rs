@@ -535,10 +535,19 @@ impl Integrator for Dop853 {
             stats: self.stats.clone(),
             auto: None,
             dissipated: self.diss,
+            method: super::Method::Dop853,
         }
     }
 
-    fn load(&mut self, s: &IntegratorState) {
+    fn load(&mut self, s: &IntegratorState) -> Result<(), String> {
+        let lens = [
+            self.z.len(),
+            self.z_old.len(),
+            self.k.len(),
+            self.f.len(),
+            1,
+        ];
+        super::check_state(s, super::Method::Dop853, &lens)?;
         self.t = s.t;
         self.t_prev = s.t_prev;
         self.h = s.h;
@@ -550,7 +559,8 @@ impl Integrator for Dop853 {
         }
         self.stats = s.stats.clone();
         self.diss = s.dissipated;
-        self.pw[0] = s.vecs.get(4).map_or(0.0, |p| p[0]);
+        self.pw[0] = s.vecs[4][0];
+        Ok(())
     }
 }
 

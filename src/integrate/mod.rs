@@ -307,6 +307,29 @@ pub struct IntegratorState {
     pub auto: Option<auto::AutoState>,
     /// Energy dissipated since the last reset, at `t_prev` and at `t` ([`Integrator::dissipated`]).
     pub dissipated: (f64, f64),
+    /// The method whose arrays `vecs` holds (for [`auto::Auto`], the active one): checked on
+    /// load ([`check_state`]), so a state never continues in another method.
+    pub method: Method,
+}
+
+/// The consistency check of [`Integrator::load`]: `s` was saved by `method` and its arrays
+/// have the lengths `lens` (the loading integrator's own).
+pub fn check_state(s: &IntegratorState, method: Method, lens: &[usize]) -> Result<(), String> {
+    if s.method != method {
+        return Err(format!(
+            "the state of a {} integrator cannot continue as {}",
+            s.method.name(),
+            method.name()
+        ));
+    }
+    let got: Vec<usize> = s.vecs.iter().map(Vec::len).collect();
+    if got != lens {
+        return Err(format!(
+            "{} state arrays have lengths {got:?}, expected {lens:?}",
+            method.name()
+        ));
+    }
+    Ok(())
 }
 
 /// An adaptive one-step integrator with continuous output over the last accepted step.
@@ -345,8 +368,9 @@ pub trait Integrator {
     }
     /// The state needed to continue exactly (see [`IntegratorState`]).
     fn save(&self) -> IntegratorState;
-    /// Restores a state saved by the same method for the same number of beads.
-    fn load(&mut self, s: &IntegratorState);
+    /// Restores a state saved by the same method for the same number of beads; any other
+    /// state is an error ([`check_state`]) and leaves the integrator unchanged.
+    fn load(&mut self, s: &IntegratorState) -> Result<(), String>;
 }
 
 /// Gauss–Legendre nodes (on `[0, 1]`) and weights of order 8, for [`dissipated_at`].

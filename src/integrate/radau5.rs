@@ -562,10 +562,24 @@ impl Integrator for Radau5 {
             stats: self.stats.clone(),
             auto: None,
             dissipated: self.diss,
+            method: super::Method::Radau5,
         }
     }
 
-    fn load(&mut self, s: &IntegratorState) {
+    fn load(&mut self, s: &IntegratorState) -> Result<(), String> {
+        let (z, q, kv) = (self.z.len(), self.q[0].len(), self.kv.len());
+        let lens = [
+            z,
+            self.z_old.len(),
+            self.f.len(),
+            self.k.len(),
+            q,
+            q,
+            q,
+            kv,
+            1,
+        ];
+        super::check_state(s, super::Method::Radau5, &lens)?;
         self.t = s.t;
         self.t_old = s.t_prev;
         self.h_abs = s.h;
@@ -588,9 +602,10 @@ impl Integrator for Radau5 {
         for (d, v) in dst.into_iter().zip(&s.vecs) {
             d.copy_from_slice(v);
         }
-        self.p0 = s.vecs.get(8).map_or(0.0, |p| p[0]);
+        self.p0 = s.vecs[8][0];
         self.stats = s.stats.clone();
         self.diss = s.dissipated;
+        Ok(())
     }
 }
 

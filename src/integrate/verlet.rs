@@ -232,10 +232,19 @@ impl Integrator for Verlet {
             stats: self.stats.clone(),
             auto: None,
             dissipated: (0.0, 0.0),
+            method: super::Method::Verlet,
         }
     }
 
-    fn load(&mut self, s: &IntegratorState) {
+    fn load(&mut self, s: &IntegratorState) -> Result<(), String> {
+        let lens = [
+            self.z.len(),
+            self.z_old.len(),
+            self.acc.len(),
+            self.acc_old.len(),
+            2,
+        ];
+        super::check_state(s, super::Method::Verlet, &lens)?;
         self.t = s.t;
         self.t_prev = s.t_prev;
         self.dt = s.h;
@@ -251,11 +260,10 @@ impl Integrator for Verlet {
         {
             d.copy_from_slice(v);
         }
-        if let Some(g) = s.vecs.get(4) {
-            self.t_grid = g[0];
-            self.k = g[1] as u64;
-        }
+        self.t_grid = s.vecs[4][0];
+        self.k = s.vecs[4][1] as u64;
         self.stats = s.stats.clone();
+        Ok(())
     }
 }
 

@@ -92,7 +92,6 @@ pub fn partial_path(out: &Path) -> PathBuf {
     out.with_file_name(name)
 }
 
-
 /// Measured values of one run (`None`: not asked for or not available).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Measured {

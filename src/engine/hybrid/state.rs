@@ -76,7 +76,8 @@ impl Hybrid<'_> {
 
     /// Restores a saved state; predictions that depend on the end time (free-flight closings
     /// and the next frame) are recomputed, so `until` may have been extended.
-    pub(super) fn restore(&mut self, s: &HybridState) {
+    pub(super) fn restore(&mut self, s: &HybridState) -> Result<(), String> {
+        s.check(self.n)?;
         self.clock = s.t;
         self.owner.clone_from(&s.owner);
         self.free.clone_from(&s.free);
@@ -84,28 +85,30 @@ impl Hybrid<'_> {
         self.clusters = s
             .clusters
             .iter()
-            .map(|c| {
-                c.as_ref().map(|c| {
-                    let m = (c.hi - c.lo) as usize;
-                    let tol = self.cluster_tol(c.frame.1);
-                    let mut integ = make_integrator(self.cfg, m, tol);
-                    integ.load(&c.integ);
-                    Cluster {
-                        lo: c.lo as usize,
-                        hi: c.hi as usize,
-                        frame_u: c.frame.0,
-                        frame_v: c.frame.1,
-                        frame_t: c.frame.2,
-                        integ,
-                        t_now: c.t_now,
-                        pending: c.pending,
-                        mass: c.mass.clone(),
-                        pinned: c.pinned,
-                        rigid: s.stuck[c.lo as usize..c.hi as usize - 1].contains(&true),
-                    }
-                })
+            .enumerate()
+            .map(|(k, c)| {
+                let Some(c) = c else { return Ok(None) };
+                let m = (c.hi - c.lo) as usize;
+                let tol = self.cluster_tol(c.frame.1);
+                let mut integ = make_integrator(self.cfg, m, tol);
+                integ
+                    .load(&c.integ)
+                    .map_err(|e| format!("cluster slot {k} (beads {}..{}): {e}", c.lo, c.hi))?;
+                Ok(Some(Cluster {
+                    lo: c.lo as usize,
+                    hi: c.hi as usize,
+                    frame_u: c.frame.0,
+                    frame_v: c.frame.1,
+                    frame_t: c.frame.2,
+                    integ,
+                    t_now: c.t_now,
+                    pending: c.pending,
+                    mass: c.mass.clone(),
+                    pinned: c.pinned,
+                    rigid: s.stuck[c.lo as usize..c.hi as usize - 1].contains(&true),
+                }))
             })
-            .collect();
+            .collect::<Result<_, String>>()?;
         self.spare_slots.clone_from(&s.spare_slots);
         self.queue.clear();
         for e in &s.queue {
@@ -140,5 +143,6 @@ impl Hybrid<'_> {
         self.schedule_wall(1);
         let tf = self.cfg.frame_time(self.next_frame);
         self.queue.push(Key::Frame, prio(tf, 0, 0, Key::Frame));
+        Ok(())
     }
 }

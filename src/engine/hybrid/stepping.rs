@@ -18,17 +18,23 @@ pub struct HybridEngine<'a> {
 
 impl<'a> HybridEngine<'a> {
     /// A hybrid engine at `t = 0`, or at a checkpointed state.
-    pub fn new(scene: &'a Scene, cfg: &'a RunConfig, from: Option<&HybridState>) -> Self {
+    pub fn new(
+        scene: &'a Scene,
+        cfg: &'a RunConfig,
+        from: Option<&HybridState>,
+    ) -> Result<Self, EngineError> {
         let mut h = Hybrid::new(scene, cfg);
         match from {
             None => h.init(0.0, &scene.u0, &scene.v0),
-            Some(s) => h.restore(s),
+            Some(s) => h
+                .restore(s)
+                .map_err(|m| EngineError::Config(format!("checkpoint: {m}")))?,
         }
-        Self {
+        Ok(Self {
             h,
             scene,
             start: Instant::now(),
-        }
+        })
     }
 }
 
