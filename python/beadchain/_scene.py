@@ -31,8 +31,9 @@ class Units:
 
     Computer -> SI: time ``t * beta`` (s), velocity ``v / beta`` (m/s), displacement ``u`` (m,
     unchanged), energy ``E * m0 / beta**2`` (J), mass ``m * m0`` (kg), prefactor
-    ``a * m0 / beta**2``. The values are those recorded in the scene's description (seven
-    significant digits), which the CLI's ``--units si`` uses too.
+    ``a * m0 / beta**2``. The values are the scene's own, in full precision (snapshot format 4
+    stores them; files of formats 1-3 keep seven significant digits in the description), as
+    the CLI's ``--units si`` uses.
     """
 
     beta: float

@@ -176,8 +176,8 @@ impl Scene {
         Ok(d)
     }
 
-    /// Unit scales of a physical scene, as recorded in its description (the values the CLI's
-    /// `--units si` uses): `{"beta": s, "m0": kg, "mu": .., "n0": ..}`; None when dimensionless.
+    /// Unit scales of a physical scene ([`beadchain::scene::Scene::units`], full precision; the
+    /// values the CLI's `--units si` uses): `{"beta": s, "m0": kg, "mu": .., "n0": ..}`; None when dimensionless.
     #[getter]
     fn _units<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         let Some(s) = beadchain::plot::units::scene_scales(&self.scene) else {

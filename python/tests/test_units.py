@@ -24,21 +24,22 @@ def phys():
 
 
 def test_si_arrays(phys):
+    # rtol 1e-12: format 4 and Scene.units keep beta in full (before: 7 digits, rtol 1e-6)
     m0, beta = beta_by_hand()
-    np.testing.assert_allclose(phys.t_si, phys.t * beta, rtol=1e-6, atol=0)
-    np.testing.assert_allclose(phys.v_si, phys.v / beta, rtol=1e-6, atol=0)
+    np.testing.assert_allclose(phys.t_si, phys.t * beta, rtol=1e-12, atol=0)
+    np.testing.assert_allclose(phys.v_si, phys.v / beta, rtol=1e-12, atol=0)
     np.testing.assert_array_equal(phys.u_si, phys.u)  # metres in both systems
     # the striker was given as striker_si = 0.11 m/s
-    assert phys.v_si[0, 0] == pytest.approx(0.11, rel=1e-6, abs=0)
-    assert phys.t_si[-1] == pytest.approx(1000.0 * beta, rel=1e-6, abs=0)
+    assert phys.v_si[0, 0] == pytest.approx(0.11, rel=1e-12, abs=0)
+    assert phys.t_si[-1] == pytest.approx(1000.0 * beta, rel=1e-12, abs=0)
 
 
 def test_si_energy(phys):
     m0, beta = beta_by_hand()
     e, es = phys.energy(), phys.energy(units="si")
-    np.testing.assert_allclose(es["total"], e["total"] * m0 / beta**2, rtol=2e-6, atol=0)
+    np.testing.assert_allclose(es["total"], e["total"] * m0 / beta**2, rtol=1e-12, atol=0)
     # kinetic energy of the striker at t = 0: 1/2 m v^2 with v = 0.11 m/s
-    assert es["kinetic"][0] == pytest.approx(0.5 * m0 * 0.11**2, rel=3e-6, abs=0)
+    assert es["kinetic"][0] == pytest.approx(0.5 * m0 * 0.11**2, rel=1e-12, abs=0)
     assert phys.energy_si()["total"][0] == es["total"][0]
 
 

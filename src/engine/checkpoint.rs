@@ -46,7 +46,7 @@ impl EngineState {
     pub fn time(&self) -> f64 {
         match self {
             EngineState::Dense(d) => d.clock,
-            EngineState::Hybrid(h) => h.t,
+            EngineState::Hybrid(h) => h.data.t,
         }
     }
 }
@@ -102,9 +102,23 @@ pub struct QueueEntry {
     pub tie: u64,
 }
 
-/// Hybrid engine state.
+/// Hybrid engine state: the engine's plain data ([`HybridData`], which the engine works on
+/// directly), plus its clusters and event queue as data (the engine holds those as live
+/// integrators and a heap, rebuilt from this on restore; rapier's islands/workspace split).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct HybridState {
+    /// Everything but the clusters and the queue, as the engine holds it.
+    pub data: HybridData,
+    /// Cluster slots.
+    pub clusters: Vec<Option<ClusterState>>,
+    /// Queue contents (order irrelevant: priorities are unique; stored in priority order).
+    pub queue: Vec<QueueEntry>,
+}
+
+/// The hybrid engine's plain data: the engine reads and writes these fields in place, and a
+/// checkpoint stores them as they are (no hand-kept copy).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HybridData {
     /// Engine clock (time of the last processed queue entry).
     pub t: f64,
     /// Owner slot per bead (`u32::MAX` = free).
@@ -113,13 +127,10 @@ pub struct HybridState {
     pub free: Vec<Free>,
     /// Bead versions.
     pub version: Vec<u64>,
-    /// Cluster slots.
-    pub clusters: Vec<Option<ClusterState>>,
-    /// Unused slots.
+    /// Unused cluster slots.
     pub spare_slots: Vec<u32>,
-    /// Queue contents (order irrelevant: priorities are unique).
-    pub queue: Vec<QueueEntry>,
-    /// Peak overlap per contact (`N − 1`), then of the left and right wall contacts.
+    /// Largest overlap per contact since it closed (`N − 1` contacts, then the left and right
+    /// walls at `N − 1 + side`).
     pub peak: Vec<f64>,
     /// Counters of removed clusters.
     pub stats: crate::integrate::Stats,
@@ -128,7 +139,7 @@ pub struct HybridState {
     pub events: Vec<EventRecord>,
     /// Event counts by kind.
     pub counts: [u64; 5],
-    /// Largest cluster so far.
+    /// Largest cluster so far (beads).
     pub largest: u64,
     /// Steps so far.
     pub steps_total: u64,
@@ -140,7 +151,7 @@ pub struct HybridState {
     pub last_hard: Vec<f64>,
     /// Wall pins.
     pub pinned: [bool; 2],
-    /// Resting (sticking) hard contacts.
+    /// Per contact: a resting (sticking) hard contact joining two free beads.
     pub stuck: Vec<bool>,
     /// Next frame index.
     pub next_frame: u64,
@@ -155,13 +166,14 @@ impl HybridState {
     /// never a panic or a silently different run).
     pub fn check(&self, n: usize) -> Result<(), String> {
         let nc = n.saturating_sub(1);
+        let d = &self.data;
         let lens = [
-            ("owner", self.owner.len(), n),
-            ("free", self.free.len(), n),
-            ("version", self.version.len(), n),
-            ("peak", self.peak.len(), n + 1),
-            ("last_hard", self.last_hard.len(), n + 1),
-            ("stuck", self.stuck.len(), nc),
+            ("owner", d.owner.len(), n),
+            ("free", d.free.len(), n),
+            ("version", d.version.len(), n),
+            ("peak", d.peak.len(), n + 1),
+            ("last_hard", d.last_hard.len(), n + 1),
+            ("stuck", d.stuck.len(), nc),
         ];
         for (name, got, want) in lens {
             if got != want {
@@ -172,7 +184,7 @@ impl HybridState {
         }
         for (k, c) in self.clusters.iter().enumerate() {
             let Some(c) = c else { continue };
-            if c.lo + 2 > c.hi || c.hi > n as u64 || c.mass.len() as u64 != c.hi - c.lo {
+            if c.lo >= c.hi || c.hi > n as u64 || c.mass.len() as u64 != c.hi - c.lo {
                 return Err(format!(
                     "cluster slot {k}: beads {}..{} with {} masses do not fit a chain of {n} beads",
                     c.lo,

@@ -6,7 +6,7 @@
 //! [`SnapshotWriter`] streams frames to disk as a run produces them; [`Snapshot`] opens a file
 //! and reads any frame by seeking, without loading the others.
 //!
-//! # Byte layout (format version 3; versions 1 and 2 differences below)
+//! # Byte layout (format version 4; versions 1 to 3 differences below)
 //!
 //! All integers are fixed-width little-endian (never `usize` on disk); all floats are IEEE-754
 //! binary64 little-endian.
@@ -14,7 +14,7 @@
 //! ```text
 //! offset  size  field
 //! 0       8     magic  b"BEADCHN\0"
-//! 8       4     format version, u32 (= 3)
+//! 8       4     format version, u32 (= 4)
 //! 12      ...   sections, back to back
 //! ```
 //!
@@ -32,8 +32,8 @@
 //!
 //! | tag    | section | payload |
 //! |--------|---------|---------|
-//! | `HEAD` | HEADER  | bincode of [`Header`] (see *bincode* below). Exactly once, first. |
-//! | `FRAM` | FRAME   | frame number `k` u64 (0, 1, 2, … in file order), then `t` f64, then `u[i]` f64 for every stored bead `i`, then `v[i]` f64 for every stored bead (raw LE, no bincode); a field not stored is left out. `L = 16 + 8 M F` exactly for `M` stored beads and `F` stored fields ([`Header::output`], see [`select`]); every bead and both fields (`L = 16 + 16 N`, `N = Header::n_beads`) unless the run selected fewer. Zero or more, in time order. The number lets a reader reject frames that were moved, duplicated or dropped even where no INDEX survives. |
+//! | `HEAD` | HEADER  | bincode of the named record of [`Header`]: `Vec<(String, `[`record::Value`]`)>`, keys in [`header4`] (see *bincode* below). Exactly once, first. |
+//! | `FRAM` | FRAME   | frame number `k` u64 (0, 1, 2, … in file order), then `t` f64, then the energy `E_d` f64 dissipated by damped contacts from `t = 0` (0 for a conservative chain), then `u[i]` f64 for every stored bead `i`, then `v[i]` f64 for every stored bead (raw LE, no bincode); a field not stored is left out. `L = 24 + 8 M F` exactly for `M` stored beads and `F` stored fields ([`Header::output`], see [`select`]); every bead and both fields (`L = 24 + 16 N`, `N = Header::n_beads`) unless the run selected fewer. Zero or more, in time order. The number lets a reader reject frames that were moved, duplicated or dropped even where no INDEX survives. |
 //! | `EVTB` | EVENT BLOCK | `first` u64 (the log index of the block's first event: the number of events in the blocks before it), then bincode of `Vec<`[`EventRecord`]`>` (not empty): the next events of the log, in processing order. Zero or more, between the frames. The number lets a reader reject blocks that were moved, duplicated or dropped. |
 //! | `EVIX` | EVENT INDEX | `count` u64, then `count` × u64 byte offsets of the EVENT BLOCK sections in file order. `L = 8 + 8 count`. |
 //! | `STAT` | STATS   | bincode of [`RunSummary`]. |
@@ -46,8 +46,13 @@
 //! appends each block at once, so neither holds the whole log: a run's memory does not grow
 //! with its number of events, and an unfinished file holds the events up to its last block.
 //!
+//! *Version 3* (still read): the HEADER is bincode of the internal `Header` (with the `Scene`
+//! and `Chain` structs of that version, frozen in `header.rs`; the SI scales of a physical scene
+//! only in its description, to seven significant digits), and a FRAME has no `E_d`
+//! (`L = 16 + 8 M F`). Golden file `data/golden/v3_selection.snap`.
+//!
 //! *Version 2* (still read): the HEADER has no `output` field (bincode of the version-3
-//! [`Header`] without its last field), and the `Chain` inside it has no `damping` field
+//! header without its last field), and the `Chain` inside it has no `damping` field
 //! (dissipative contact laws came with version 3); its frames hold every bead and both fields.
 //! Decoded in `header.rs` (frozen layouts); golden file `data/golden/v2.snap`.
 //!
@@ -59,8 +64,10 @@
 //! `config::standard().with_fixed_int_encoding().with_little_endian()`: integers fixed width LE,
 //! `String`/`Vec` prefixed by a u64 length, `Option` by a u8 (0/1), enums by a u32 variant index,
 //! struct fields in declaration order with no names. The payload must be consumed exactly.
-//! Consequently *any* change to the field list of [`Header`] (including `Scene`, `Chain`,
-//! `RunSettings`, `Method`, `Engine`), [`EventRecord`] or [`RunSummary`] (including `Stats`) is a
+//! The HEADER's record names its keys, so a field added to `Scene` or `Chain` needs a key
+//! ([`header4`] destructures every struct, so it does not compile until it has one) and a
+//! reader of an older build refuses the unknown key. [`EventRecord`] and [`RunSummary`]
+//! (including `Stats`) are still stored by field order: any change to their field lists is a
 //! format change: bump [`FORMAT_VERSION`] and keep a decoder for the old layout, proven by the
 //! golden files in `data/golden/`.
 //!
@@ -76,7 +83,8 @@
 //!   reader scans the sections from the start, verifying every checksum, keeps every whole frame
 //!   and records in [`Snapshot::warnings`] where and why it stopped.
 //! - Lengths are validated before anything is allocated: a section must fit in the rest of the
-//!   file, a FRAME must be exactly `16 + 16 N` bytes, an INDEX exactly `24 + 16 count`, and
+//!   file, a FRAME must be exactly its selection's length (`24 + 16 N` bytes for every bead),
+//!   an INDEX exactly `24 + 16 count`, and
 //!   bincode decoding runs under a byte limit proportional to the payload size. A corrupted
 //!   length is an error ([`SnapshotError::AbsurdLength`]), never a huge allocation. A HEADER
 //!   whose output selection is not a strictly increasing bead list below `N` is corrupt.

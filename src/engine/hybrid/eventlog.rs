@@ -54,8 +54,8 @@ impl Hybrid<'_> {
             let d = |t: f64| pre + cl.w_at(t, c) - cl.w_at(t, c + 1);
             let dd = |t: f64| cl.integ.dense_at(t, m + k) - cl.integ.dense_at(t, m + k + 1);
             let p = step_max(d, dd, ta, tb);
-            if p > self.peak[c] {
-                self.peak[c] = p;
+            if p > self.st.peak[c] {
+                self.st.peak[c] = p;
             }
         }
         for side in [0u8, 1] {
@@ -76,8 +76,8 @@ impl Hybrid<'_> {
             let dd = |t: f64| s * cl.v_at(t, i);
             let p = step_max(d, dd, ta, tb);
             let k = self.n - 1 + side as usize;
-            if p > self.peak[k] {
-                self.peak[k] = p;
+            if p > self.st.peak[k] {
+                self.st.peak[k] = p;
             }
         }
     }
@@ -114,8 +114,8 @@ impl Hybrid<'_> {
             EventKind::WallClose => 3,
             EventKind::WallOpen => 4,
         };
-        self.counts[k] += 1;
-        self.events.push(EventRecord {
+        self.st.counts[k] += 1;
+        self.st.events.push(EventRecord {
             t,
             contact: contact as u64,
             kind,
@@ -126,9 +126,9 @@ impl Hybrid<'_> {
 
     /// Hands the buffered events to the observer and empties the buffer (keeping its capacity).
     pub(super) fn flush_events(&mut self, obs: &mut dyn Observer) -> Result<(), EngineError> {
-        if !self.events.is_empty() {
-            obs.events(&self.events)?;
-            self.events.clear();
+        if !self.st.events.is_empty() {
+            obs.events(&self.st.events)?;
+            self.st.events.clear();
         }
         Ok(())
     }

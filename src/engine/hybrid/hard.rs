@@ -35,8 +35,8 @@ use crate::engine::EngineError;
 impl Hybrid<'_> {
     /// Acceleration of bead `i` at the current event time (its owner settled there).
     fn accel_of(&self, i: usize) -> f64 {
-        match self.owner[i] {
-            FREE => self.free[i].g,
+        match self.st.owner[i] {
+            FREE => self.st.free[i].g,
             s => {
                 let cl = self.clusters[s as usize].as_ref().expect("live cluster");
                 let m = cl.m();
@@ -52,7 +52,7 @@ impl Hybrid<'_> {
     /// Gives beads `a..b` of one cluster the velocity `v` at `t` (the cluster settled at `t`):
     /// the cluster restarts from its state with the new velocities.
     fn replace_velocity(&mut self, a: usize, b: usize, t: f64, v: f64) {
-        let cl = self.remove_cluster(self.owner[a]);
+        let cl = self.remove_cluster(self.st.owner[a]);
         let (lo, hi) = (cl.lo, cl.hi);
         let us: Vec<f64> = (lo..hi).map(|k| cl.u_at(t, k)).collect();
         let mut vs: Vec<f64> = (lo..hi).map(|k| cl.v_at(t, k)).collect();
@@ -71,8 +71,12 @@ impl Hybrid<'_> {
     /// Effective restitution and separating-speed floor for collision slot `k` at `t`.
     fn tc_model(&mut self, k: usize, t: f64, e0: f64, push: f64) -> (f64, f64) {
         let tc = self.collapse_interval();
-        let e = if t - self.last_hard[k] < tc { 1.0 } else { e0 };
-        self.last_hard[k] = t;
+        let e = if t - self.st.last_hard[k] < tc {
+            1.0
+        } else {
+            e0
+        };
+        self.st.last_hard[k] = t;
         (e, push.max(0.0) * tc)
     }
 
@@ -84,7 +88,7 @@ impl Hybrid<'_> {
         let tc = self.collapse_interval();
         e0 == 0.0
             || e0 * w.max(0.0) <= push.max(0.0) * tc
-            || (e0 < 1.0 && t - self.last_hard[k] < tc)
+            || (e0 < 1.0 && t - self.st.last_hard[k] < tc)
     }
 
     /// Gives the body of bead `i` (its rigid group: free beads, or a run inside a cluster
@@ -94,7 +98,7 @@ impl Hybrid<'_> {
         if g.held[0] || g.held[1] {
             return;
         }
-        if self.owner[i] == FREE {
+        if self.st.owner[i] == FREE {
             self.set_group_velocity(&g, t, v);
         } else {
             self.replace_velocity(g.lo, g.hi, t, v);
@@ -104,12 +108,12 @@ impl Hybrid<'_> {
     /// A hard contact `c` closes at `t`.
     pub(super) fn process_hard(&mut self, c: usize, t: f64) -> Result<(), EngineError> {
         let e0 = self.chain.hard_restitution(c).unwrap_or(1.0);
-        for side in [self.owner[c], self.owner[c + 1]] {
+        for side in [self.st.owner[c], self.st.owner[c + 1]] {
             if side != FREE {
                 self.settle_at(side, t)?;
             }
         }
-        if self.owner[c] == FREE && self.owner[c + 1] == FREE {
+        if self.st.owner[c] == FREE && self.st.owner[c + 1] == FREE {
             self.collide_free(c, t, e0);
             return Ok(());
         }
@@ -121,11 +125,11 @@ impl Hybrid<'_> {
         self.log(t, c, EventKind::HardCollision, w, 0.0);
         if self.sticks(c, t, e0, w, push) {
             // a resting contact: the two bodies join one cluster and move as one there
-            self.last_hard[c] = t;
+            self.st.last_hard[c] = t;
             let v = collide(ma, va, mb, vb, 0.0).0;
             self.set_velocity(c, t, v);
             self.set_velocity(c + 1, t, v);
-            self.stuck[c] = true;
+            self.st.stuck[c] = true;
             return self.merge_at(c, t);
         }
         let (e, floor) = self.tc_model(c, t, e0, push);
@@ -141,16 +145,16 @@ impl Hybrid<'_> {
     /// groups, or they stick and form one group ([`super::stick`]).
     fn collide_free(&mut self, c: usize, t: f64, e0: f64) {
         let (ga, gb) = (self.group_of(c), self.group_of(c + 1));
-        let (fa, fb) = (self.free[c], self.free[c + 1]);
+        let (fa, fb) = (self.st.free[c], self.st.free[c + 1]);
         let (va, vb) = (fa.at(t).1, fb.at(t).1);
         let w = va - vb;
         let stick = self.sticks(c, t, e0, w, fa.g - fb.g);
-        self.last_hard[c] = t;
+        self.st.last_hard[c] = t;
         self.log(t, c, EventKind::HardCollision, w, 0.0);
         let (ma, mb) = (self.group_mass(&ga), self.group_mass(&gb));
         if stick {
             let v = collide(ma, va, mb, vb, 0.0).0;
-            self.stuck[c] = true;
+            self.st.stuck[c] = true;
             self.form_group(ga.lo, gb.hi, [ga.held[0], gb.held[1]], t, v);
         } else {
             let (va2, vb2) = collide(ma, va, mb, vb, e0 * w.max(0.0));
@@ -168,11 +172,11 @@ impl Hybrid<'_> {
     pub(super) fn process_hard_wall(&mut self, side: u8, t: f64) -> Result<(), EngineError> {
         let i = if side == 0 { 0 } else { self.n - 1 };
         let e0 = self.hard_wall(side).unwrap_or(1.0);
-        if self.owner[i] == FREE {
+        if self.st.owner[i] == FREE {
             self.wall_free(side, i, t, e0);
             return Ok(());
         }
-        self.settle_at(self.owner[i], t)?;
+        self.settle_at(self.st.owner[i], t)?;
         let v = self.pos(i, t).1;
         let g = self.group_of(i);
         let (w, push) = if side == 0 {
@@ -187,7 +191,7 @@ impl Hybrid<'_> {
         if stick {
             // Pressed into the wall by its cluster, and the collision sticks: the rigid-wall
             // limit is a bead held at the wall (pinned) until the net force pulls it away.
-            self.pinned[side as usize] = true;
+            self.st.pinned[side as usize] = true;
             self.replace_velocity(g.lo, g.hi, t, 0.0);
         } else {
             let sep = (e * w.max(0.0)).max(floor);
@@ -201,12 +205,12 @@ impl Hybrid<'_> {
     /// it sticks and is held at rest by the wall ([`super::stick`]).
     fn wall_free(&mut self, side: u8, i: usize, t: f64, e0: f64) {
         let g = self.group_of(i);
-        let f = self.free[i];
+        let f = self.st.free[i];
         let v = f.at(t).1;
         let (w, push) = if side == 0 { (-v, -f.g) } else { (v, f.g) };
         let k = self.n - 1 + side as usize;
         let stick = self.sticks(k, t, e0, w, push);
-        self.last_hard[k] = t;
+        self.st.last_hard[k] = t;
         self.log(t, i, EventKind::HardCollision, w, 0.0);
         if stick {
             let mut held = g.held;
@@ -232,7 +236,7 @@ impl Hybrid<'_> {
             self.schedule_wall(1);
         }
         for i in lo..hi {
-            if self.owner[i] == FREE {
+            if self.st.owner[i] == FREE {
                 self.check_new_free(i, t);
             }
         }

@@ -49,7 +49,7 @@ mod stick;
 pub use stepping::HybridEngine;
 
 use super::{EngineError, Observer, RunConfig};
-use crate::engine::events::EventRecord;
+use crate::engine::checkpoint::HybridData;
 use crate::integrate::{IntegrationError, Stats, Tolerances};
 use crate::model::Chain;
 use crate::scene::Scene;
@@ -127,44 +127,28 @@ pub fn contact_threshold(chain: &Chain, rtol: f64, atol: f64) -> f64 {
     atol.max(rtol.powf(p))
 }
 
-/// The hybrid engine's state (plain data + scratch).
+/// The hybrid engine: what it derives from the scene (rebuilt, never saved), its plain data
+/// ([`HybridData`], saved as it is), its live clusters and event queue (saved as data by
+/// [`Hybrid::save`], rebuilt by [`Hybrid::restore`]), and scratch.
 pub struct Hybrid<'a> {
+    // ---- derived from the scene and the run configuration
     chain: &'a Chain,
     cfg: &'a RunConfig,
     tol: Tolerances,
     theta: f64,
     n: usize,
-    owner: Vec<u32>,
-    free: Vec<Free>,
-    version: Vec<u64>,
-    clusters: Vec<Option<Cluster>>,
-    spare_slots: Vec<u32>,
-    queue: PriorityQueue<Key, Prio>,
+    /// Field acceleration per bead, `W_i / m_i`.
     g: Vec<f64>,
-    /// Largest overlap per contact since it closed (`N − 1` contacts, then the left and right
-    /// walls at `N − 1 + side`).
-    peak: Vec<f64>,
-    stats: Stats,
-    /// Events not yet handed to the observer (at most about one block).
-    events: Vec<EventRecord>,
-    counts: [u64; 5],
-    largest: usize,
-    steps_total: u64,
-    late_merges: u64,
-    /// Implicit steps of the clusters removed so far.
-    implicit_steps: u64,
-    clock: f64,
-    last_hard: Vec<f64>,
-    pinned: [bool; 2],
-    /// Per contact: a resting (sticking) hard contact joining two free beads ([`stick`]).
-    stuck: Vec<bool>,
+    // ---- state
+    /// Plain data (the checkpoint stores it as it is).
+    st: HybridData,
+    clusters: Vec<Option<Cluster>>,
+    queue: PriorityQueue<Key, Prio>,
+    /// The last frame (at the run's end time) has been emitted (reset by every advance).
+    finished: bool,
+    // ---- scratch
     /// Scratch of [`Hybrid::form_group`].
     pools: Vec<stick::Pool>,
-    next_frame: u64,
-    /// The last frame (at the run's end time) has been emitted.
-    finished: bool,
-    /// Energy dissipated by ended cluster integrations ([`Hybrid::dissipated_at`]).
-    dissipated: f64,
     bu: Vec<f64>,
     bv: Vec<f64>,
     bz: Vec<f64>,
@@ -191,29 +175,31 @@ impl<'a> Hybrid<'a> {
             tol,
             theta: contact_threshold(chain, cfg.rtol, cfg.atol) * scales.length,
             n,
-            owner: vec![FREE; n],
-            free: vec![Free::default(); n],
-            version: vec![0; n],
-            clusters: Vec::new(),
-            spare_slots: Vec::new(),
-            queue: PriorityQueue::new(),
             g,
-            peak: vec![0.0; n + 1],
-            stats: Stats::default(),
-            events: Vec::new(),
-            counts: [0; 5],
-            largest: 0,
-            steps_total: 0,
-            late_merges: 0,
-            implicit_steps: 0,
-            clock: 0.0,
-            last_hard: vec![f64::NEG_INFINITY; n + 1],
-            pinned: [false; 2],
-            stuck: vec![false; n.saturating_sub(1)],
-            pools: Vec::with_capacity(n + 2),
-            next_frame: 0,
+            st: HybridData {
+                t: 0.0,
+                owner: vec![FREE; n],
+                free: vec![Free::default(); n],
+                version: vec![0; n],
+                spare_slots: Vec::new(),
+                peak: vec![0.0; n + 1],
+                stats: Stats::default(),
+                events: Vec::new(),
+                counts: [0; 5],
+                largest: 0,
+                steps_total: 0,
+                late_merges: 0,
+                implicit_steps: 0,
+                last_hard: vec![f64::NEG_INFINITY; n + 1],
+                pinned: [false; 2],
+                stuck: vec![false; n.saturating_sub(1)],
+                next_frame: 0,
+                dissipated: 0.0,
+            },
+            clusters: Vec::new(),
+            queue: PriorityQueue::new(),
             finished: false,
-            dissipated: 0.0,
+            pools: Vec::with_capacity(n + 2),
             bu: vec![0.0; n],
             bv: vec![0.0; n],
             bz: vec![0.0; 2 * n],
@@ -267,8 +253,8 @@ impl<'a> Hybrid<'a> {
 
     /// Displacement and velocity of bead `i` at `t` (valid where its owner's output is).
     fn pos(&self, i: usize, t: f64) -> (f64, f64) {
-        match self.owner[i] {
-            FREE => self.free[i].at(t),
+        match self.st.owner[i] {
+            FREE => self.st.free[i].at(t),
             s => {
                 let c = self.clusters[s as usize]
                     .as_ref()
@@ -280,7 +266,7 @@ impl<'a> Hybrid<'a> {
 
     /// Latest time up to which bead `i`'s trajectory is known.
     fn known_until(&self, i: usize) -> f64 {
-        match self.owner[i] {
+        match self.st.owner[i] {
             FREE => f64::INFINITY,
             s => self.clusters[s as usize]
                 .as_ref()
@@ -308,7 +294,7 @@ impl<'a> Hybrid<'a> {
     }
 
     /// Starts at `t0` from states `u0`, `v0` of every bead (free beads and clusters from the
-    /// contacts that are closed or closing); the next frame is `self.next_frame`.
+    /// contacts that are closed or closing); the next frame is `self.st.next_frame`.
     fn init(&mut self, t0: f64, u0: &[f64], v0: &[f64]) {
         let n = self.n;
         let mut lo = 0;
@@ -325,7 +311,7 @@ impl<'a> Hybrid<'a> {
                 hi += 1;
             }
             if hi - lo == 1 && !self.wall_holds(lo, u0[lo], v0[lo]) {
-                self.free[lo] = Free {
+                self.st.free[lo] = Free {
                     t0,
                     u0: u0[lo],
                     v0: v0[lo],
@@ -341,7 +327,7 @@ impl<'a> Hybrid<'a> {
         }
         self.schedule_wall(0);
         self.schedule_wall(1);
-        let tf = self.cfg.frame_time(self.next_frame);
+        let tf = self.cfg.frame_time(self.st.next_frame);
         self.queue.push(Key::Frame, prio(tf, 0, 0, Key::Frame));
     }
 
@@ -369,19 +355,19 @@ impl<'a> Hybrid<'a> {
         obs: &mut dyn Observer,
     ) -> Result<super::Stop, EngineError> {
         loop {
-            let stop = super::poll_stop(obs, self.clock, || {
+            let stop = super::poll_stop(obs, self.st.t, || {
                 super::EngineState::Hybrid(Box::new(self.save()))
             })?;
             if stop {
-                return Ok(super::Stop::Requested { t: self.clock });
+                return Ok(super::Stop::Requested { t: self.st.t });
             }
-            if self.events.len() >= super::EVENT_BLOCK {
+            if self.st.events.len() >= super::EVENT_BLOCK {
                 self.flush_events(obs)?;
             }
             match self.queue.peek() {
                 None => break,
                 Some((_, Reverse((t, _, _, _)))) if t.0 > until => {
-                    self.clock = self.clock.max(until);
+                    self.st.t = self.st.t.max(until);
                     return Ok(super::Stop::Reached { t: until });
                 }
                 Some(_) => {}
@@ -390,7 +376,7 @@ impl<'a> Hybrid<'a> {
                 break;
             };
             let t = t.0;
-            self.clock = t;
+            self.st.t = t;
             match key {
                 Key::Frame => {
                     for i in 0..self.n {
@@ -407,8 +393,8 @@ impl<'a> Hybrid<'a> {
                         self.finished = true;
                         return Ok(super::Stop::Reached { t });
                     }
-                    self.next_frame += 1;
-                    let tf = self.cfg.frame_time(self.next_frame);
+                    self.st.next_frame += 1;
+                    let tf = self.cfg.frame_time(self.st.next_frame);
                     self.queue.push(Key::Frame, prio(tf, 0, 0, Key::Frame));
                 }
                 Key::Cluster(slot) => {
@@ -453,17 +439,17 @@ impl<'a> Hybrid<'a> {
                 lo: cl.lo,
                 mass: &cl.mass,
                 pinned: cl.pinned,
-                rigid: cl.rigid.then(|| &self.stuck[cl.lo..cl.hi - 1]),
+                rigid: cl.rigid.then(|| &self.st.stuck[cl.lo..cl.hi - 1]),
             };
             let t0 = cl.t_now;
             let t1 = cl.integ.step(&sys, until)?;
             cl.t_now = t1;
             (cl.lo, cl.hi, t0, t1)
         };
-        self.steps_total += 1;
+        self.st.steps_total += 1;
 
         if let Some(max) = self.cfg.max_steps {
-            if self.steps_total >= max {
+            if self.st.steps_total >= max {
                 return Err(IntegrationError::Budget(max).into());
             }
         }
@@ -494,7 +480,7 @@ impl<'a> Hybrid<'a> {
         }
         // Hard walls: the cluster holding an end bead watches the wall gap itself.
         let mut wall_hit: Option<(f64, u8)> = None;
-        if lo == 0 && self.hard_wall(0).is_some() && !self.pinned[0] {
+        if lo == 0 && self.hard_wall(0).is_some() && !self.st.pinned[0] {
             let pre = self
                 .chain
                 .left_wall
@@ -510,7 +496,7 @@ impl<'a> Hybrid<'a> {
                 wall_hit = Some((t, 0));
             }
         }
-        if hi == self.n && self.hard_wall(1).is_some() && !self.pinned[1] {
+        if hi == self.n && self.hard_wall(1).is_some() && !self.st.pinned[1] {
             let pre = self
                 .chain
                 .right_wall
@@ -553,7 +539,7 @@ impl<'a> Hybrid<'a> {
             cl.pending = Some(cluster::Pending::Close {
                 contact: c,
                 t,
-                ver: (self.version[c], self.version[c + 1]),
+                ver: (self.st.version[c], self.st.version[c + 1]),
             });
             cl.t_now = t;
             self.queue
@@ -572,10 +558,10 @@ impl<'a> Hybrid<'a> {
     /// Energy dissipated by damped contacts up to `t`: the ended integrations plus every live
     /// cluster's integral up to `t` (which its last step covers, as for frames).
     fn dissipated_at(&self, t: f64) -> f64 {
-        let mut e = self.dissipated;
+        let mut e = self.st.dissipated;
         if self.chain.is_dissipative() {
             for cl in self.clusters.iter().flatten() {
-                let sys = cl.sys(self.chain, &self.stuck);
+                let sys = cl.sys(self.chain, &self.st.stuck);
                 e += crate::integrate::dissipated_at(&*cl.integ, &sys, t.min(cl.integ.t()));
             }
         }
@@ -590,7 +576,7 @@ impl<'a> Hybrid<'a> {
             let c = cl.lo + k;
             let d = self.pre(c) + z[k] - z[k + 1];
             let dd = z[m + k] - z[m + k + 1];
-            if d < self.theta && dd < 0.0 && !self.stuck[c] {
+            if d < self.theta && dd < 0.0 && !self.st.stuck[c] {
                 return true;
             }
         }

@@ -32,9 +32,12 @@ impl Hybrid<'_> {
             self.bv[i] = v[i] - fv;
         }
         let mut mass = chain.mass[lo..hi].to_vec();
-        let pinned = [lo == 0 && self.pinned[0], hi == self.n && self.pinned[1]];
+        let pinned = [
+            lo == 0 && self.st.pinned[0],
+            hi == self.n && self.st.pinned[1],
+        ];
         // a pinned bead, and the rigid run of resting contacts holding it, are held at rest
-        let stuck = &self.stuck[lo..hi - 1];
+        let stuck = &self.st.stuck[lo..hi - 1];
         let left_run = stuck.iter().take_while(|s| **s).count();
         let right_run = stuck.iter().rev().take_while(|s| **s).count();
         if pinned[0] {
@@ -50,13 +53,13 @@ impl Hybrid<'_> {
             }
         }
         let mut integ = make_integrator(self.cfg, m, self.cluster_tol(fv));
-        let rigid = self.stuck[lo..hi - 1].contains(&true);
+        let rigid = self.st.stuck[lo..hi - 1].contains(&true);
         let sys = ClusterSys {
             chain,
             lo,
             mass: &mass,
             pinned,
-            rigid: rigid.then(|| &self.stuck[lo..hi - 1]),
+            rigid: rigid.then(|| &self.st.stuck[lo..hi - 1]),
         };
         integ.reset(&sys, t, &self.bu[..m], &self.bv[..m]);
         let cl = Cluster {
@@ -72,7 +75,7 @@ impl Hybrid<'_> {
             pinned,
             rigid,
         };
-        let slot = match self.spare_slots.pop() {
+        let slot = match self.st.spare_slots.pop() {
             Some(s) => {
                 self.clusters[s as usize] = Some(cl);
                 s
@@ -83,10 +86,10 @@ impl Hybrid<'_> {
             }
         };
         for i in lo..hi {
-            self.owner[i] = slot;
-            self.version[i] += 1;
+            self.st.owner[i] = slot;
+            self.st.version[i] += 1;
         }
-        self.largest = self.largest.max(m);
+        self.st.largest = self.st.largest.max(m as u64);
         self.queue
             .push(Key::Cluster(slot), prio(t, 2, lo, Key::Cluster(slot)));
         self.unstick_around(lo, hi, t);
@@ -106,22 +109,22 @@ impl Hybrid<'_> {
     pub(super) fn remove_cluster(&mut self, slot: u32) -> Cluster {
         let cl = self.clusters[slot as usize].take().expect("live cluster");
         if self.chain.is_dissipative() {
-            let sys = cl.sys(self.chain, &self.stuck);
+            let sys = cl.sys(self.chain, &self.st.stuck);
             let t = cl.t_now.min(cl.integ.t());
-            self.dissipated += crate::integrate::dissipated_at(&*cl.integ, &sys, t);
+            self.st.dissipated += crate::integrate::dissipated_at(&*cl.integ, &sys, t);
         }
         self.queue.remove(&Key::Cluster(slot));
-        self.stats.add(cl.integ.stats());
-        self.implicit_steps += cl.integ.implicit_steps();
-        self.spare_slots.push(slot);
+        self.st.stats.add(cl.integ.stats());
+        self.st.implicit_steps += cl.integ.implicit_steps();
+        self.st.spare_slots.push(slot);
         cl
     }
 
     /// Makes bead `i` free with state (u, v) at `t`.
     pub(super) fn set_free(&mut self, i: usize, t: f64, u: f64, v: f64) {
-        self.owner[i] = FREE;
-        self.version[i] += 1;
-        self.free[i] = Free {
+        self.st.owner[i] = FREE;
+        self.st.version[i] += 1;
+        self.st.free[i] = Free {
             t0: t,
             u0: u,
             v0: v,
@@ -132,11 +135,11 @@ impl Hybrid<'_> {
     /// (Re)computes the predicted closing of contact `c` if both its beads are free.
     pub(super) fn schedule_free_pair(&mut self, c: usize) {
         let key = Key::FreeFree(c as u32);
-        if self.owner[c] != FREE || self.owner[c + 1] != FREE {
+        if self.st.owner[c] != FREE || self.st.owner[c + 1] != FREE {
             self.queue.remove(&key);
             return;
         }
-        let (fa, fb) = (self.free[c], self.free[c + 1]);
+        let (fa, fb) = (self.st.free[c], self.st.free[c + 1]);
         let tr = fa.t0.max(fb.t0);
         let (ua, va) = fa.at(tr);
         let (ub, vb) = fb.at(tr);
@@ -160,11 +163,11 @@ impl Hybrid<'_> {
     pub(super) fn schedule_wall(&mut self, side: u8) {
         let key = Key::Wall(side);
         let i = if side == 0 { 0 } else { self.n - 1 };
-        if self.owner[i] != FREE {
+        if self.st.owner[i] != FREE {
             self.queue.remove(&key);
             return;
         }
-        let f = self.free[i];
+        let f = self.st.free[i];
         let (d, dd, ddd, theta) = match (self.hard_wall(side), side) {
             (Some(_), 0) => {
                 let w = self.chain.left_wall.as_ref().expect("wall");
@@ -201,28 +204,28 @@ impl Hybrid<'_> {
     /// there parks the cluster at it.
     pub(super) fn check_new_free(&mut self, i: usize, t: f64) {
         let mut found: Option<(u32, usize, f64)> = None;
-        if i > 0 && self.owner[i - 1] != FREE {
+        if i > 0 && self.st.owner[i - 1] != FREE {
             let theta = self.closing_offset(i - 1, t);
-            let s = self.owner[i - 1];
+            let s = self.st.owner[i - 1];
             let a = self.clusters[s as usize].as_ref().expect("live");
             if a.t_now > t {
                 let c = i - 1;
                 let pre = self.pre(c);
-                let f = self.free[i];
+                let f = self.st.free[i];
                 let g = |x: f64| pre + a.u_at(x, c) - f.at(x).0 - theta;
                 if let Some(tc) = super::detect::first_crossing(g, t, a.t_now) {
                     found = Some((s, c, tc));
                 }
             }
         }
-        if i + 1 < self.n && self.owner[i + 1] != FREE {
+        if i + 1 < self.n && self.st.owner[i + 1] != FREE {
             let theta = self.closing_offset(i, t);
-            let s = self.owner[i + 1];
+            let s = self.st.owner[i + 1];
             let a = self.clusters[s as usize].as_ref().expect("live");
             if a.t_now > t {
                 let c = i;
                 let pre = self.pre(c);
-                let f = self.free[i];
+                let f = self.st.free[i];
                 let g = |x: f64| pre + f.at(x).0 - a.u_at(x, i + 1) - theta;
                 if let Some(tc) = super::detect::first_crossing(g, t, a.t_now) {
                     if found.is_none_or(|(_, _, te)| tc < te) {
@@ -232,7 +235,7 @@ impl Hybrid<'_> {
             }
         }
         if let Some((s, c, tc)) = found {
-            let ver = (self.version[c], self.version[c + 1]);
+            let ver = (self.st.version[c], self.st.version[c + 1]);
             let a = self.clusters[s as usize].as_mut().expect("live");
             a.pending = Some(super::cluster::Pending::Close {
                 contact: c,
@@ -276,18 +279,18 @@ impl Hybrid<'_> {
             lo: cl.lo,
             mass: &cl.mass,
             pinned: cl.pinned,
-            rigid: cl.rigid.then(|| &self.stuck[cl.lo..cl.hi - 1]),
+            rigid: cl.rigid.then(|| &self.st.stuck[cl.lo..cl.hi - 1]),
         };
         if t - t0 <= 64.0 * f64::EPSILON * t.abs().max(f64::MIN_POSITIVE) {
             // A few ulps after the step start: too short to integrate (the stage times would
             // coincide); the continuous output is exact to rounding there.
             cl.integ.dense(t, z);
-            self.dissipated += crate::integrate::dissipated_at(&*cl.integ, &sys, t);
+            self.st.dissipated += crate::integrate::dissipated_at(&*cl.integ, &sys, t);
             cl.integ.reset(&sys, t, &z[..m], &z[m..]);
             return Ok(());
         }
         cl.integ.dense(t0, z);
-        self.dissipated += cl.integ.dissipated().0;
+        self.st.dissipated += cl.integ.dissipated().0;
         cl.integ.reset(&sys, t0, &z[..m], &z[m..]);
         if t > t0 {
             cl.integ.set_step_size(t - t0);
@@ -300,17 +303,17 @@ impl Hybrid<'_> {
 
     /// Merges everything on both sides of contact `c` into one cluster at `t`.
     pub(super) fn merge_at(&mut self, c: usize, t: f64) -> Result<(), EngineError> {
-        for side in [self.owner[c], self.owner[c + 1]] {
+        for side in [self.st.owner[c], self.st.owner[c + 1]] {
             if side != FREE {
                 self.settle_at(side, t)?;
             }
         }
         // a free bead joins with its whole rigid group
-        let lo = match self.owner[c] {
+        let lo = match self.st.owner[c] {
             FREE => self.group_of(c).lo,
             s => self.clusters[s as usize].as_ref().expect("live").lo,
         };
-        let hi = match self.owner[c + 1] {
+        let hi = match self.st.owner[c + 1] {
             FREE => self.group_of(c + 1).hi,
             s => self.clusters[s as usize].as_ref().expect("live").hi,
         };
@@ -321,7 +324,7 @@ impl Hybrid<'_> {
             u[i - lo] = a;
             v[i - lo] = b;
         }
-        for side in [self.owner[c], self.owner[c + 1]] {
+        for side in [self.st.owner[c], self.st.owner[c + 1]] {
             if side != FREE && self.clusters[side as usize].is_some() {
                 self.remove_cluster(side);
             }
@@ -332,10 +335,10 @@ impl Hybrid<'_> {
         // diagnostic the tests hold at zero).
         let d = self.pre(c) + u[c - lo] - u[c + 1 - lo];
         if d > 1e3 * self.theta + 1e-12 * self.tol.scales.length {
-            self.late_merges += 1;
+            self.st.late_merges += 1;
         }
-        self.peak[c] = 0.0;
-        if !self.stuck[c] {
+        self.st.peak[c] = 0.0;
+        if !self.st.stuck[c] {
             self.log(t, c, EventKind::Close, rel, 0.0);
         }
         self.make_cluster(lo, hi, t, &u, &v);
@@ -350,7 +353,7 @@ impl Hybrid<'_> {
         t: f64,
         ver: (u64, u64),
     ) -> Result<(), EngineError> {
-        if self.version[c] == ver.0 && self.version[c + 1] == ver.1 {
+        if self.st.version[c] == ver.0 && self.st.version[c + 1] == ver.1 {
             if self.chain.hard_restitution(c).is_some() {
                 return self.process_hard(c, t);
             }
@@ -377,7 +380,7 @@ impl Hybrid<'_> {
         let i = if side == 0 { 0 } else { self.n - 1 };
         let (u, v) = self.pos(i, t);
         self.drop_predictions(i, i + 1);
-        self.peak[self.n - 1 + side as usize] = 0.0;
+        self.st.peak[self.n - 1 + side as usize] = 0.0;
         self.log(t, i, EventKind::WallClose, v, 0.0);
         self.make_cluster(i, i + 1, t, &[u], &[v]);
     }
@@ -402,7 +405,7 @@ impl Hybrid<'_> {
                 let k = i - lo;
                 let d = self.pre(i) + z[k] - z[k + 1];
                 if self.chain.hard_restitution(i).is_some() {
-                    !self.stuck[i]
+                    !self.st.stuck[i]
                 } else {
                     d < self.theta && z[m + k] - z[m + k + 1] < 0.0
                 }
@@ -415,8 +418,8 @@ impl Hybrid<'_> {
                 let g = |x: f64| theta - (pre + cl.w_at(x, i) - cl.w_at(x, i + 1));
                 let t_open = super::detect::first_crossing(g, cl.integ.t_prev(), t).unwrap_or(t);
                 let rel = cl.v_at(t_open, i) - cl.v_at(t_open, i + 1);
-                self.log(t_open, i, EventKind::Open, rel, self.peak[i]);
-                self.peak[i] = 0.0;
+                self.log(t_open, i, EventKind::Open, rel, self.st.peak[i]);
+                self.st.peak[i] = 0.0;
             }
             if opens || last {
                 let (a, b) = (start - lo, i + 1 - lo);
@@ -425,11 +428,11 @@ impl Hybrid<'_> {
                         let (t_open, side) = self.wall_open_at(&cl, start, t);
                         let k = self.n - 1 + side as usize;
                         let rel = cl.v_at(t_open, start);
-                        self.log(t_open, start, EventKind::WallOpen, rel, self.peak[k]);
-                        self.peak[k] = 0.0;
+                        self.log(t_open, start, EventKind::WallOpen, rel, self.st.peak[k]);
+                        self.st.peak[k] = 0.0;
                     }
                     self.set_free(start, t, u[a], v[a]);
-                } else if i > start && (start..i).all(|k| self.stuck[k]) {
+                } else if i > start && (start..i).all(|k| self.st.stuck[k]) {
                     self.free_rigid_piece(start, i + 1, t, &u[a..b], &v[a..b]);
                 } else {
                     self.make_cluster(start, i + 1, t, &u[a..b], &v[a..b]);
@@ -441,7 +444,7 @@ impl Hybrid<'_> {
             self.schedule_free_pair(c);
         }
         for i in lo..hi {
-            if self.owner[i] == FREE {
+            if self.st.owner[i] == FREE {
                 self.check_new_free(i, t);
             }
         }
@@ -453,7 +456,7 @@ impl Hybrid<'_> {
         }
         // an end bead left alone against the hard wall that holds it stays held, as a group
         for (side, i) in [(0, 0), (1, self.n - 1)] {
-            if self.pinned[side] && self.owner[i] == FREE && (lo..hi).contains(&i) {
+            if self.st.pinned[side] && self.st.owner[i] == FREE && (lo..hi).contains(&i) {
                 self.regroup(i, t);
             }
         }

@@ -51,26 +51,9 @@ impl Hybrid<'_> {
                 .unwrap_or(std::cmp::Ordering::Equal)
         });
         HybridState {
-            t: self.clock,
-            owner: self.owner.clone(),
-            free: self.free.clone(),
-            version: self.version.clone(),
+            data: self.st.clone(),
             clusters,
-            spare_slots: self.spare_slots.clone(),
             queue,
-            peak: self.peak.clone(),
-            stats: self.stats.clone(),
-            events: self.events.clone(),
-            counts: self.counts,
-            largest: self.largest as u64,
-            steps_total: self.steps_total,
-            late_merges: self.late_merges,
-            implicit_steps: self.implicit_steps,
-            last_hard: self.last_hard.clone(),
-            pinned: self.pinned,
-            stuck: self.stuck.clone(),
-            next_frame: self.next_frame,
-            dissipated: self.dissipated,
         }
     }
 
@@ -78,10 +61,7 @@ impl Hybrid<'_> {
     /// and the next frame) are recomputed, so `until` may have been extended.
     pub(super) fn restore(&mut self, s: &HybridState) -> Result<(), String> {
         s.check(self.n)?;
-        self.clock = s.t;
-        self.owner.clone_from(&s.owner);
-        self.free.clone_from(&s.free);
-        self.version.clone_from(&s.version);
+        self.st.clone_from(&s.data);
         self.clusters = s
             .clusters
             .iter()
@@ -105,11 +85,10 @@ impl Hybrid<'_> {
                     pending: c.pending,
                     mass: c.mass.clone(),
                     pinned: c.pinned,
-                    rigid: s.stuck[c.lo as usize..c.hi as usize - 1].contains(&true),
+                    rigid: s.data.stuck[c.lo as usize..c.hi as usize - 1].contains(&true),
                 }))
             })
             .collect::<Result<_, String>>()?;
-        self.spare_slots.clone_from(&s.spare_slots);
         self.queue.clear();
         for e in &s.queue {
             let key = match e.kind {
@@ -123,25 +102,12 @@ impl Hybrid<'_> {
                 Reverse((ordered_float::OrderedFloat(e.t), e.class, e.tie, key.id())),
             );
         }
-        self.peak.clone_from(&s.peak);
-        self.stats = s.stats.clone();
-        self.events.clone_from(&s.events);
-        self.counts = s.counts;
-        self.largest = s.largest as usize;
-        self.steps_total = s.steps_total;
-        self.late_merges = s.late_merges;
-        self.implicit_steps = s.implicit_steps;
-        self.last_hard.clone_from(&s.last_hard);
-        self.pinned = s.pinned;
-        self.stuck.clone_from(&s.stuck);
-        self.next_frame = s.next_frame;
-        self.dissipated = s.dissipated;
         for c in 0..self.n.saturating_sub(1) {
             self.schedule_free_pair(c);
         }
         self.schedule_wall(0);
         self.schedule_wall(1);
-        let tf = self.cfg.frame_time(self.next_frame);
+        let tf = self.cfg.frame_time(self.st.next_frame);
         self.queue.push(Key::Frame, prio(tf, 0, 0, Key::Frame));
         Ok(())
     }

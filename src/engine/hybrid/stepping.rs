@@ -41,18 +41,18 @@ impl<'a> HybridEngine<'a> {
 impl Engine for HybridEngine<'_> {
     fn advance(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Stop, EngineError> {
         check_target(until, self.h.cfg.until)?;
-        if self.h.finished || until < self.h.clock {
-            return Ok(Stop::Reached { t: self.h.clock });
+        if self.h.finished || until < self.h.st.t {
+            return Ok(Stop::Reached { t: self.h.st.t });
         }
         self.h.advance_to(until, obs)
     }
 
     fn time(&self) -> f64 {
-        self.h.clock
+        self.h.st.t
     }
 
     fn state(&self) -> State {
-        let t = self.h.clock;
+        let t = self.h.st.t;
         let (u, v) = (0..self.h.n).map(|i| self.h.pos(i, t)).unzip();
         State { t, u, v }
     }
@@ -69,7 +69,7 @@ impl Engine for HybridEngine<'_> {
                 v.len()
             )));
         }
-        let t = h.clock;
+        let t = h.st.t;
         let u: Vec<f64> = (0..h.n).map(|i| h.pos(i, t).0).collect();
         for slot in 0..h.clusters.len() {
             if let Some(cl) = h.clusters[slot].as_mut() {
@@ -79,11 +79,11 @@ impl Engine for HybridEngine<'_> {
         }
         h.queue.clear();
         for i in 0..h.n {
-            h.owner[i] = FREE;
-            h.version[i] += 1;
+            h.st.owner[i] = FREE;
+            h.st.version[i] += 1;
         }
-        h.stuck.iter_mut().for_each(|s| *s = false);
-        h.pinned = [false; 2];
+        h.st.stuck.iter_mut().for_each(|s| *s = false);
+        h.st.pinned = [false; 2];
         // the tolerances' scales and the contact threshold follow the new state
         h.tol.scales = h.chain.scales(&u, v);
         h.theta = super::contact_threshold(h.chain, h.cfg.rtol, h.cfg.atol) * h.tol.scales.length;
@@ -93,8 +93,8 @@ impl Engine for HybridEngine<'_> {
 
     fn outcome(&self) -> RunOutcome {
         let h = &self.h;
-        let mut stats = h.stats.clone();
-        let mut implicit_steps = h.implicit_steps;
+        let mut stats = h.st.stats.clone();
+        let mut implicit_steps = h.st.implicit_steps;
         for c in h.clusters.iter().flatten() {
             stats.add(c.integ.stats());
             implicit_steps += c.integ.implicit_steps();
@@ -104,13 +104,13 @@ impl Engine for HybridEngine<'_> {
             stats,
             events_by_kind: names
                 .iter()
-                .zip(h.counts)
+                .zip(h.st.counts)
                 .map(|(n, c)| (n.to_string(), c))
                 .collect(),
-            largest_cluster: h.largest as u64,
-            late_merges: h.late_merges,
+            largest_cluster: h.st.largest,
+            late_merges: h.st.late_merges,
             implicit_steps,
-            dissipated: h.dissipated_at(h.clock),
+            dissipated: h.dissipated_at(h.st.t),
             ..outcome_at(self.scene, self.state(), self.start)
         }
     }

@@ -90,17 +90,20 @@ impl Hybrid<'_> {
     /// a run inside its cluster: a cluster's boundary contacts are never stuck).
     pub(super) fn group_of(&self, i: usize) -> Group {
         let mut lo = i;
-        while lo > 0 && self.stuck[lo - 1] {
+        while lo > 0 && self.st.stuck[lo - 1] {
             lo -= 1;
         }
         let mut hi = i + 1;
-        while hi < self.n && self.stuck[hi - 1] {
+        while hi < self.n && self.st.stuck[hi - 1] {
             hi += 1;
         }
         Group {
             lo,
             hi,
-            held: [lo == 0 && self.pinned[0], hi == self.n && self.pinned[1]],
+            held: [
+                lo == 0 && self.st.pinned[0],
+                hi == self.n && self.st.pinned[1],
+            ],
         }
     }
 
@@ -116,14 +119,14 @@ impl Hybrid<'_> {
     /// Gives every bead of group `g` the velocity `v` at `t` (same accelerations).
     pub(super) fn set_group_velocity(&mut self, g: &Group, t: f64, v: f64) {
         for i in g.lo..g.hi {
-            let f = self.free[i];
-            self.free[i] = Free {
+            let f = self.st.free[i];
+            self.st.free[i] = Free {
                 t0: t,
                 u0: f.at(t).0,
                 v0: v,
                 g: f.g,
             };
-            self.version[i] += 1;
+            self.st.version[i] += 1;
         }
     }
 
@@ -178,29 +181,29 @@ impl Hybrid<'_> {
             push(&mut pools, wall);
         }
         if lo == 0 {
-            self.pinned[0] = pools.first().is_some_and(|p| p.wall[0] && p.hi > p.lo);
+            self.st.pinned[0] = pools.first().is_some_and(|p| p.wall[0] && p.hi > p.lo);
         }
         if hi == self.n {
-            self.pinned[1] = pools.last().is_some_and(|p| p.wall[1] && p.hi > p.lo);
+            self.st.pinned[1] = pools.last().is_some_and(|p| p.wall[1] && p.hi > p.lo);
         }
         for p in &pools {
             let held = p.wall[0] || p.wall[1];
             let (vp, a) = if held { (0.0, 0.0) } else { (v, p.accel()) };
             for i in p.lo..p.hi {
-                let u = self.free[i].at(t).0;
-                self.free[i] = Free {
+                let u = self.st.free[i].at(t).0;
+                self.st.free[i] = Free {
                     t0: t,
                     u0: u,
                     v0: vp,
                     g: a,
                 };
-                self.version[i] += 1;
+                self.st.version[i] += 1;
                 if i + 1 < p.hi {
-                    self.stuck[i] = true;
+                    self.st.stuck[i] = true;
                 }
             }
             if p.hi > p.lo && p.hi < hi {
-                self.stuck[p.hi - 1] = false;
+                self.st.stuck[p.hi - 1] = false;
             }
         }
         self.pools = pools;
@@ -209,12 +212,12 @@ impl Hybrid<'_> {
     /// Beads `lo..hi` are joining a cluster at `t`: the stuck contacts at its boundary open, and
     /// the free groups next to it are re-formed without those beads.
     pub(super) fn unstick_around(&mut self, lo: usize, hi: usize, t: f64) {
-        if lo > 0 && self.stuck[lo - 1] {
-            self.stuck[lo - 1] = false;
+        if lo > 0 && self.st.stuck[lo - 1] {
+            self.st.stuck[lo - 1] = false;
             self.regroup(lo - 1, t);
         }
-        if hi < self.n && self.stuck[hi - 1] {
-            self.stuck[hi - 1] = false;
+        if hi < self.n && self.st.stuck[hi - 1] {
+            self.st.stuck[hi - 1] = false;
             self.regroup(hi, t);
         }
     }
@@ -223,7 +226,7 @@ impl Hybrid<'_> {
     /// closings.
     pub(super) fn regroup(&mut self, i: usize, t: f64) {
         let g = self.group_of(i);
-        let v = self.free[i].at(t).1;
+        let v = self.st.free[i].at(t).1;
         self.form_group(g.lo, g.hi, g.held, t, v);
         self.after_velocity_change(g.lo, g.hi, t);
     }
@@ -238,7 +241,7 @@ impl Hybrid<'_> {
         let mut acc = vec![0.0; m];
         self.chain.accel_v(cl.lo, &z[..m], &z[m..], &mut acc);
         let mass = &self.chain.mass[cl.lo..cl.hi];
-        let stuck = &self.stuck[cl.lo..cl.hi - 1];
+        let stuck = &self.st.stuck[cl.lo..cl.hi - 1];
         let mut a = 0;
         while a < m {
             let mut b = a;
@@ -285,7 +288,10 @@ impl Hybrid<'_> {
         for i in lo..hi {
             self.set_free(i, t, u[i - lo], vm);
         }
-        let held = [lo == 0 && self.pinned[0], hi == self.n && self.pinned[1]];
+        let held = [
+            lo == 0 && self.st.pinned[0],
+            hi == self.n && self.st.pinned[1],
+        ];
         self.form_group(lo, hi, held, t, vm);
     }
 
@@ -298,12 +304,12 @@ impl Hybrid<'_> {
             cl.rigid.then(|| self.tension(cl)).flatten(),
         );
         if let Some(side) = side {
-            self.pinned[side as usize] = false;
+            self.st.pinned[side as usize] = false;
             let i = if side == 0 { 0 } else { self.n - 1 };
             self.log(t, i, EventKind::WallOpen, 0.0, 0.0);
         }
         if let Some(c) = tense {
-            self.stuck[c] = false;
+            self.st.stuck[c] = false;
         }
     }
 
@@ -318,7 +324,7 @@ impl Hybrid<'_> {
         let mut acc = vec![0.0; m];
         self.chain.accel_v(cl.lo, &z[..m], &z[m..], &mut acc);
         if cl.rigid {
-            let (mass, stuck) = (&self.chain.mass[cl.lo..], &self.stuck[cl.lo..cl.hi - 1]);
+            let (mass, stuck) = (&self.chain.mass[cl.lo..], &self.st.stuck[cl.lo..cl.hi - 1]);
             super::cluster::rigid_accel(mass, stuck, [false; 2], &mut acc);
         }
         if cl.pinned[0] && acc[0] > 0.0 {
