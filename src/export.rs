@@ -11,9 +11,11 @@
 //! row per frame; `.npz` with the chain arrays).
 
 mod inspect;
+mod units;
 pub mod wide;
 
 pub use inspect::{damaged_frames, inspect, inspect_with};
+pub use units::ExportUnits;
 
 use crate::snapshot::{Frame, Snapshot, SnapshotError};
 use std::fmt;
@@ -96,6 +98,7 @@ impl fmt::Display for Num {
 pub fn export_csv(
     snap: &Snapshot,
     sel: FrameSel,
+    units: &ExportUnits,
     out: &mut dyn Write,
 ) -> Result<(), SnapshotError> {
     let range = sel.range(snap)?;
@@ -106,6 +109,7 @@ pub fn export_csv(
     let mut f = Frame::default();
     for k in range {
         snap.read_frame_into(k, &mut f)?;
+        units.frame(&mut f);
         for j in 0..f.u.len().max(f.v.len()) {
             write!(w, "{k},{},{}", Num(f.t), s.bead(j))?;
             for x in [f.u.get(j), f.v.get(j)].into_iter().flatten() {
@@ -139,6 +143,7 @@ pub fn npy_header(rows: u64, cols: u64) -> Vec<u8> {
 pub fn export_npy(
     snap: &Snapshot,
     sel: FrameSel,
+    units: &ExportUnits,
     out: &mut dyn Write,
 ) -> Result<(), SnapshotError> {
     let range = sel.range(snap)?;
@@ -149,6 +154,7 @@ pub fn export_npy(
     let mut f = Frame::default();
     for k in range {
         snap.read_frame_into(k, &mut f)?;
+        units.frame(&mut f);
         for j in 0..f.u.len().max(f.v.len()) {
             for x in [k as f64, f.t, s.bead(j) as f64] {
                 w.write_all(&x.to_le_bytes())?;
@@ -163,17 +169,21 @@ pub fn export_npy(
 }
 
 /// Writes the event log as CSV with header `t,contact,kind,rel_velocity,peak_overlap`.
-pub fn export_events_csv(snap: &Snapshot, out: &mut dyn Write) -> Result<(), SnapshotError> {
+pub fn export_events_csv(
+    snap: &Snapshot,
+    units: &ExportUnits,
+    out: &mut dyn Write,
+) -> Result<(), SnapshotError> {
     let mut w = BufWriter::with_capacity(1 << 16, out);
     writeln!(w, "t,contact,kind,rel_velocity,peak_overlap")?;
     for e in snap.events() {
         writeln!(
             w,
             "{},{},{},{},{}",
-            Num(e.t),
+            Num(e.t * units.time),
             e.contact,
             e.kind.name(),
-            Num(e.rel_velocity),
+            Num(units.velocity(e.rel_velocity)),
             Num(e.peak_overlap)
         )?;
     }

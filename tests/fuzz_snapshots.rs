@@ -13,7 +13,7 @@
 
 mod fuzz_support;
 
-use beadchain::export::{export_csv, export_npy, inspect, FrameSel};
+use beadchain::export::{export_csv, export_npy, inspect, ExportUnits, FrameSel};
 use beadchain::integrate::{Method, Stats};
 use beadchain::model::{Chain, Wall};
 use beadchain::scene::{Engine, RunSettings, Scene};
@@ -373,11 +373,11 @@ fn check_snapshot(path: &Path, base_header: &Header, flags: u8) -> Result<(), Te
     }
     for sel in [FrameSel::All, FrameSel::Last] {
         let mut csv = Vec::new();
-        if export_csv(&s, sel, &mut csv).is_ok() && sel == FrameSel::All {
+        if export_csv(&s, sel, &ExportUnits::computer(), &mut csv).is_ok() && sel == FrameSel::All {
             let rows = csv.iter().filter(|&&c| c == b'\n').count();
             prop_assert_eq!(rows, 1 + n * s.frame_count());
         }
-        let _ = export_npy(&s, sel, &mut Vec::new());
+        let _ = export_npy(&s, sel, &ExportUnits::computer(), &mut Vec::new());
     }
     let chain = s.header().scene.chain.clone();
     let _report = inspect(&s, &chain);

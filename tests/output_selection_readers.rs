@@ -7,61 +7,9 @@ mod output_selection_support;
 
 use beadchain::snapshot::Snapshot;
 use common::bc;
+use common::npy::{parse_npy, parse_zip};
 use output_selection_support::*;
-use std::collections::BTreeMap;
 use std::path::Path;
-
-fn u16le(b: &[u8], at: usize) -> usize {
-    u16::from_le_bytes([b[at], b[at + 1]]) as usize
-}
-
-fn u32le(b: &[u8], at: usize) -> usize {
-    u32::from_le_bytes(b[at..at + 4].try_into().unwrap()) as usize
-}
-
-/// Shape and data of a v1.0 little-endian float64 `.npy`.
-fn parse_npy(b: &[u8]) -> (Vec<usize>, Vec<f64>) {
-    assert_eq!(&b[..8], b"\x93NUMPY\x01\x00");
-    let hl = u16le(b, 8);
-    let dict = std::str::from_utf8(&b[10..10 + hl]).unwrap();
-    let shape = dict
-        .split("'shape': (")
-        .nth(1)
-        .unwrap()
-        .split(')')
-        .next()
-        .unwrap();
-    let shape: Vec<usize> = shape
-        .split(',')
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .map(|s| s.parse().unwrap())
-        .collect();
-    let data: Vec<f64> = b[10 + hl..]
-        .chunks_exact(8)
-        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
-        .collect();
-    assert_eq!(data.len(), shape.iter().product::<usize>(), "{dict}");
-    (shape, data)
-}
-
-/// The stored entries of a zip, through its central directory.
-fn parse_zip(b: &[u8]) -> BTreeMap<String, Vec<u8>> {
-    let end = b.len() - 22;
-    assert_eq!(u32le(b, end), 0x0605_4b50);
-    let mut at = u32le(b, end + 16);
-    let mut out = BTreeMap::new();
-    for _ in 0..u16le(b, end + 10) {
-        let size = u32le(b, at + 20);
-        let (nl, xl, cl) = (u16le(b, at + 28), u16le(b, at + 30), u16le(b, at + 32));
-        let local = u32le(b, at + 42);
-        let name = String::from_utf8(b[at + 46..at + 46 + nl].to_vec()).unwrap();
-        let data_at = local + 30 + u16le(b, local + 26) + u16le(b, local + 28);
-        out.insert(name, b[data_at..data_at + size].to_vec());
-        at += 46 + nl + xl + cl;
-    }
-    out
-}
 
 /// A striker run storing beads 10, 12, …, 18 and 95 (field u), and the full run beside it.
 fn subset_and_full(d: &Path) -> (Snapshot, Snapshot) {

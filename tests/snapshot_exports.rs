@@ -4,7 +4,9 @@
 //! Float comparisons here are bit-exact (absolute and relative tolerance 0): the CSV export
 //! prints round-trip decimals and NPY stores raw IEEE-754 bits.
 
-use beadchain::export::{export_csv, export_events_csv, export_npy, inspect, npy_header, FrameSel};
+use beadchain::export::{
+    export_csv, export_events_csv, export_npy, inspect, npy_header, ExportUnits, FrameSel,
+};
 use beadchain::snapshot::{write_atomically, Snapshot, SnapshotError};
 
 mod snapshot_support;
@@ -15,7 +17,7 @@ fn csv_export_header_rows_and_round_trip() {
     let (_d, p, fr) = sample();
     let s = Snapshot::open(&p).unwrap();
     let mut out = Vec::new();
-    export_csv(&s, FrameSel::All, &mut out).unwrap();
+    export_csv(&s, FrameSel::All, &ExportUnits::computer(), &mut out).unwrap();
     let text = String::from_utf8(out).unwrap();
     let mut lines = text.lines();
     assert_eq!(lines.next(), Some("frame,t,bead,u,v"));
@@ -35,9 +37,15 @@ fn csv_export_header_rows_and_round_trip() {
         );
     }
     let mut last = Vec::new();
-    export_csv(&s, FrameSel::Last, &mut last).unwrap();
+    export_csv(&s, FrameSel::Last, &ExportUnits::computer(), &mut last).unwrap();
     assert_eq!(String::from_utf8(last).unwrap().lines().count(), 1 + 4);
-    let e = export_csv(&s, FrameSel::Index(9), &mut Vec::new()).unwrap_err();
+    let e = export_csv(
+        &s,
+        FrameSel::Index(9),
+        &ExportUnits::computer(),
+        &mut Vec::new(),
+    )
+    .unwrap_err();
     assert!(
         e.to_string().contains("frame 9") && e.to_string().contains("5 frames"),
         "{e}"
@@ -76,7 +84,7 @@ fn npy_header_and_data() {
     let (d, p, fr) = sample();
     let s = Snapshot::open(&p).unwrap();
     let mut out = Vec::new();
-    export_npy(&s, FrameSel::All, &mut out).unwrap();
+    export_npy(&s, FrameSel::All, &ExportUnits::computer(), &mut out).unwrap();
     let h = npy_header(20, 5);
     assert_eq!(&out[..h.len()], &h[..]);
     let data: Vec<f64> = out[h.len()..]
@@ -93,7 +101,10 @@ fn npy_header_and_data() {
     }
     // numpy.load, when numpy is installed.
     let npy = d.path().join("out.npy");
-    write_atomically(&npy, |w| export_npy(&s, FrameSel::All, w)).unwrap();
+    write_atomically(&npy, |w| {
+        export_npy(&s, FrameSel::All, &ExportUnits::computer(), w)
+    })
+    .unwrap();
     let have_numpy = std::process::Command::new("python3")
         .args(["-c", "import numpy"])
         .stderr(std::process::Stdio::null())
@@ -118,7 +129,7 @@ fn events_csv() {
     let (_d, p, _) = sample();
     let s = Snapshot::open(&p).unwrap();
     let mut out = Vec::new();
-    export_events_csv(&s, &mut out).unwrap();
+    export_events_csv(&s, &ExportUnits::computer(), &mut out).unwrap();
     let text = String::from_utf8(out).unwrap();
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines[0], "t,contact,kind,rel_velocity,peak_overlap");

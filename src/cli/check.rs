@@ -21,7 +21,7 @@ pub struct CheckArgs {
 /// Runs `beadchain check`; returns the exit code (1 when the engines disagree).
 pub fn cmd_check(a: CheckArgs) -> Result<i32> {
     let scene = load_scene(&a.common.scene)?;
-    let base = config(&scene, &a.common);
+    let base = config(&scene, &a.common)?;
     engine::check_config(&scene, &base).with_context(|| scene.name.clone())?;
     let tol = a.tol.unwrap_or(1000.0 * base.rtol);
     compare(&scene, &base, tol, a.common.quiet)

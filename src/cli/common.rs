@@ -70,6 +70,9 @@ pub struct Common {
     /// End time [default: the scene's `[run] until`].
     #[arg(long)]
     pub until: Option<f64>,
+    /// End time in seconds (physical scenes: divided by the scene's time unit β).
+    #[arg(long, conflicts_with = "until")]
+    pub until_si: Option<f64>,
     /// Linear solver of the implicit method.
     #[arg(long, value_enum, default_value = "auto")]
     pub solver: SolverArg,
@@ -94,8 +97,21 @@ pub fn load_scene(spec: &str) -> Result<Scene> {
     Ok(scene)
 }
 
+/// `x` seconds in the computer time of `scene` (`x / β`, paper eq. 10); a one-line error naming
+/// `option` when the scene is dimensionless.
+pub fn si_time(scene: &Scene, option: &str, x: f64) -> Result<f64> {
+    match scene.units {
+        Some(u) => Ok(x / u.time),
+        None => anyhow::bail!(
+            "{option}: scene `{}` is dimensionless (computer units only); SI times need a \
+             physical scene ([units] system = \"physical\")",
+            scene.name
+        ),
+    }
+}
+
 /// The run configuration: the scene's `[run]` settings overridden by the command line.
-pub fn config(scene: &Scene, c: &Common) -> RunConfig {
+pub fn config(scene: &Scene, c: &Common) -> Result<RunConfig> {
     let mut cfg = RunConfig::from_scene(scene);
     if let Some(m) = c.method {
         cfg.method = m.into();
@@ -118,13 +134,16 @@ pub fn config(scene: &Scene, c: &Common) -> RunConfig {
     if let Some(t) = c.until {
         cfg.until = t;
     }
+    if let Some(t) = c.until_si {
+        cfg.until = si_time(scene, "--until-si", t)?;
+    }
     cfg.solver = match c.solver {
         SolverArg::Auto => SolverKind::Auto,
         SolverArg::Direct => SolverKind::Direct,
         SolverArg::Faer => SolverKind::Faer,
     };
     cfg.max_steps = c.max_steps;
-    cfg
+    Ok(cfg)
 }
 
 /// The run summary, on `w` (standard output, or standard error when the snapshot itself goes

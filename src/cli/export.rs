@@ -4,7 +4,7 @@
 //! atomically (never half-written).
 
 use anyhow::{bail, Context, Result};
-use beadchain::export::{self, FrameSel};
+use beadchain::export::{self, ExportUnits, FrameSel};
 use beadchain::snapshot::Snapshot;
 use clap::ValueEnum;
 use std::io::Write;
@@ -49,6 +49,19 @@ pub struct ExportArgs {
     /// Output path [default: standard output for CSV; required for NPY/NPZ; `-`: standard output].
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Units of the numbers: the snapshot's computer units, or SI for a physical scene
+    /// (t in s, u in m, v in m/s; .npz mass in kg, prefactor in J/m^n).
+    #[arg(long, value_enum, default_value = "computer")]
+    units: UnitsOpt,
+}
+
+/// `--units` of `export`.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq)]
+pub enum UnitsOpt {
+    /// The simulation's computer units (the snapshot's numbers, bit for bit).
+    Computer,
+    /// SI (physical scenes only).
+    Si,
 }
 
 /// The export's format (`--format`, else the `--out` extension, else CSV) and layout
@@ -81,6 +94,11 @@ pub fn cmd_export(a: ExportArgs) -> Result<i32> {
     for w in snap.warnings() {
         eprintln!("beadchain: warning: {w}");
     }
+    let units = match a.units {
+        UnitsOpt::Computer => ExportUnits::computer(),
+        UnitsOpt::Si => ExportUnits::si_of(&snap.header().scene)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", a.file.display()))?,
+    };
     let sel: FrameSel = a
         .frame
         .parse()
@@ -88,12 +106,12 @@ pub fn cmd_export(a: ExportArgs) -> Result<i32> {
     let write = |out: &mut dyn Write| -> Result<(), beadchain::snapshot::SnapshotError> {
         use beadchain::export::wide;
         match (a.events, format, layout) {
-            (true, _, _) => export::export_events_csv(&snap, out),
-            (_, Format::Csv, Layout::Long) => export::export_csv(&snap, sel, out),
-            (_, Format::Npy, Layout::Long) => export::export_npy(&snap, sel, out),
-            (_, Format::Csv, Layout::Wide) => wide::export_csv_wide(&snap, sel, out),
-            (_, Format::Npy, Layout::Wide) => wide::export_npy_wide(&snap, sel, out),
-            (_, Format::Npz, _) => wide::export_npz(&snap, sel, out),
+            (true, _, _) => export::export_events_csv(&snap, &units, out),
+            (_, Format::Csv, Layout::Long) => export::export_csv(&snap, sel, &units, out),
+            (_, Format::Npy, Layout::Long) => export::export_npy(&snap, sel, &units, out),
+            (_, Format::Csv, Layout::Wide) => wide::export_csv_wide(&snap, sel, &units, out),
+            (_, Format::Npy, Layout::Wide) => wide::export_npy_wide(&snap, sel, &units, out),
+            (_, Format::Npz, _) => wide::export_npz(&snap, sel, &units, out),
         }
     };
     let to_stdout = a.out.as_deref().is_none_or(|p| p.as_os_str() == "-");

@@ -24,6 +24,9 @@ pub struct RunArgs {
     /// Output interval [default: the scene's `[run] every`, else first and last frame].
     #[arg(long)]
     pub every: Option<f64>,
+    /// Output interval in seconds (physical scenes: divided by the scene's time unit β).
+    #[arg(long, conflicts_with = "every")]
+    pub every_si: Option<f64>,
     /// Output snapshot [default: `<scene name>.snap` in the current directory].
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -44,12 +47,15 @@ pub struct RunArgs {
 /// Runs `beadchain run`; returns the exit code.
 pub fn cmd_run(a: RunArgs) -> Result<i32> {
     let mut scene = load_scene(&a.common.scene)?;
-    let mut cfg = config(&scene, &a.common);
+    let mut cfg = config(&scene, &a.common)?;
     if let Some(e) = a.engine {
         cfg.engine = e.into();
     }
     if a.every.is_some() {
         cfg.every = a.every;
+    }
+    if let Some(dt) = a.every_si {
+        cfg.every = Some(super::common::si_time(&scene, "--every-si", dt)?);
     }
     scene.run.until = cfg.until;
     scene.run.every = cfg.every;

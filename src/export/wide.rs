@@ -19,7 +19,7 @@
 //! order `t | u | v`; CSV columns are labelled with the real index (`u10,u11,…`). The chain arrays
 //! stay whole (`(N,)`, `(N−1,)`).
 
-use super::{FrameSel, Num};
+use super::{ExportUnits, FrameSel, Num};
 use crate::snapshot::{Frame, Selection, Snapshot, SnapshotError};
 use std::io::{self, BufWriter, Write};
 
@@ -90,6 +90,7 @@ pub fn npz_bytes_of(frames: u64, beads: u64, sel: &Selection) -> u64 {
 pub fn export_npy_wide(
     snap: &Snapshot,
     sel: FrameSel,
+    units: &ExportUnits,
     out: &mut dyn Write,
 ) -> Result<(), SnapshotError> {
     let range = sel.range(snap)?;
@@ -99,6 +100,7 @@ pub fn export_npy_wide(
     let mut f = Frame::default();
     for k in range {
         snap.read_frame_into(k, &mut f)?;
+        units.frame(&mut f);
         w.write_all(&f.t.to_le_bytes())?;
         for x in f.u.iter().chain(&f.v) {
             w.write_all(&x.to_le_bytes())?;
@@ -118,6 +120,7 @@ fn stored_values(snap: &Snapshot) -> u64 {
 pub fn export_csv_wide(
     snap: &Snapshot,
     sel: FrameSel,
+    units: &ExportUnits,
     out: &mut dyn Write,
 ) -> Result<(), SnapshotError> {
     let range = sel.range(snap)?;
@@ -134,6 +137,7 @@ pub fn export_csv_wide(
     let mut f = Frame::default();
     for k in range {
         snap.read_frame_into(k, &mut f)?;
+        units.frame(&mut f);
         write!(w, "{}", Num(f.t))?;
         for x in f.u.iter().chain(&f.v) {
             write!(w, ",{}", Num(*x))?;
@@ -156,6 +160,7 @@ enum Field {
 pub fn export_npz(
     snap: &Snapshot,
     sel: FrameSel,
+    units: &ExportUnits,
     out: &mut dyn Write,
 ) -> Result<(), SnapshotError> {
     let range = sel.range(snap)?;
@@ -172,6 +177,8 @@ pub fn export_npz(
     let chain = &snap.header().scene.chain;
     let zeros = vec![0.0; chain.exponent.len()];
     let pre = chain.precompression.as_deref().unwrap_or(&zeros);
+    let mass: Vec<f64> = chain.mass.iter().map(|m| m * units.mass).collect();
+    let prefactor: Vec<f64> = chain.prefactor.iter().map(|a| a * units.energy).collect();
     let mut z = ZipWriter::new(BufWriter::with_capacity(1 << 16, out));
     for (name, field) in [
         ("t.npy", Field::T),
@@ -189,6 +196,7 @@ pub fn export_npz(
             let mut f = Frame::default();
             for k in range.clone() {
                 snap.read_frame_into(k, &mut f)?;
+                units.frame(&mut f);
                 match field {
                     Field::T => w.write_all(&f.t.to_le_bytes())?,
                     Field::U => write_f64s(w, &f.u)?,
@@ -206,9 +214,9 @@ pub fn export_npz(
         })?;
     }
     for (name, xs) in [
-        ("mass.npy", chain.mass.as_slice()),
+        ("mass.npy", mass.as_slice()),
         ("exponent.npy", chain.exponent.as_slice()),
-        ("prefactor.npy", chain.prefactor.as_slice()),
+        ("prefactor.npy", prefactor.as_slice()),
         ("precompression.npy", pre),
     ] {
         z.entry(name, |w| {

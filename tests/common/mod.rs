@@ -1,6 +1,8 @@
 //! Shared helpers for integration tests: scenes built in code (independent of the TOML parser).
 #![allow(dead_code)]
 
+pub mod npy;
+
 use beadchain::engine::{Recorder, RunConfig, RunOutcome};
 use beadchain::integrate::Method;
 use beadchain::linalg::SolverKind;

@@ -1,0 +1,197 @@
+//! SI units on the command line (issue 13): `run --until-si/--every-si` take seconds for a
+//! physical scene (divided by its time unit β, paper eq. 10), and `export --units si` writes
+//! t·β (s), u (m), v/β (m/s), mass·m0 (kg), prefactor·m0/β² (J/mⁿ), event times and relative
+//! velocities likewise. Dimensionless scenes refuse both with one line naming the option; nothing
+//! is written.
+
+mod common;
+
+use beadchain::snapshot::Snapshot;
+use common::bc;
+use common::npy::{parse_npy, parse_zip};
+use std::process::Output;
+
+fn ok(o: &Output) {
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+fn refused(o: &Output, starts: &str) {
+    assert_eq!(o.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(e.lines().count(), 1, "{e}");
+    assert!(e.starts_with(starts), "{e}");
+}
+
+/// `|a − b| ≤ atol + rtol·|b|`.
+fn close(a: f64, b: f64, atol: f64, rtol: f64) -> bool {
+    (a - b).abs() <= atol + rtol * b.abs()
+}
+
+const UNTIL_SI: f64 = 1e-4;
+const EVERY_SI: f64 = 2.5e-5;
+
+/// The physical preset run to 1e-4 s with frames every 2.5e-5 s.
+fn physical_run(d: &std::path::Path) -> Snapshot {
+    let (until, every) = (UNTIL_SI.to_string(), EVERY_SI.to_string());
+    let args = [
+        "run",
+        "hertz_spheres_physical",
+        "--until-si",
+        until.as_str(),
+        "--every-si",
+        every.as_str(),
+        "--out",
+        "p.snap",
+        "-q",
+    ];
+    ok(&bc(d, &args));
+    Snapshot::open(&d.join("p.snap")).unwrap()
+}
+
+#[test]
+fn until_si_and_every_si_are_seconds_of_a_physical_scene() {
+    let d = tempfile::tempdir().unwrap();
+    let snap = physical_run(d.path());
+    let beta = snap.header().scene.units.expect("physical scene").time;
+    assert!(close(beta, 9.057222e-7, 0.0, 1e-6), "beta {beta}");
+    assert_eq!(snap.frame_count(), 5, "t = 0, 1/4, 1/2, 3/4, 1 × 1e-4 s");
+    for k in 0..snap.frame_count() {
+        let t = snap.frame(k).unwrap().t;
+        let want = k as f64 * EVERY_SI / beta;
+        assert!(close(t, want, 0.0, 1e-14), "frame {k}: t {t} vs {want}");
+    }
+    let last = snap.frame(4).unwrap().t;
+    assert!(close(last, UNTIL_SI / beta, 0.0, 1e-15), "{last}");
+}
+
+#[test]
+fn until_si_on_a_dimensionless_scene_is_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let o = bc(
+        d.path(),
+        &["run", "striker", "--until-si", "1", "--out", "s.snap"],
+    );
+    refused(
+        &o,
+        "beadchain: error: --until-si: scene `striker` is dimensionless (computer units only)",
+    );
+    let o = bc(
+        d.path(),
+        &["run", "striker", "--every-si", "1", "--out", "s.snap"],
+    );
+    refused(
+        &o,
+        "beadchain: error: --every-si: scene `striker` is dimensionless (computer units only)",
+    );
+    let o = bc(
+        d.path(),
+        &["run", "striker", "--until-si", "1", "--until", "3"],
+    );
+    refused(&o, "beadchain: error: the argument '--until-si <UNTIL_SI>' cannot be used with '--until <UNTIL>'");
+    assert!(
+        std::fs::read_dir(d.path()).unwrap().next().is_none(),
+        "nothing written"
+    );
+    for (class, args) in [
+        (
+            "--until-si on a dimensionless scene",
+            "run striker --until-si 1",
+        ),
+        (
+            "--every-si on a dimensionless scene",
+            "run striker --every-si 1",
+        ),
+    ] {
+        println!("{class} | `beadchain {args}` | see test");
+    }
+}
+
+#[test]
+fn export_units_si_converts_frames_chain_and_events() {
+    let d = tempfile::tempdir().unwrap();
+    let snap = physical_run(d.path());
+    let sc = snap.header().scene.units.unwrap();
+    let (beta, m0) = (sc.time, sc.mass);
+    for (out, units) in [("c.npz", "computer"), ("s.npz", "si")] {
+        ok(&bc(
+            d.path(),
+            &["export", "p.snap", "--out", out, "--units", units],
+        ));
+    }
+    let c = parse_zip(&std::fs::read(d.path().join("c.npz")).unwrap());
+    let s = parse_zip(&std::fs::read(d.path().join("s.npz")).unwrap());
+    let arr = |z: &std::collections::BTreeMap<String, Vec<u8>>, k: &str| parse_npy(&z[k]).1;
+    let chain = &snap.header().scene.chain;
+    // Computer units: the snapshot's bits; SI: the documented factors, exactly as computed.
+    for k in 0..snap.frame_count() {
+        let f = snap.frame(k).unwrap();
+        assert_eq!(arr(&c, "t.npy")[k].to_bits(), f.t.to_bits());
+        assert_eq!(arr(&s, "t.npy")[k].to_bits(), (f.t * beta).to_bits());
+        let n = f.v.len();
+        for j in 0..n {
+            assert_eq!(arr(&s, "u.npy")[k * n + j].to_bits(), f.u[j].to_bits());
+            assert_eq!(
+                arr(&s, "v.npy")[k * n + j].to_bits(),
+                (f.v[j] / beta).to_bits()
+            );
+        }
+    }
+    // Hand-computed: t = 1e-4 s at the last frame; Table-1 bead mass 4/3·π·R³·ρ.
+    let t_last = *arr(&s, "t.npy").last().unwrap();
+    assert!(close(t_last, UNTIL_SI, 0.0, 1e-14), "{t_last}");
+    let m_bead = 4.0 / 3.0 * std::f64::consts::PI * 0.004f64.powi(3) * 7650.0;
+    for (m, mc) in arr(&s, "mass.npy").iter().zip(&chain.mass) {
+        assert!(close(*m, m_bead, 0.0, 1e-12), "mass {m} kg vs {m_bead}");
+        assert_eq!(m.to_bits(), (mc * m0).to_bits());
+    }
+    for (a, ac) in arr(&s, "prefactor.npy").iter().zip(&chain.prefactor) {
+        assert_eq!(a.to_bits(), (ac * m0 / (beta * beta)).to_bits());
+    }
+    assert_eq!(arr(&s, "exponent.npy"), arr(&c, "exponent.npy"));
+    // The event log: t and the relative velocity converted, the overlap a length.
+    let ev = |units: &str| {
+        let o = bc(
+            d.path(),
+            &["export", "p.snap", "--events", "--units", units],
+        );
+        ok(&o);
+        String::from_utf8(o.stdout).unwrap()
+    };
+    let (ec, es) = (ev("computer"), ev("si"));
+    assert!(ec.lines().count() > 1, "the run logs events");
+    for (lc, ls) in ec.lines().zip(es.lines()).skip(1) {
+        let c: Vec<&str> = lc.split(',').collect();
+        let s: Vec<&str> = ls.split(',').collect();
+        let num = |x: &str| x.parse::<f64>().unwrap();
+        assert_eq!(num(s[0]).to_bits(), (num(c[0]) * beta).to_bits());
+        assert_eq!(num(s[3]).to_bits(), (num(c[3]) / beta).to_bits());
+        assert_eq!((s[1], s[2], s[4]), (c[1], c[2], c[4]));
+    }
+}
+
+#[test]
+fn export_units_si_of_a_dimensionless_scene_is_refused() {
+    let d = tempfile::tempdir().unwrap();
+    ok(&bc(
+        d.path(),
+        &["run", "striker", "--out", "s.snap", "-q", "--until", "5"],
+    ));
+    let o = bc(
+        d.path(),
+        &["export", "s.snap", "--units", "si", "--out", "s.npz"],
+    );
+    refused(
+        &o,
+        "beadchain: error: s.snap: --units si: scene `striker` is dimensionless",
+    );
+    assert!(!d.path().join("s.npz").exists());
+    println!(
+        "export --units si of a dimensionless scene | `beadchain export s.snap --units si --out s.npz` | {}",
+        String::from_utf8_lossy(&o.stderr).trim()
+    );
+}
