@@ -9,6 +9,11 @@
 //!   coefficient for which a head-on collision of its two beads at relative speed `v` rebounds
 //!   with `e` ([`crate::model::law::restitution`]: the collision is solved numerically, to the
 //!   law's own clipped force, so `e` is exact for this model at `v`).
+//! - Physical scenes may instead give the material's viscosities, `[units] viscosity_shear`
+//!   (η₁) and `viscosity_bulk` (η₂) in Pa·s per bead, with `law = "viscoelastic"`: each bead's
+//!   `A = (1/3)(3η₂ − η₁)²/(3η₂ + 2η₁) · (1 − ν²)(1 − 2ν)/(Y ν²)` (Brilliantov et al., Phys.
+//!   Rev. E 53, 5382 (1996); [`super::units::brilliantov_a`]), a contact takes the mean of its
+//!   two beads' `A` (exact for one material).
 //! - A soft wall takes the coefficient of the contact next to it unless its table gives
 //!   `damping` (`damping_si`).
 //!
@@ -28,6 +33,9 @@ pub(crate) struct ChainArrays<'a> {
     pub mass: &'a [f64],
     pub exponent: &'a [f64],
     pub prefactor: &'a [f64],
+    /// Per-bead viscoelastic constant `A` (s) from the material viscosities of a physical
+    /// scene ([`super::units::brilliantov_a`]), if given.
+    pub material_a: Option<&'a [f64]>,
 }
 
 /// Parses the damping keys of `[chain]` and the wall tables; `None` for a conservative scene.
@@ -52,9 +60,15 @@ pub(crate) fn parse(
     };
     let Some(law) = law else {
         refuse_damping_keys(ctx, chain_t, walls_t)?;
+        if arrays.material_a.is_some() {
+            return Err(ctx.err("[units].viscosity_shear", VISCOSITY_LAW));
+        }
         return Ok(None);
     };
-    let contact = contact_coefficients(ctx, chain_t, law, &arrays, scales)?;
+    let contact = match (arrays.material_a, scales) {
+        (Some(a), Some(sc)) => material_coefficients(ctx, chain_t, law, a, sc)?,
+        _ => contact_coefficients(ctx, chain_t, law, &arrays, scales)?,
+    };
     let mut wall = [0.0; 2];
     for (s, side) in ["left", "right"].iter().enumerate() {
         let key = format!("[walls.{side}]");
@@ -95,6 +109,39 @@ pub(crate) fn parse(
         left_wall: wall[0],
         right_wall: wall[1],
     }))
+}
+
+/// Why material viscosities need the viscoelastic law.
+const VISCOSITY_LAW: &str = "the material viscosities give the constant A of [chain] law = \"viscoelastic\" (Brilliantov et al. 1996); set that law, or give `damping` for another law";
+
+/// Per-contact `A` (computer time) from the beads' material constants `a` (s): the mean of the
+/// two beads' `A` (exact for a contact of one material, the setting of Brilliantov et al.; an
+/// interpolation between two materials). Excludes `damping` and `restitution`.
+fn material_coefficients(
+    ctx: &Ctx,
+    chain_t: Option<&Table>,
+    law: DampingLaw,
+    a: &[f64],
+    sc: UnitScales,
+) -> Result<Vec<f64>, SceneError> {
+    if law != DampingLaw::Viscoelastic {
+        return Err(ctx.err("[units].viscosity_shear", VISCOSITY_LAW));
+    }
+    for k in [
+        "damping",
+        "damping_si",
+        "restitution",
+        "impact_speed",
+        "impact_speed_si",
+    ] {
+        if get(chain_t, k).is_some() {
+            return Err(ctx.err(
+                &kp("chain", k),
+                "give either the material viscosities ([units] viscosity_shear, viscosity_bulk) or the contacts' damping, not both",
+            ));
+        }
+    }
+    Ok(a.windows(2).map(|w| sc.time(0.5 * (w[0] + w[1]))).collect())
 }
 
 /// A conservative scene (law `power`) refuses the damping keys of `[chain]` and the walls.

@@ -23,6 +23,9 @@ pub(super) struct Material {
     pub radius: Vec<f64>,
     pub young: Vec<f64>,
     pub poisson: Vec<f64>,
+    /// Per bead, the viscoelastic constant `A` (s) from `[units] viscosity_shear` and
+    /// `viscosity_bulk` ([`units::brilliantov_a`]); `None` when the scene gives no viscosity.
+    pub viscous_a: Option<Vec<f64>>,
 }
 
 /// Masses and prefactors in scene units, with the unit scales and material of a physical scene.
@@ -108,6 +111,7 @@ fn physical_inertia(ctx: &Ctx, t: &Tables, s: &Specs, len: Len) -> Result<Inerti
             units::hertz_prefactor(radius[c], radius[c + 1], d)
         })
         .collect();
+    let viscous_a = viscous_constants(ctx, s, len, &young, &poisson)?;
     let sc = time_scale(ctx, t.units, mass_si[0], pref_si[0])?;
     Ok(Inertia {
         mass: mass_si.iter().map(|m| sc.mass(*m)).collect(),
@@ -117,8 +121,64 @@ fn physical_inertia(ctx: &Ctx, t: &Tables, s: &Specs, len: Len) -> Result<Inerti
             radius,
             young,
             poisson,
+            viscous_a,
         }),
     })
+}
+
+/// Per-bead `A` (s) of Brilliantov et al. from `[units] viscosity_shear`, `viscosity_bulk`
+/// (Pa·s; both or neither), Young's moduli and Poisson ratios (which must then be > 0).
+fn viscous_constants(
+    ctx: &Ctx,
+    s: &Specs,
+    len: Len,
+    young: &[f64],
+    poisson: &[f64],
+) -> Result<Option<Vec<f64>>, SceneError> {
+    match (&s.viscosity_shear, &s.viscosity_bulk) {
+        (None, None) => return Ok(None),
+        (Some(_), None) => {
+            return Err(ctx.err(
+                "[units].viscosity_bulk",
+                "missing: the viscoelastic constant needs both viscosity_shear and viscosity_bulk",
+            ))
+        }
+        (None, Some(_)) => {
+            return Err(ctx.err(
+                "[units].viscosity_shear",
+                "missing: the viscoelastic constant needs both viscosity_shear and viscosity_bulk",
+            ))
+        }
+        (Some(_), Some(_)) => {}
+    }
+    let mut eta = Vec::with_capacity(2);
+    for (spec, key) in [
+        (&s.viscosity_shear, "[units].viscosity_shear"),
+        (&s.viscosity_bulk, "[units].viscosity_bulk"),
+    ] {
+        let x = len.resolve(ctx, spec, key, Per::Bead, 0.0)?;
+        if let Some(i) = x.iter().position(|v| !(v.is_finite() && *v >= 0.0)) {
+            let msg = format!("must be a finite number >= 0 (Pa·s), got {}", x[i]);
+            return Err(ctx.index_err(key, Per::Bead, i, msg));
+        }
+        eta.push(x);
+    }
+    if let Some(i) = poisson.iter().position(|p| *p <= 0.0) {
+        return Err(ctx.index_err(
+            "[units].poisson",
+            Per::Bead,
+            i,
+            format!(
+                "must be > 0 with viscosities (the viscoelastic constant grows as (1 − 2ν)/ν²), got {}",
+                poisson[i]
+            ),
+        ));
+    }
+    Ok(Some(
+        (0..young.len())
+            .map(|i| units::brilliantov_a(young[i], poisson[i], eta[0][i], eta[1][i]))
+            .collect(),
+    ))
 }
 
 /// `[units].time_scale`: `"paper"` (eqs. 10–11, with `m0`, `n0`, `mu` defaulting to the first

@@ -117,6 +117,8 @@
 //! mu = 1e9                 # order of magnitude of a, default: 10^floor(log10 a) of contact 0
 //! wall_young = 2.26e11     # wall material for the default wall prefactor, default: the end bead's
 //! wall_poisson = 0.3
+//! viscosity_shear = 1.5e3  # per bead, Pa·s, with viscosity_bulk and [chain] law = "viscoelastic":
+//! viscosity_bulk = 1.5e3   # Brilliantov et al.'s A (see scene::damping); default: none
 //! ```
 //!
 //! Masses `m = ρ·4/3·πR³`, Hertz prefactors `a = 2/(5D)·sqrt(R_i R_{i+1}/(R_i+R_{i+1}))`,

@@ -102,6 +102,10 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
         mass: &inertia.mass,
         exponent: &exponent,
         prefactor: &inertia.prefactor,
+        material_a: inertia
+            .material
+            .as_ref()
+            .and_then(|m| m.viscous_a.as_deref()),
     };
     let damping = super::damping::parse(ctx, t.chain, t.walls, &walls, arrays, scales)?;
     let [left_wall, right_wall] = walls;

@@ -137,6 +137,8 @@ const UNITS_KEYS: &[&str] = &[
     "mu",
     "wall_young",
     "wall_poisson",
+    "viscosity_shear",
+    "viscosity_bulk",
 ];
 
 /// `[units].system`: true for `"physical"`. Refuses the keys the other system does not use.

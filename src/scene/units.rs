@@ -52,6 +52,21 @@ pub fn sphere_mass(radius: f64, density: f64) -> f64 {
     density * 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
 }
 
+/// The dissipative constant `A` (s) of viscoelastic spheres of one material (Brilliantov,
+/// Spahn, Hertzsch & Pöschel, Phys. Rev. E 53, 5382 (1996), eq. 24; Pöschel & Schwager,
+/// *Computational Granular Dynamics*, 2005, eq. 2.15):
+/// `A = (1/3)·(3η₂ − η₁)²/(3η₂ + 2η₁) · (1 − ν²)(1 − 2ν)/(Y ν²)`, with `η₁` the shear and
+/// `η₂` the bulk viscosity (Pa·s), `Y` Young's modulus (Pa) and `ν` Poisson's ratio (> 0).
+/// The damped Hertz force is then `F = ρ(δ^{3/2} + (3/2) A δ^{1/2} δ̇)` (Kuwabara–Kono).
+/// Without viscosity (`η₁ = η₂ = 0`) `A = 0`, the limit along any ray `η → 0`.
+pub fn brilliantov_a(young: f64, poisson: f64, shear: f64, bulk: f64) -> f64 {
+    if shear == 0.0 && bulk == 0.0 {
+        return 0.0;
+    }
+    let visc = (3.0 * bulk - shear).powi(2) / (3.0 * bulk + 2.0 * shear) / 3.0;
+    visc * (1.0 - poisson * poisson) * (1.0 - 2.0 * poisson) / (young * poisson * poisson)
+}
+
 /// `D = 3/4 [(1−σ₁²)/Y₁ + (1−σ₂²)/Y₂]` (paper eq. 4), in Pa⁻¹.
 pub fn hertz_d(young1: f64, poisson1: f64, young2: f64, poisson2: f64) -> f64 {
     0.75 * ((1.0 - poisson1 * poisson1) / young1 + (1.0 - poisson2 * poisson2) / young2)
