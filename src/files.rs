@@ -15,9 +15,10 @@
 //! (SIGKILL, power loss) leaves its hidden `.<name>.tmp-<pid>-<k>`. Before a new output of the
 //! same name is written, siblings of that exact pattern whose `<pid>` is no longer a running
 //! process are removed. A process is taken as alive when `/proc/<pid>` exists (Linux); where
-//! `/proc` is not mounted nothing is removed. The temporary named by `<name>.ckpt` (a checkpoint
-//! a `beadchain resume` can still continue) is always kept, and so is everything when that
-//! checkpoint exists but cannot be read.
+//! `/proc` is not mounted nothing is removed. The caller names a temporary to keep: the snapshot
+//! layer keeps the one `<name>.ckpt` continues (a checkpoint a `beadchain resume` can still
+//! continue), and keeps everything when that checkpoint exists but cannot be read
+//! (`crate::snapshot::remove_stale_temps`).
 //!
 //! **Inputs** ([`read_text_limited`]). Text inputs (scene files, CSV files, sweep files) are
 //! read through a byte limit ([`MAX_TEXT_BYTES`]), so `beadchain run /dev/zero` fails at once
@@ -124,9 +125,10 @@ pub fn process_alive(pid: u32) -> Option<bool> {
     Some(Path::new(&format!("/proc/{pid}")).exists())
 }
 
-/// Removes the stale temporaries of `path` (see the module docs); returns the removed paths.
-/// Best effort: errors (unreadable directory, a file that vanished) are skipped.
-pub fn remove_stale_temps(path: &Path) -> Vec<PathBuf> {
+/// Removes the stale temporaries of `path` (see the module docs) except the one named `keep`;
+/// returns the removed paths. Best effort: errors (unreadable directory, a file that vanished)
+/// are skipped.
+pub fn remove_stale_temps(path: &Path, keep: Option<&str>) -> Vec<PathBuf> {
     let mut removed = Vec::new();
     let Some(name) = path.file_name().and_then(|n| n.to_str()) else {
         return removed;
@@ -134,9 +136,6 @@ pub fn remove_stale_temps(path: &Path) -> Vec<PathBuf> {
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
-    };
-    let Some(keep) = checkpoint_temp(path) else {
-        return removed; // a checkpoint exists but cannot be read: keep everything
     };
     let Ok(entries) = std::fs::read_dir(dir) else {
         return removed;
@@ -149,7 +148,7 @@ pub fn remove_stale_temps(path: &Path) -> Vec<PathBuf> {
         let Some((pid, _)) = parse_temp_name(s, name) else {
             continue;
         };
-        if pid == std::process::id() || keep.as_deref() == Some(s) {
+        if pid == std::process::id() || keep == Some(s) {
             continue;
         }
         let is_file = e.file_type().is_ok_and(|t| t.is_file());
@@ -158,20 +157,6 @@ pub fn remove_stale_temps(path: &Path) -> Vec<PathBuf> {
         }
     }
     removed
-}
-
-/// File name of the temporary that `<path>.ckpt` continues: `Some(None)` without a checkpoint,
-/// `None` when the checkpoint exists but cannot be read.
-fn checkpoint_temp(path: &Path) -> Option<Option<String>> {
-    let mut ck = path.as_os_str().to_owned();
-    ck.push(".ckpt");
-    let ck = PathBuf::from(ck);
-    if !ck.exists() {
-        return Some(None);
-    }
-    let file = crate::snapshot::ckpt::read_checkpoint(&ck).ok()?;
-    let name = file.writer.temp.file_name()?.to_str()?.to_string();
-    Some(Some(name))
 }
 
 /// Reads a text file of at most `limit` bytes (UTF-8; a leading byte-order mark is dropped).

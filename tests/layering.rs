@@ -42,18 +42,7 @@ const LAYERS: &[(&str, u32)] = &[
 
 /// Upward imports that remain, `(from, to, reason)`. A new upward import fails the test; remove
 /// a row when its import is gone (the test prints a note for a row no longer needed).
-const EXCEPTIONS: &[(&str, &str, &str)] = &[
-    (
-        "scene",
-        "snapshot",
-        "the scene's [output] table parses into snapshot::select::Selection (moving it down is in the snapshot area)",
-    ),
-    (
-        "files",
-        "snapshot",
-        "stale-temporary cleanup reads a checkpoint to learn which temporary it continues",
-    ),
-];
+const EXCEPTIONS: &[(&str, &str, &str)] = &[];
 
 /// File cycles that remain inside a module, `(file, file, reason)`, in the lead's area.
 const FILE_CYCLE_EXCEPTIONS: &[(&str, &str, &str)] = &[(

@@ -20,6 +20,8 @@ use num_complex::Complex64;
 
 mod linear;
 mod newton;
+mod state;
+mod step;
 
 const S6: f64 = 2.449_489_742_783_178; // sqrt(6)
 /// Collocation nodes.
@@ -345,8 +347,6 @@ impl Integrator for Radau5 {
 
     fn step(&mut self, sys: &dyn System, t_bound: f64) -> Result<f64, IntegrationError> {
         self.tol.velocity_scales(sys.mass(), &mut self.vs);
-        let n = 2 * self.m;
-        let m = self.m;
         let t = self.t;
         let min_step = 10.0 * (next_up(t.abs()) - t.abs());
         if t_bound > t && t_bound - t <= min_step {
@@ -387,51 +387,9 @@ impl Integrator for Radau5 {
                 rejected = true;
                 continue;
             }
-            // y_new = y + Z_3; error estimate (I·μ_r/h − J)⁻¹ (f + ZE)
-            for j in 0..n {
-                self.ytmp[j] = self.z[j] + self.zs[2][j];
-                let ze = (E[0] * self.zs[0][j] + E[1] * self.zs[1][j] + E[2] * self.zs[2][j]) / h;
-                self.err[j] = self.f[j] + ze;
-            }
-            let mass = sys.mass();
-            let cr = MU_REAL / h;
-            linear::solve_real(
-                &mut *self.real,
-                mass,
-                Self::kv_of(sys, &self.kv),
-                cr,
-                &mut self.err,
-            );
-            let mut err_norm = self.weights_norm(&self.err, &self.z, &self.ytmp);
+            let (err_norm, d_step) = self.error_estimate(sys, h, rejected);
             let safety =
                 0.9 * (2 * NEWTON_MAXITER + 1) as f64 / (2 * NEWTON_MAXITER + n_iter) as f64;
-            if rejected && err_norm > 1.0 {
-                // Hairer's second error estimate after a rejection: err = (..)⁻¹(F(y+err) + ZE).
-                let mut tmp = std::mem::take(&mut self.dw[0]);
-                for j in 0..n {
-                    tmp[j] = self.z[j] + self.err[j];
-                }
-                let mut fe = std::mem::take(&mut self.dw[1]);
-                Self::rhs(sys, m, &tmp, &mut fe, &mut self.stats);
-                for j in 0..n {
-                    let ze =
-                        (E[0] * self.zs[0][j] + E[1] * self.zs[1][j] + E[2] * self.zs[2][j]) / h;
-                    self.err[j] = fe[j] + ze;
-                }
-                let kv = Self::kv_of(sys, &self.kv);
-                linear::solve_real(&mut *self.real, mass, kv, cr, &mut self.err);
-                err_norm = self.weights_norm(&self.err, &self.z, &self.ytmp);
-                self.dw[0] = tmp;
-                self.dw[1] = fe;
-            }
-            // after the state's (second) estimate, which replaces err_norm
-            let damped = sys.dissipative();
-            let mut d_step = 0.0;
-            if damped {
-                let (d, e) = self.dissipation_error(sys, h, cr);
-                d_step = d;
-                err_norm = err_norm.max(e);
-            }
             if err_norm.is_nan() || err_norm > 1.0 {
                 let factor = if err_norm.is_finite() {
                     predict_factor(h_abs, h_abs_old, err_norm, err_old)
@@ -452,32 +410,10 @@ impl Integrator for Radau5 {
             if rejected {
                 factor = factor.min(1.0);
             }
-            if damped {
+            if sys.dissipative() {
                 self.diss = (self.diss.1, self.diss.1 + d_step);
             }
-            // dense output Q = Z^T P, then advance
-            for j in 0..n {
-                let (z0, z1, z2) = (self.zs[0][j], self.zs[1][j], self.zs[2][j]);
-                for c in 0..3 {
-                    self.q[c][j] = z0 * P[0][c] + z1 * P[1][c] + z2 * P[2][c];
-                }
-            }
-            self.z_old.copy_from_slice(&self.z);
-            self.z.copy_from_slice(&self.ytmp);
-            self.t_old = t;
-            self.t = t_new;
-            self.have_sol = true;
-            // F and stiffness at the new point (one evaluation gives both)
-            self.f[..m].copy_from_slice(&self.z[m..]);
-            let (u, v) = self.z.split_at(m);
-            self.p0 = sys.accel_stiffness(u, v, &mut self.acc, &mut self.ktmp, &mut self.kvtmp);
-            self.f[m..].copy_from_slice(&self.acc);
-            std::mem::swap(&mut self.k, &mut self.ktmp);
-            std::mem::swap(&mut self.kv, &mut self.kvtmp);
-            self.stats.rhs_evals += 1;
-            self.stats.jac_evals += 1;
-            self.stats.steps += 1;
-            self.stats.bead_steps += m as u64;
+            self.advance(sys, t, t_new);
             self.h_abs_old = Some(h_abs);
             self.err_old = Some(err_norm);
             self.h_abs = h_abs * factor;
@@ -541,71 +477,11 @@ impl Integrator for Radau5 {
     }
 
     fn save(&self) -> IntegratorState {
-        IntegratorState {
-            t: self.t,
-            t_prev: self.t_old,
-            h: self.h_abs,
-            h_old: self.h_abs_old,
-            err_old: self.err_old,
-            have_sol: self.have_sol,
-            vecs: vec![
-                self.z.clone(),
-                self.z_old.clone(),
-                self.f.clone(),
-                self.k.clone(),
-                self.q[0].clone(),
-                self.q[1].clone(),
-                self.q[2].clone(),
-                self.kv.clone(),
-                vec![self.p0],
-            ],
-            stats: self.stats.clone(),
-            auto: None,
-            dissipated: self.diss,
-            method: super::Method::Radau5,
-        }
+        self.save_state()
     }
 
     fn load(&mut self, s: &IntegratorState) -> Result<(), String> {
-        let (z, q, kv) = (self.z.len(), self.q[0].len(), self.kv.len());
-        let lens = [
-            z,
-            self.z_old.len(),
-            self.f.len(),
-            self.k.len(),
-            q,
-            q,
-            q,
-            kv,
-            1,
-        ];
-        super::check_state(s, super::Method::Radau5, &lens)?;
-        self.t = s.t;
-        self.t_old = s.t_prev;
-        self.h_abs = s.h;
-        self.h_abs_old = s.h_old;
-        self.err_old = s.err_old;
-        self.have_sol = s.have_sol;
-        let dst: [&mut Vec<f64>; 8] = {
-            let [q0, q1, q2] = &mut self.q;
-            [
-                &mut self.z,
-                &mut self.z_old,
-                &mut self.f,
-                &mut self.k,
-                q0,
-                q1,
-                q2,
-                &mut self.kv,
-            ]
-        };
-        for (d, v) in dst.into_iter().zip(&s.vecs) {
-            d.copy_from_slice(v);
-        }
-        self.p0 = s.vecs[8][0];
-        self.stats = s.stats.clone();
-        self.diss = s.dissipated;
-        Ok(())
+        self.load_state(s)
     }
 }
 

@@ -206,6 +206,7 @@ mod material;
 mod output;
 pub mod parse;
 pub mod presets;
+pub mod selection;
 mod settings;
 pub mod show;
 mod tables;
@@ -263,7 +264,7 @@ pub struct RunSettings {
     /// The `[output]` table (output selection of `run`; see `output.rs`). Not serialized: the
     /// snapshot header records the selection a run used.
     #[serde(skip)]
-    pub output: Option<crate::snapshot::Selection>,
+    pub output: Option<selection::Selection>,
 }
 
 /// A fully resolved scene: every per-bead and per-contact array expanded.

@@ -1,5 +1,5 @@
 //! The `[output]` table of a scene (issue 14): the output selection of `beadchain run` as scene
-//! keys, with the grammar and rules of [`crate::snapshot::select`]:
+//! keys, with the grammar and rules of [`super::selection`]:
 //!
 //! ```toml
 //! [output]
@@ -13,8 +13,8 @@
 
 use super::error::SceneError;
 use super::keys::{get, table};
+use super::selection::{parse_beads, Fields, Selection};
 use super::values::{type_name, Ctx};
-use crate::snapshot::select::{parse_beads, Fields, Selection};
 use toml::{Table, Value};
 
 const BEADS_EXPECTED: &str =

@@ -36,7 +36,7 @@ pub fn write_atomically(
         })?;
         return w.flush().map_err(|e| named("writing", e));
     }
-    crate::files::remove_stale_temps(path);
+    super::remove_stale_temps(path);
     let tmp = temp_sibling(path)?;
     let file = OpenOptions::new()
         .write(true)

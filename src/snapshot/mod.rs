@@ -525,3 +525,26 @@ pub(crate) fn sync_parent_dir(path: &Path) {
     #[cfg(not(unix))]
     let _ = path;
 }
+
+/// Removes the stale temporaries of `path` ([`crate::files::remove_stale_temps`]) but the one
+/// that `<path>.ckpt` continues; removes nothing when that checkpoint exists but cannot be read.
+pub fn remove_stale_temps(path: &Path) -> Vec<PathBuf> {
+    match checkpoint_temp(path) {
+        Some(keep) => crate::files::remove_stale_temps(path, keep.as_deref()),
+        None => Vec::new(),
+    }
+}
+
+/// File name of the temporary that `<path>.ckpt` continues: `Some(None)` without a checkpoint,
+/// `None` when the checkpoint exists but cannot be read.
+fn checkpoint_temp(path: &Path) -> Option<Option<String>> {
+    let mut ck = path.as_os_str().to_owned();
+    ck.push(".ckpt");
+    let ck = PathBuf::from(ck);
+    if !ck.exists() {
+        return Some(None);
+    }
+    let file = ckpt::read_checkpoint(&ck).ok()?;
+    let name = file.writer.temp.file_name()?.to_str()?.to_string();
+    Some(Some(name))
+}

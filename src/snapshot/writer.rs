@@ -75,7 +75,7 @@ impl SnapshotWriter {
                 })?;
             (PathBuf::new(), f)
         } else {
-            crate::files::remove_stale_temps(path);
+            super::remove_stale_temps(path);
             let tmp = temp_sibling(path)?;
             let f = OpenOptions::new()
                 .write(true)
