@@ -457,26 +457,8 @@ fn scan(
         }
         match h.tag {
             TAG_FRAME => {
-                let number = c.offsets.len() as u64;
-                read_frame_at(raw, pos, &name, number, shape, frame_len, &mut frame)?;
-                // Frames are written in strictly increasing time: a repeated or earlier time
-                // means sections were duplicated or reordered, and numbering on would put
-                // frames at the wrong index.
-                if let Some(&prev) = c.times.last() {
-                    if frame.t.partial_cmp(&prev) != Some(std::cmp::Ordering::Greater) {
-                        return Err(raw.corrupt(
-                            &name,
-                            pos,
-                            format!(
-                                "frame time {:e} is not after the previous frame's {prev:e} \
-                                 (sections duplicated or out of order)",
-                                frame.t
-                            ),
-                        ));
-                    }
-                }
-                c.offsets.push(pos);
-                c.times.push(frame.t);
+                read_frame_at(raw, pos, &name, k as u64, shape, frame_len, &mut frame)?;
+                push_frame(raw, pos, &name, frame.t, &mut c)?;
             }
             TAG_EVENTS => {
                 let p = raw.read_payload(&h, "EVENTS")?;
@@ -495,35 +477,77 @@ fn scan(
             TAG_HEADER => {
                 return Err(raw.corrupt("HEADER", pos, "a second HEADER section".into()));
             }
-            tag => {
-                // INDEX, END or an unknown tag. Its checksum also covers the tag, so a frame
-                // whose tag was damaged fails here: stop rather than renumber later frames.
-                let Ok(p) = raw.read_payload(&h, &name) else {
-                    warn(format!(
-                        "damaged section (checksum) at byte {pos}; kept {k} whole frames, \
-                         ignored everything after it"
-                    ));
+            _ => {
+                if scan_other(raw, &h, &name, &c, &mut warn)? {
                     break;
-                };
-                match tag {
-                    TAG_INDEX => check_scan_against_index(raw, pos, &p, &c.times)?,
-                    TAG_EVENT_INDEX => check_scan_against_event_index(raw, pos, &p, &c)?,
-                    TAG_END => {
-                        if h.end() != raw.len {
-                            warn(format!(
-                                "{} bytes after the END section ignored",
-                                raw.len - h.end()
-                            ));
-                        }
-                        break;
-                    }
-                    t => warn(format!(
-                        "skipped a section with unknown tag {t:#010x} at byte {pos}"
-                    )),
                 }
             }
         }
         pos = h.end();
     }
     Ok(c)
+}
+
+/// Records frame `name` at `pos` with time `t`: frames are written in strictly increasing time,
+/// so a repeated or earlier time means sections were duplicated or reordered (numbering on
+/// would put frames at the wrong index).
+fn push_frame(
+    raw: &Raw,
+    pos: u64,
+    name: &str,
+    t: f64,
+    c: &mut Contents,
+) -> Result<(), SnapshotError> {
+    if let Some(&prev) = c.times.last() {
+        if t.partial_cmp(&prev) != Some(std::cmp::Ordering::Greater) {
+            return Err(raw.corrupt(
+                name,
+                pos,
+                format!(
+                    "frame time {t:e} is not after the previous frame's {prev:e} \
+                     (sections duplicated or out of order)"
+                ),
+            ));
+        }
+    }
+    c.offsets.push(pos);
+    c.times.push(t);
+    Ok(())
+}
+
+/// An INDEX, EVENT INDEX, END or unknown section met by [`scan`]; `Ok(true)` ends the scan.
+/// Its checksum also covers the tag, so a frame whose tag was damaged fails here: the scan
+/// stops rather than renumber later frames.
+fn scan_other(
+    raw: &Raw,
+    h: &SectionHead,
+    name: &str,
+    c: &Contents,
+    warn: &mut impl FnMut(String),
+) -> Result<bool, SnapshotError> {
+    let (pos, k) = (h.offset, c.offsets.len());
+    let Ok(p) = raw.read_payload(h, name) else {
+        warn(format!(
+            "damaged section (checksum) at byte {pos}; kept {k} whole frames, \
+             ignored everything after it"
+        ));
+        return Ok(true);
+    };
+    match h.tag {
+        TAG_INDEX => check_scan_against_index(raw, pos, &p, &c.times)?,
+        TAG_EVENT_INDEX => check_scan_against_event_index(raw, pos, &p, c)?,
+        TAG_END => {
+            if h.end() != raw.len {
+                warn(format!(
+                    "{} bytes after the END section ignored",
+                    raw.len - h.end()
+                ));
+            }
+            return Ok(true);
+        }
+        t => warn(format!(
+            "skipped a section with unknown tag {t:#010x} at byte {pos}"
+        )),
+    }
+    Ok(false)
 }
