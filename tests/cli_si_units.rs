@@ -7,17 +7,12 @@
 mod common;
 
 use beadchain::snapshot::Snapshot;
-use common::bc;
 use common::npy::{parse_npy, parse_zip};
+use common::{assert_ok, bc};
 use std::process::Output;
 
-fn ok(o: &Output) {
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+fn stderr_line(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).trim().to_string()
 }
 
 fn refused(o: &Output, starts: &str) {
@@ -49,7 +44,7 @@ fn physical_run(d: &std::path::Path) -> Snapshot {
         "p.snap",
         "-q",
     ];
-    ok(&bc(d, &args));
+    assert_ok(&bc(d, &args));
     Snapshot::open(&d.join("p.snap")).unwrap()
 }
 
@@ -72,22 +67,21 @@ fn until_si_and_every_si_are_seconds_of_a_physical_scene() {
 #[test]
 fn until_si_on_a_dimensionless_scene_is_refused() {
     let d = tempfile::tempdir().unwrap();
-    let o = bc(
-        d.path(),
-        &["run", "striker", "--until-si", "1", "--out", "s.snap"],
-    );
-    refused(
-        &o,
-        "beadchain: error: --until-si: scene `striker` is dimensionless (computer units only)",
-    );
-    let o = bc(
-        d.path(),
-        &["run", "striker", "--every-si", "1", "--out", "s.snap"],
-    );
-    refused(
-        &o,
-        "beadchain: error: --every-si: scene `striker` is dimensionless (computer units only)",
-    );
+    for option in ["--until-si", "--every-si"] {
+        let o = bc(
+            d.path(),
+            &["run", "striker", option, "1", "--out", "s.snap"],
+        );
+        let want = format!(
+            "beadchain: error: {option}: scene `striker` is dimensionless (computer units only)"
+        );
+        refused(&o, &want);
+        let class = format!("{option} on a dimensionless scene");
+        println!(
+            "{class} | `beadchain run striker {option} 1` | {}",
+            stderr_line(&o)
+        );
+    }
     let o = bc(
         d.path(),
         &["run", "striker", "--until-si", "1", "--until", "3"],
@@ -97,18 +91,6 @@ fn until_si_on_a_dimensionless_scene_is_refused() {
         std::fs::read_dir(d.path()).unwrap().next().is_none(),
         "nothing written"
     );
-    for (class, args) in [
-        (
-            "--until-si on a dimensionless scene",
-            "run striker --until-si 1",
-        ),
-        (
-            "--every-si on a dimensionless scene",
-            "run striker --every-si 1",
-        ),
-    ] {
-        println!("{class} | `beadchain {args}` | see test");
-    }
 }
 
 #[test]
@@ -118,7 +100,7 @@ fn export_units_si_converts_frames_chain_and_events() {
     let sc = snap.header().scene.units.unwrap();
     let (beta, m0) = (sc.time, sc.mass);
     for (out, units) in [("c.npz", "computer"), ("s.npz", "si")] {
-        ok(&bc(
+        assert_ok(&bc(
             d.path(),
             &["export", "p.snap", "--out", out, "--units", units],
         ));
@@ -159,7 +141,7 @@ fn export_units_si_converts_frames_chain_and_events() {
             d.path(),
             &["export", "p.snap", "--events", "--units", units],
         );
-        ok(&o);
+        assert_ok(&o);
         String::from_utf8(o.stdout).unwrap()
     };
     let (ec, es) = (ev("computer"), ev("si"));
@@ -177,7 +159,7 @@ fn export_units_si_converts_frames_chain_and_events() {
 #[test]
 fn export_units_si_of_a_dimensionless_scene_is_refused() {
     let d = tempfile::tempdir().unwrap();
-    ok(&bc(
+    assert_ok(&bc(
         d.path(),
         &["run", "striker", "--out", "s.snap", "-q", "--until", "5"],
     ));
