@@ -73,23 +73,8 @@ impl<T: Scalar> TridiagSolver<T> for DirectSweep<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::tridiag_matvec as matvec;
     use num_complex::Complex64;
-
-    fn matvec<T: Scalar>(d: &[T], e: &[T], x: &[T]) -> Vec<T> {
-        let m = d.len();
-        (0..m)
-            .map(|i| {
-                let mut s = d[i] * x[i];
-                if i > 0 {
-                    s = s + e[i - 1] * x[i - 1];
-                }
-                if i + 1 < m {
-                    s = s + e[i] * x[i + 1];
-                }
-                s
-            })
-            .collect()
-    }
 
     #[test]
     fn complex_symmetric_solve_has_small_residual() {

@@ -151,3 +151,22 @@ pub fn new_solver<T: SolverScalar>(kind: SolverKind, m: usize) -> Box<dyn Tridia
     solver.pattern(m);
     solver
 }
+
+/// `A x` for the symmetric tridiagonal `A` of diagonal `d` and off-diagonal `e` (the solvers'
+/// unit tests check residuals with it).
+#[cfg(test)]
+pub(crate) fn tridiag_matvec<T: Scalar>(d: &[T], e: &[T], x: &[T]) -> Vec<T> {
+    let m = d.len();
+    (0..m)
+        .map(|i| {
+            let mut s = d[i] * x[i];
+            if i > 0 {
+                s = s + e[i - 1] * x[i - 1];
+            }
+            if i + 1 < m {
+                s = s + e[i] * x[i + 1];
+            }
+            s
+        })
+        .collect()
+}

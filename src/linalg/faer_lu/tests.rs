@@ -2,7 +2,7 @@
 
 use super::*;
 use crate::linalg::direct::DirectSweep;
-use crate::linalg::{new_solver, SolverKind};
+use crate::linalg::{new_solver, tridiag_matvec as matvec, SolverKind};
 use num_complex::Complex64;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -24,22 +24,6 @@ fn radau_system<T: Scalar>(mu2: T, h: f64, m: usize, rng: &mut ChaCha8Rng) -> (V
         .collect();
     let e = k.iter().map(|&ki| T::from_real(-h2 * ki)).collect();
     (d, e)
-}
-
-fn matvec<T: Scalar>(d: &[T], e: &[T], x: &[T]) -> Vec<T> {
-    let m = d.len();
-    (0..m)
-        .map(|i| {
-            let mut s = d[i] * x[i];
-            if i > 0 {
-                s = s + e[i - 1] * x[i - 1];
-            }
-            if i + 1 < m {
-                s = s + e[i] * x[i + 1];
-            }
-            s
-        })
-        .collect()
 }
 
 fn inf_norm<T: TestScalar>(v: &[T]) -> f64 {
