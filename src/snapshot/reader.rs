@@ -79,69 +79,13 @@ impl Snapshot {
     /// every whole frame and explaining in [`Self::warnings`] where it stopped). Frames
     /// themselves are not loaded.
     pub fn open(path: &Path) -> Result<Snapshot, SnapshotError> {
-        let io = |action: &str, e| SnapshotError::Io {
-            path: path.to_path_buf(),
-            action: action.to_string(),
-            source: e,
-        };
-        let mut file = File::open(path).map_err(|e| io("opening snapshot", e))?;
-        let len = file
-            .metadata()
-            .map_err(|e| io("reading file size", e))?
-            .len();
-        let mut pre = [0u8; PREAMBLE_LEN as usize];
-        let got = read_up_to(&mut file, &mut pre).map_err(|e| io("reading preamble", e))?;
-        if got < 8 || pre[..8] != MAGIC {
-            return Err(SnapshotError::NotSnapshot {
-                path: path.to_path_buf(),
-            });
-        }
-        if got < pre.len() {
-            return Err(SnapshotError::Truncated {
-                path: path.to_path_buf(),
-                detail: format!("file ends at byte {got} inside the format version"),
-            });
-        }
-        let version = u32::from_le_bytes([pre[8], pre[9], pre[10], pre[11]]);
-        if version == 0 || version > FORMAT_VERSION {
-            return Err(SnapshotError::UnsupportedVersion {
-                path: path.to_path_buf(),
-                found: version,
-            });
-        }
+        let (file, len, version) = open_preamble(path)?;
         let raw = Raw {
             path: path.to_path_buf(),
             file: Mutex::new(file),
             len,
         };
-        let head = raw.read_head(PREAMBLE_LEN, "HEADER")?.ok_or_else(|| {
-            raw.truncated(format!(
-                "file ends at byte {len} inside the HEADER section header"
-            ))
-        })?;
-        if head.tag != TAG_HEADER {
-            return Err(raw.corrupt(
-                "HEADER",
-                head.offset,
-                format!(
-                    "first section has tag {:#010x} ({}), expected HEADER",
-                    head.tag,
-                    section_name(head.tag)
-                ),
-            ));
-        }
-        let payload = raw.read_payload(&head, "HEADER")?;
-        let header = super::header::decode_header(version, &payload)
-            .map_err(|d| raw.corrupt("HEADER", head.offset, d))?;
-        let frame_len = (header.output.frame_payload_len(header.n_beads, version))
-            .filter(|&l| l < MAX_PLAUSIBLE_LEN)
-            .ok_or_else(|| {
-                raw.corrupt(
-                    "HEADER",
-                    head.offset,
-                    format!("bead count {} is absurd", header.n_beads),
-                )
-            })?;
+        let (head, header, frame_len) = read_header(&raw, version)?;
         let m = header.output.bead_count(header.n_beads) as usize;
         let f = header.output.fields;
         let shape = (m * usize::from(f.has_u()), m * usize::from(f.has_v()));
@@ -550,4 +494,75 @@ fn scan_other(
         )),
     }
     Ok(false)
+}
+
+/// Opens `path` and checks its preamble (magic, format version); returns the file, its length
+/// and the version.
+fn open_preamble(path: &Path) -> Result<(File, u64, u32), SnapshotError> {
+    let io = |action: &str, e| SnapshotError::Io {
+        path: path.to_path_buf(),
+        action: action.to_string(),
+        source: e,
+    };
+    let mut file = File::open(path).map_err(|e| io("opening snapshot", e))?;
+    let len = file
+        .metadata()
+        .map_err(|e| io("reading file size", e))?
+        .len();
+    let mut pre = [0u8; PREAMBLE_LEN as usize];
+    let got = read_up_to(&mut file, &mut pre).map_err(|e| io("reading preamble", e))?;
+    if got < 8 || pre[..8] != MAGIC {
+        return Err(SnapshotError::NotSnapshot {
+            path: path.to_path_buf(),
+        });
+    }
+    if got < pre.len() {
+        return Err(SnapshotError::Truncated {
+            path: path.to_path_buf(),
+            detail: format!("file ends at byte {got} inside the format version"),
+        });
+    }
+    let version = u32::from_le_bytes([pre[8], pre[9], pre[10], pre[11]]);
+    if version == 0 || version > FORMAT_VERSION {
+        return Err(SnapshotError::UnsupportedVersion {
+            path: path.to_path_buf(),
+            found: version,
+        });
+    }
+    Ok((file, len, version))
+}
+
+/// Reads and decodes the HEADER section (the first one); returns its section head, the header
+/// and the frame payload length it implies.
+fn read_header(raw: &Raw, version: u32) -> Result<(SectionHead, Header, u64), SnapshotError> {
+    let len = raw.len;
+    let head = raw.read_head(PREAMBLE_LEN, "HEADER")?.ok_or_else(|| {
+        raw.truncated(format!(
+            "file ends at byte {len} inside the HEADER section header"
+        ))
+    })?;
+    if head.tag != TAG_HEADER {
+        return Err(raw.corrupt(
+            "HEADER",
+            head.offset,
+            format!(
+                "first section has tag {:#010x} ({}), expected HEADER",
+                head.tag,
+                section_name(head.tag)
+            ),
+        ));
+    }
+    let payload = raw.read_payload(&head, "HEADER")?;
+    let header = super::header::decode_header(version, &payload)
+        .map_err(|d| raw.corrupt("HEADER", head.offset, d))?;
+    let frame_len = (header.output.frame_payload_len(header.n_beads, version))
+        .filter(|&l| l < MAX_PLAUSIBLE_LEN)
+        .ok_or_else(|| {
+            raw.corrupt(
+                "HEADER",
+                head.offset,
+                format!("bead count {} is absurd", header.n_beads),
+            )
+        })?;
+    Ok((head, header, frame_len))
 }
