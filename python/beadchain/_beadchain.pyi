@@ -102,6 +102,27 @@ def check(
     until: Optional[float] = None,
     tol: Optional[float] = None,
 ) -> dict[str, Any]: ...
+def _analyze(
+    scene: Scene,
+    t: _Array,
+    u: _Array,
+    v: _Array,
+    interface: Optional[int] = None,
+    fit_from: Optional[float] = None,
+    fit_to: Optional[float] = None,
+) -> dict[str, Any]:
+    """``beadchain analyze``'s summary of frames ``t`` (F,), ``u``, ``v`` flat (F*N).
+    Defaults: ``interface`` None (no interface split), ``fit_from`` 20 (or k + 10 with an
+    interface k), ``fit_to`` N - 10. Keys as ``beadchain.analyze``; an interface outside
+    1..N-1 raises ValueError("interface must be in 1..N")."""
+def _analyze_file(
+    path: str,
+    interface: Optional[int] = None,
+    fit_from: Optional[float] = None,
+    fit_to: Optional[float] = None,
+) -> dict[str, Any]:
+    """``_analyze`` of a snapshot file's frames (every bead and both fields stored, else
+    ValueError with the CLI's message), plus the reader's ``warnings``. Same defaults."""
 def accuracy(
     scene: Scene,
     engines: Optional[Sequence[str]] = None,

@@ -19,6 +19,7 @@
 //! [`Engine`]: beadchain::engine::Engine
 
 mod accuracy;
+mod analyze;
 mod observe;
 mod run;
 mod scene;
@@ -80,6 +81,8 @@ fn _beadchain(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(snapfile::load, m)?)?;
     m.add_function(wrap_pyfunction!(run::energies, m)?)?;
     m.add_function(wrap_pyfunction!(study::check, m)?)?;
+    m.add_function(wrap_pyfunction!(analyze::_analyze, m)?)?;
+    m.add_function(wrap_pyfunction!(analyze::_analyze_file, m)?)?;
     m.add_function(wrap_pyfunction!(accuracy::accuracy, m)?)?;
     m.add_function(wrap_pyfunction!(study::_sweep_spec, m)?)?;
     m.add_function(wrap_pyfunction!(study::_sweep_run, m)?)?;

@@ -18,6 +18,8 @@
 //!   freeze / two-body exchange times `t1 … t5` (Sec. 3.1, Figs. 3–4).
 //! - [`state`]: the steady-state criterion of appendix A (also as a run stop condition) and
 //!   fragmentation statistics (open gaps, fragments and their velocities).
+//! - [`summary`]: the whole summary of a run's frames (`beadchain analyze`, Python's
+//!   `analyze()`): energies, the leading wave's speed and decay fit, the interface split.
 //!
 //! **Energy convention.** The paper writes the wave energy (eq. 13) as `Σ m v² + Σ a δⁿ`, without
 //! the ½ of the kinetic energy. We use the physical energy `Σ ½ m v² + Σ a δⁿ` everywhere (the
@@ -29,6 +31,7 @@
 pub mod fit;
 pub mod interface;
 pub mod state;
+pub mod summary;
 pub mod timings;
 pub mod wave;
 pub mod wavelength;
@@ -37,6 +40,7 @@ pub mod window;
 pub use fit::{fit_exponential, least_squares, ExpFit, LinearFit};
 pub use interface::{energy_split, velocity_ratio, EnergySplit, VelocityRatio};
 pub use state::{fragmentation, is_steady_state, Fragment, Fragmentation, SteadyStateStop};
+pub use summary::{summarize, Summary, SummaryError, SummaryOptions};
 pub use wave::{
     detect_pulses, leading_pulse, track_leading, wave_energy, Pulse, TrackPoint, WaveOptions,
 };
