@@ -156,7 +156,7 @@ pub struct HybridData {
     /// Next frame index.
     pub next_frame: u64,
     /// Energy dissipated by cluster integrations that have ended (removed clusters, and the
-    /// segments before an integrator restart).
+    /// segments before an integrator restart), plus the losses of hard collisions.
     pub dissipated: f64,
 }
 

@@ -1,9 +1,15 @@
 //! The dense engine: the whole chain integrated as one ODE system `ż = F(z)` (paper appendix,
 //! eq. A.3) with Radau IIA or DOP853, no events. Frames come from the integrator's continuous
 //! output at the requested times.
+//!
+//! **Pauses.** It has no event log (contacts are part of the ODE right-hand side, and hard
+//! contacts are refused), so it never returns [`Stop::Event`]; paused at frames
+//! ([`crate::engine::PauseAt::frames`]) it returns [`Stop::Frame`] after each frame with the
+//! clock at the frame (the integrator may be a step ahead; [`Engine::state`] comes from its
+//! continuous output), and the next advance continues with the clock it had before the pause.
 
 use super::checkpoint::{DenseState, EngineState};
-use super::stepper::{check_target, outcome_at, Engine, State, Stop};
+use super::stepper::{check_target, outcome_at, Engine, PauseAt, State, Stop};
 use super::{EngineError, Observer, RunConfig, RunOutcome};
 use crate::integrate::auto::Auto;
 use crate::integrate::dop853::Dop853;
@@ -32,9 +38,12 @@ pub fn run_from(
     obs: &mut dyn Observer,
 ) -> Result<RunOutcome, EngineError> {
     let mut e = DenseEngine::new(scene, cfg, from)?;
-    match e.advance(cfg.until, obs)? {
-        Stop::Reached { .. } => Ok(e.outcome()),
-        Stop::Requested { t } => Err(EngineError::Interrupted(t)),
+    loop {
+        match e.advance(cfg.until, obs)? {
+            Stop::Reached { .. } => return Ok(e.outcome()),
+            Stop::Requested { t } => return Err(EngineError::Interrupted(t)),
+            Stop::Frame { .. } | Stop::Event { .. } => {}
+        }
     }
 }
 
@@ -56,6 +65,9 @@ pub struct DenseEngine<'a> {
     stats_base: (crate::integrate::Stats, u64),
     start: Instant,
     buf: Vec<f64>,
+    pause: PauseAt,
+    /// The clock before a [`Stop::Frame`] moved it to the frame (restored by the next advance).
+    paused_clock: Option<f64>,
 }
 
 impl<'a> DenseEngine<'a> {
@@ -85,6 +97,8 @@ impl<'a> DenseEngine<'a> {
             stats_base: Default::default(),
             start: Instant::now(),
             buf: vec![0.0; 2 * n],
+            pause: PauseAt::default(),
+            paused_clock: None,
         };
         match from {
             None => {
@@ -114,37 +128,60 @@ impl<'a> DenseEngine<'a> {
         self.diss_base + dissipated_at(&*self.integ, &self.sys(), t)
     }
 
-    /// Emits the frames due up to `min(integ.t(), until)`.
-    fn frames(&mut self, until: f64, obs: &mut dyn Observer) -> Result<(), EngineError> {
+    /// Emits the frames due up to `min(integ.t(), until)`; `Some(Stop::Frame)` right after
+    /// one when paused at frames.
+    fn frames(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Option<Stop>, EngineError> {
         let n = self.scene.chain.len();
         loop {
             let tf = self.cfg.frame_time(self.next);
             if tf > self.integ.t() || tf > until || self.last_frame_t >= self.cfg.until {
-                return Ok(());
+                return Ok(None);
             }
             self.integ.dense(tf, &mut self.buf);
-            if self.scene.chain.is_dissipative() {
+            if self.scene.chain.loses_energy() {
                 obs.dissipated(tf, self.dissipated(tf))?;
             }
             obs.frame(tf, &self.buf[..n], &self.buf[n..])?;
             self.last_frame_t = tf;
             self.next += 1;
+            if let Some(stop) = self.pause_at_frame(tf) {
+                return Ok(Some(stop));
+            }
         }
+    }
+
+    /// When paused at frames: the clock moves to the frame at `tf` (kept aside for the next
+    /// advance) and the stop to return.
+    fn pause_at_frame(&mut self, tf: f64) -> Option<Stop> {
+        if !self.pause.frames {
+            return None;
+        }
+        self.paused_clock = Some(self.clock);
+        self.clock = tf;
+        Some(Stop::Frame { t: tf })
     }
 }
 
 impl Engine for DenseEngine<'_> {
     fn advance(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Stop, EngineError> {
         check_target(until, self.cfg.until)?;
+        if let Some(clock) = self.paused_clock.take() {
+            self.clock = clock;
+        }
         let scene = self.scene;
         if self.fresh {
-            if scene.chain.is_dissipative() {
+            if scene.chain.loses_energy() {
                 obs.dissipated(0.0, 0.0)?;
             }
             obs.frame(0.0, &scene.u0, &scene.v0)?;
             self.fresh = false;
+            if let Some(stop) = self.pause_at_frame(0.0) {
+                return Ok(stop);
+            }
         }
-        self.frames(until, obs)?;
+        if let Some(stop) = self.frames(until, obs)? {
+            return Ok(stop);
+        }
         while self.integ.t() < until {
             let stop = super::poll_stop(obs, self.integ.t(), || self.save())?;
             if stop {
@@ -158,10 +195,17 @@ impl Engine for DenseEngine<'_> {
                     return Err(crate::integrate::IntegrationError::Budget(max).into());
                 }
             }
-            self.frames(until, obs)?;
+            if let Some(stop) = self.frames(until, obs)? {
+                return Ok(stop);
+            }
         }
         self.clock = self.clock.max(until.min(self.integ.t()));
         Ok(Stop::Reached { t: self.clock })
+    }
+
+    /// Frames only: the dense engine has no event log (module docs).
+    fn pause_at(&mut self, pause: PauseAt) {
+        self.pause = pause;
     }
 
     fn time(&self) -> f64 {
@@ -192,6 +236,8 @@ impl Engine for DenseEngine<'_> {
                 v.len()
             )));
         }
+        // paused at a frame: the new velocities start there
+        self.paused_clock = None;
         let s = self.state();
         self.diss_base = self.dissipated(self.clock);
         self.stats_base.0.add(self.integ.stats());

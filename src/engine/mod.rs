@@ -17,7 +17,7 @@ pub mod hybrid;
 pub mod stepper;
 
 pub use checkpoint::{Control, EngineState};
-pub use stepper::{restore, start, Engine, State, Stop};
+pub use stepper::{restore, start, Engine, PauseAt, State, Stop};
 
 use crate::integrate::{default_atol, IntegrationError, Method, Stats, DEFAULT_RTOL};
 use crate::linalg::SolverKind;
@@ -99,8 +99,9 @@ pub enum EngineError {
 pub trait Observer {
     /// A frame at output time `t`.
     fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError>;
-    /// The energy dissipated by damped contacts from `t = 0` up to the frame at `t`; called
-    /// right before [`Observer::frame`], for dissipative scenes only. The default drops it.
+    /// The energy dissipated from `t = 0` up to the frame at `t` (by damped contacts and in
+    /// hard collisions); called right before [`Observer::frame`], for scenes that lose energy
+    /// only ([`crate::model::Chain::loses_energy`]). The default drops it.
     fn dissipated(&mut self, _t: f64, _energy: f64) -> Result<(), EngineError> {
         Ok(())
     }
@@ -147,7 +148,7 @@ pub struct Recorder {
     pub v: Vec<Vec<f64>>,
     /// The event log (hybrid engine), in processing order.
     pub events: Vec<events::EventRecord>,
-    /// Energy dissipated up to each frame (dissipative scenes; empty otherwise).
+    /// Energy dissipated up to each frame (scenes that lose energy; empty otherwise).
     pub dissipated: Vec<f64>,
 }
 
@@ -205,7 +206,8 @@ pub struct RunOutcome {
     pub u: Vec<f64>,
     /// Final velocities.
     pub v: Vec<f64>,
-    /// Energy dissipated by damped contacts over the run (0 for a conservative scene).
+    /// Energy dissipated by damped contacts and in hard collisions over the run (0 for a
+    /// conservative scene).
     #[serde(default)]
     pub dissipated: f64,
 }
@@ -309,9 +311,12 @@ fn finish(
     cfg: &RunConfig,
     obs: &mut dyn Observer,
 ) -> Result<RunOutcome, EngineError> {
-    match e.advance(cfg.until, obs)? {
-        Stop::Reached { .. } => Ok(e.outcome()),
-        Stop::Requested { t } => Err(EngineError::Interrupted(t)),
+    loop {
+        match e.advance(cfg.until, obs)? {
+            Stop::Reached { .. } => return Ok(e.outcome()),
+            Stop::Requested { t } => return Err(EngineError::Interrupted(t)),
+            Stop::Frame { .. } | Stop::Event { .. } => {}
+        }
     }
 }
 

@@ -3,7 +3,7 @@
 //! engine owns the loop, observers watch it, stopping is a reason, not an error).
 //!
 //! ```no_run
-//! # use beadchain::engine::{self, Recorder, RunConfig, Stop};
+//! # use beadchain::engine::{self, PauseAt, Recorder, RunConfig, Stop};
 //! # let scene = beadchain::scene::preset("striker").unwrap();
 //! let cfg = RunConfig::from_scene(&scene);
 //! let mut e = engine::start(&scene, &cfg).unwrap();
@@ -13,20 +13,34 @@
 //! let mut v = mid.v.clone();
 //! v[99] = -0.5;                                    // kick the last bead
 //! e.set_velocities(&v).unwrap();
-//! assert_eq!(e.advance(cfg.until, &mut frames).unwrap(), Stop::Reached { t: cfg.until });
+//! e.pause_at(PauseAt { frames: true, events: true });
+//! loop {
+//!     match e.advance(cfg.until, &mut frames).unwrap() {
+//!         Stop::Frame { t } => assert_eq!(e.state().t, t), // the frame just handed over
+//!         Stop::Event { event, .. } => println!("{} at {}", event.kind.name(), event.t),
+//!         Stop::Reached { .. } | Stop::Requested { .. } => break,
+//!     }
+//! }
 //! let outcome = e.outcome();                       // counters, energies, final state
 //! ```
 //!
-//! Advancing in pieces gives the same bytes as one advance to the end (steps are bounded by the
-//! run's end time `cfg.until`, never by the intermediate targets), until a state is changed.
+//! **Resuming.** Every [`Stop`] is a point the engine can continue from: calling
+//! [`Engine::advance`] again goes on exactly where it returned. Advancing in pieces, or pausing
+//! at every frame and every event ([`Engine::pause_at`]), gives the same bytes (frames, event
+//! log, final state, counters) as one advance to the end: steps are bounded by the run's end
+//! time `cfg.until`, never by the intermediate targets, and a pause returns between two
+//! iterations of the engine's loop, where the next call picks up (`tests/engine_stops.rs`), until
+//! a state is changed ([`Engine::set_velocities`]).
 
 use super::checkpoint::EngineState;
+use super::events::EventRecord;
 use super::{EngineError, Observer, RunConfig, RunOutcome};
 use crate::scene::{Engine as EngineKind, Scene};
 use serde::{Deserialize, Serialize};
 
-/// Why [`Engine::advance`] returned.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+/// Why [`Engine::advance`] returned. Only [`Stop::Reached`] means the target was reached;
+/// after any other stop, advancing again to the same target goes on from there.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Stop {
     /// The engine reached the requested time `t`.
     Reached {
@@ -38,6 +52,36 @@ pub enum Stop {
         /// The engine clock when it stopped.
         t: f64,
     },
+    /// A frame at `t` was just handed to the observer ([`PauseAt::frames`]); the clock is `t`,
+    /// so [`Engine::state`] is that frame. With frames paused on, the last frame (at
+    /// `cfg.until`) also returns this, and the next advance returns [`Stop::Reached`].
+    Frame {
+        /// The frame's time.
+        t: f64,
+    },
+    /// The hybrid engine just logged `event` ([`PauseAt::events`]): the record equals the one
+    /// the event log holds (and hands to [`Observer::events`]) in that place. Events logged
+    /// while processing one queue entry (a hard collision and the merge it causes, a split
+    /// opening several contacts) come back one per call, the clock unchanged. The dense engine
+    /// detects no events and never returns this.
+    Event {
+        /// The engine clock (where [`Engine::state`] is): the time of the queue entry that
+        /// logged the event. `event.t` is when it happened, which for an opening (logged at
+        /// the located crossing of the threshold) can be earlier.
+        t: f64,
+        /// The event log's record.
+        event: EventRecord,
+    },
+}
+
+/// Where [`Engine::advance`] pauses before its target, besides an observer's stop (default:
+/// nowhere, so one advance runs to its target).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PauseAt {
+    /// Return [`Stop::Frame`] right after each frame.
+    pub frames: bool,
+    /// Return [`Stop::Event`] right after each logged event (hybrid engine).
+    pub events: bool,
 }
 
 /// Every bead's displacement and velocity at time `t`.
@@ -56,6 +100,9 @@ pub trait Engine {
     /// Advances to `until` (at most the run's end time `cfg.until`), handing frames, events and
     /// checkpoints to `obs`. Frames after `until` are not emitted before the next advance.
     fn advance(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Stop, EngineError>;
+    /// Where later advances pause ([`Stop::Frame`], [`Stop::Event`]); pausing changes no byte
+    /// of the run. Events logged before this call are never returned.
+    fn pause_at(&mut self, pause: PauseAt);
     /// The engine clock: the time [`Engine::state`] describes.
     fn time(&self) -> f64;
     /// Every bead at [`Engine::time`] (free beads from their analytic flight, cluster beads

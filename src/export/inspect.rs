@@ -125,7 +125,7 @@ fn energy_lines(s: &mut String, snap: &Snapshot, chain: &Chain) {
             // Relative to the gross energy (meaningful when E0 = 0, e.g. rest under a field).
             let rel = crate::model::relative_energy_change(e0, e1, s0.max(s1)).copysign(e1 - e0);
             let _ = writeln!(s, "energy change (relative): {rel:.3e}");
-            if let (true, Some(d0), Some(d1)) = (chain.damping.is_some(), d0, d1) {
+            if let (true, Some(d0), Some(d1)) = (chain.loses_energy(), d0, d1) {
                 // E + E_d is conserved (format 4 frames store E_d): the balance error.
                 let (b0, b1) = (e0 + d0, e1 + d1);
                 let bal =

@@ -178,6 +178,14 @@ impl Chain {
                 .is_some_and(|w| w.restitution.is_some())
     }
 
+    /// Does the chain lose energy, so that runs report the dissipated energy `E_d` with every
+    /// frame? Damped contacts ([`Chain::is_dissipative`]) lose it continuously; hard contacts and
+    /// hard walls lose `½ μ (w² − s²)` per collision (restitution `e < 1`, and a collision that
+    /// becomes a resting contact at any `e`; `src/engine/hybrid/hard.rs`).
+    pub fn loses_energy(&self) -> bool {
+        self.is_dissipative() || self.has_hard()
+    }
+
     /// Overlap of contact `c` (between beads `c` and `c+1`) for displacements `ui`, `uj`.
     #[inline(always)]
     pub fn overlap(&self, c: usize, ui: f64, uj: f64) -> f64 {

@@ -26,11 +26,34 @@
 //! - a collision with a bead in a cluster that does not stick is elastic within `t_c` of the
 //!   previous one of the same contact and separates at least at `p⁺·t_c` (the TC model), so
 //!   its collisions are at least about `2 t_c` apart.
+//!
+//! **Energy.** A collision changes the relative velocity from the approach speed `w` to the
+//! separating speed `−s` with momentum conserved, so the kinetic energy drops by
+//! `ΔE = ½ μ (w² − s²)` with the reduced mass `μ = m_a m_b / (m_a + m_b)` of the two bodies
+//! (`μ = m` of the moving body against a wall or a body a wall holds): `½ μ (1 − e²) w²` for a
+//! plain collision, `½ μ w²` when it sticks, and `ΔE < 0` when the TC floor `p⁺·t_c` raises
+//! `s` above `e·w`. Every collision adds its `ΔE` to the dissipated energy `E_d` that frames
+//! carry ([`crate::engine::Observer::dissipated`]; a scene with hard contacts or walls reports
+//! it, [`crate::model::Chain::loses_energy`]), so `E_kin + E_pot + E_d` is conserved as in a
+//! damped scene.
 
 use super::stick::collide;
 use super::{Hybrid, FREE};
 use crate::engine::events::EventKind;
 use crate::engine::EngineError;
+
+/// Kinetic energy a collision of bodies of masses `ma`, `mb` (`∞`: held by a wall) loses when
+/// their approach speed `w` becomes the separating speed `sep`: `½ μ (w² − sep²)` (module docs;
+/// 0 when both are held, which never move).
+fn collision_loss(ma: f64, mb: f64, w: f64, sep: f64) -> f64 {
+    let mu = match (ma.is_infinite(), mb.is_infinite()) {
+        (true, true) => return 0.0,
+        (true, false) => mb,
+        (false, true) => ma,
+        (false, false) => ma * mb / (ma + mb),
+    };
+    0.5 * mu * (w * w - sep * sep)
+}
 
 impl Hybrid<'_> {
     /// Acceleration of bead `i` at the current event time (its owner settled there).
@@ -126,6 +149,7 @@ impl Hybrid<'_> {
         if self.sticks(c, t, e0, w, push) {
             // a resting contact: the two bodies join one cluster and move as one there
             self.st.last_hard[c] = t;
+            self.st.dissipated += collision_loss(ma, mb, w, 0.0);
             let v = collide(ma, va, mb, vb, 0.0).0;
             self.set_velocity(c, t, v);
             self.set_velocity(c + 1, t, v);
@@ -134,6 +158,7 @@ impl Hybrid<'_> {
         }
         let (e, floor) = self.tc_model(c, t, e0, push);
         let sep = (e * w.max(0.0)).max(floor);
+        self.st.dissipated += collision_loss(ma, mb, w, sep);
         let (va2, vb2) = collide(ma, va, mb, vb, sep);
         self.set_velocity(c, t, va2);
         self.set_velocity(c + 1, t, vb2);
@@ -152,12 +177,14 @@ impl Hybrid<'_> {
         self.st.last_hard[c] = t;
         self.log(t, c, EventKind::HardCollision, w, 0.0);
         let (ma, mb) = (self.group_mass(&ga), self.group_mass(&gb));
+        let sep = if stick { 0.0 } else { e0 * w.max(0.0) };
+        self.st.dissipated += collision_loss(ma, mb, w, sep);
         if stick {
             let v = collide(ma, va, mb, vb, 0.0).0;
             self.st.stuck[c] = true;
             self.form_group(ga.lo, gb.hi, [ga.held[0], gb.held[1]], t, v);
         } else {
-            let (va2, vb2) = collide(ma, va, mb, vb, e0 * w.max(0.0));
+            let (va2, vb2) = collide(ma, va, mb, vb, sep);
             if ma.is_finite() {
                 self.set_group_velocity(&ga, t, va2);
             }
@@ -188,13 +215,20 @@ impl Hybrid<'_> {
         let stick = push > 0.0 && self.sticks(k, t, e0, w, push);
         let (e, floor) = self.tc_model(k, t, e0, push);
         self.log(t, i, EventKind::HardCollision, w, 0.0);
+        let sep = if stick {
+            0.0
+        } else {
+            (e * w.max(0.0)).max(floor)
+        };
+        // every bead of the run gets the new velocity (`replace_velocity`): its real mass
+        let mass: f64 = self.chain.mass[g.lo..g.hi].iter().sum();
+        self.st.dissipated += collision_loss(mass, f64::INFINITY, w, sep);
         if stick {
             // Pressed into the wall by its cluster, and the collision sticks: the rigid-wall
             // limit is a bead held at the wall (pinned) until the net force pulls it away.
             self.st.pinned[side as usize] = true;
             self.replace_velocity(g.lo, g.hi, t, 0.0);
         } else {
-            let sep = (e * w.max(0.0)).max(floor);
             self.replace_velocity(g.lo, g.hi, t, if side == 0 { sep } else { -sep });
         }
         self.after_velocity_change(g.lo, g.hi, t);
@@ -212,12 +246,14 @@ impl Hybrid<'_> {
         let stick = self.sticks(k, t, e0, w, push);
         self.st.last_hard[k] = t;
         self.log(t, i, EventKind::HardCollision, w, 0.0);
+        let sep = if stick { 0.0 } else { e0 * w.max(0.0) };
+        // a group a wall already holds is at rest and stays so (infinite mass: no loss)
+        self.st.dissipated += collision_loss(self.group_mass(&g), f64::INFINITY, w, sep);
         if stick {
             let mut held = g.held;
             held[side as usize] = true;
             self.form_group(g.lo, g.hi, held, t, 0.0);
         } else if !g.held[0] && !g.held[1] {
-            let sep = e0 * w.max(0.0);
             self.set_group_velocity(&g, t, if side == 0 { sep } else { -sep });
         }
         self.after_velocity_change(g.lo, g.hi, t);

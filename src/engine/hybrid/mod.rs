@@ -48,7 +48,7 @@ mod stick;
 
 pub use stepping::HybridEngine;
 
-use super::{EngineError, Observer, RunConfig};
+use super::{EngineError, RunConfig};
 use crate::engine::checkpoint::HybridData;
 use crate::integrate::{IntegrationError, Stats, Tolerances};
 use crate::model::Chain;
@@ -146,6 +146,11 @@ pub struct Hybrid<'a> {
     queue: PriorityQueue<Key, Prio>,
     /// The last frame (at the run's end time) has been emitted (reset by every advance).
     finished: bool,
+    /// Where advances pause ([`super::PauseAt`]).
+    pause: super::PauseAt,
+    /// Events logged so far that need no [`super::Stop::Event`] any more (returned, or logged
+    /// while events were not paused at): the log's total count minus the ones still to return.
+    reported: u64,
     // ---- scratch
     /// Scratch of [`Hybrid::form_group`].
     pools: Vec<stick::Pool>,
@@ -199,6 +204,8 @@ impl<'a> Hybrid<'a> {
             clusters: Vec::new(),
             queue: PriorityQueue::new(),
             finished: false,
+            pause: super::PauseAt::default(),
+            reported: 0,
             pools: Vec::with_capacity(n + 2),
             bu: vec![0.0; n],
             bv: vec![0.0; n],
@@ -345,87 +352,6 @@ impl<'a> Hybrid<'a> {
             }
         }
         holds
-    }
-
-    /// Processes the queue up to `until` (entries at `until` included); the clock ends at
-    /// `until`. Stops early when the observer asks.
-    fn advance_to(
-        &mut self,
-        until: f64,
-        obs: &mut dyn Observer,
-    ) -> Result<super::Stop, EngineError> {
-        loop {
-            let stop = super::poll_stop(obs, self.st.t, || {
-                super::EngineState::Hybrid(Box::new(self.save()))
-            })?;
-            if stop {
-                return Ok(super::Stop::Requested { t: self.st.t });
-            }
-            if self.st.events.len() >= super::EVENT_BLOCK {
-                self.flush_events(obs)?;
-            }
-            match self.queue.peek() {
-                None => break,
-                Some((_, Reverse((t, _, _, _)))) if t.0 > until => {
-                    self.st.t = self.st.t.max(until);
-                    return Ok(super::Stop::Reached { t: until });
-                }
-                Some(_) => {}
-            }
-            let Some((key, Reverse((t, _, _, _)))) = self.queue.pop() else {
-                break;
-            };
-            let t = t.0;
-            self.st.t = t;
-            match key {
-                Key::Frame => {
-                    for i in 0..self.n {
-                        let (u, v) = self.pos(i, t);
-                        self.bu[i] = u;
-                        self.bv[i] = v;
-                    }
-                    self.flush_events(obs)?;
-                    if self.chain.is_dissipative() {
-                        obs.dissipated(t, self.dissipated_at(t))?;
-                    }
-                    obs.frame(t, &self.bu, &self.bv)?;
-                    if t >= self.cfg.until {
-                        self.finished = true;
-                        return Ok(super::Stop::Reached { t });
-                    }
-                    self.st.next_frame += 1;
-                    let tf = self.cfg.frame_time(self.st.next_frame);
-                    self.queue.push(Key::Frame, prio(tf, 0, 0, Key::Frame));
-                }
-                Key::Cluster(slot) => {
-                    let pending = self.clusters[slot as usize]
-                        .as_mut()
-                        .and_then(|c| c.pending.take());
-                    match pending {
-                        Some(cluster::Pending::Close { contact, t, ver }) => {
-                            self.process_close(slot, contact, t, ver)?
-                        }
-                        Some(cluster::Pending::Split) => self.process_split(slot),
-                        Some(cluster::Pending::HardWall { side, t }) => {
-                            self.process_hard_wall(side, t)?
-                        }
-                        Some(cluster::Pending::Open { t }) => self.open_at(slot, t)?,
-                        None => self.step_cluster(slot)?,
-                    }
-                }
-                Key::FreeFree(c) => self.process_free_close(c as usize, t)?,
-                Key::Wall(side) => {
-                    if self.hard_wall(side).is_some() {
-                        self.process_hard_wall(side, t)?
-                    } else {
-                        self.process_wall_close(side, t)
-                    }
-                }
-            }
-        }
-        Err(EngineError::Config(
-            "event queue ran empty before the end time".into(),
-        ))
     }
 
     /// One step of a cluster, then event detection on its continuous output.

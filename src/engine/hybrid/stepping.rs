@@ -1,13 +1,139 @@
-//! The hybrid engine as an [`Engine`]: advancing to a time, the state of every bead at the
-//! clock (free beads analytically, cluster beads from their continuous output), a velocity
-//! change that restarts the event structure from the current state, and the run's outcome.
+//! The hybrid engine as an [`Engine`]: the loop that processes the event queue up to a time,
+//! the state of every bead at the clock (free beads analytically, cluster beads from their
+//! continuous output), a velocity change that restarts the event structure from the current
+//! state, and the run's outcome.
+//!
+//! **Pauses** ([`PauseAt`]). The loop is: return the next event not yet returned (when paused
+//! at events), ask the observer ([`crate::engine::Observer::control`]), hand over a full event
+//! block, pop and process one queue entry. A [`Stop::Frame`] returns at the end of the
+//! iteration that emitted the frame, a [`Stop::Event`] at the start of the next one, so the
+//! next advance continues with exactly the calls an uninterrupted loop makes: pausing changes
+//! no byte. Returned events are read from the log's buffer, which is handed over only at a
+//! full block or a frame, i.e. after every event it holds was returned.
 
-use super::{Hybrid, FREE};
+use super::{cluster, prio, Hybrid, Key, FREE};
 use crate::engine::checkpoint::{EngineState, HybridState};
-use crate::engine::stepper::{check_target, outcome_at, Engine, State, Stop};
+use crate::engine::stepper::{check_target, outcome_at, Engine, PauseAt, State, Stop};
 use crate::engine::{EngineError, Observer, RunConfig, RunOutcome};
 use crate::scene::Scene;
+use std::cmp::Reverse;
 use std::time::Instant;
+
+impl Hybrid<'_> {
+    /// Events logged so far (all kinds).
+    fn logged(&self) -> u64 {
+        self.st.counts.iter().sum()
+    }
+
+    /// When paused at events: the next logged event not yet returned, as a stop.
+    fn next_event_stop(&mut self) -> Option<Stop> {
+        let logged = self.logged();
+        if !self.pause.events || self.reported >= logged {
+            return None;
+        }
+        let behind = (logged - self.reported) as usize;
+        let event = self.st.events[self.st.events.len() - behind].clone();
+        self.reported += 1;
+        Some(Stop::Event {
+            t: self.st.t,
+            event,
+        })
+    }
+
+    /// Processes the queue up to `until` (entries at `until` included); the clock ends at
+    /// `until`. Stops early when the observer asks, and where [`Hybrid::pause`] says.
+    fn advance_to(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Stop, EngineError> {
+        loop {
+            if let Some(stop) = self.next_event_stop() {
+                return Ok(stop);
+            }
+            let stop = crate::engine::poll_stop(obs, self.st.t, || {
+                EngineState::Hybrid(Box::new(self.save()))
+            })?;
+            if stop {
+                return Ok(Stop::Requested { t: self.st.t });
+            }
+            if self.st.events.len() >= crate::engine::EVENT_BLOCK {
+                self.flush_events(obs)?;
+            }
+            match self.queue.peek() {
+                None => break,
+                Some((_, Reverse((t, _, _, _)))) if t.0 > until => {
+                    self.st.t = self.st.t.max(until);
+                    return Ok(Stop::Reached { t: until });
+                }
+                Some(_) => {}
+            }
+            let Some((key, Reverse((t, _, _, _)))) = self.queue.pop() else {
+                break;
+            };
+            let t = t.0;
+            self.st.t = t;
+            match key {
+                Key::Frame => {
+                    if let Some(stop) = self.emit_frame(t, obs)? {
+                        return Ok(stop);
+                    }
+                }
+                Key::Cluster(slot) => {
+                    let pending = self.clusters[slot as usize]
+                        .as_mut()
+                        .and_then(|c| c.pending.take());
+                    match pending {
+                        Some(cluster::Pending::Close { contact, t, ver }) => {
+                            self.process_close(slot, contact, t, ver)?
+                        }
+                        Some(cluster::Pending::Split) => self.process_split(slot),
+                        Some(cluster::Pending::HardWall { side, t }) => {
+                            self.process_hard_wall(side, t)?
+                        }
+                        Some(cluster::Pending::Open { t }) => self.open_at(slot, t)?,
+                        None => self.step_cluster(slot)?,
+                    }
+                }
+                Key::FreeFree(c) => self.process_free_close(c as usize, t)?,
+                Key::Wall(side) => {
+                    if self.hard_wall(side).is_some() {
+                        self.process_hard_wall(side, t)?
+                    } else {
+                        self.process_wall_close(side, t)
+                    }
+                }
+            }
+        }
+        Err(EngineError::Config(
+            "event queue ran empty before the end time".into(),
+        ))
+    }
+
+    /// Hands the frame at `t` (and the events before it, and `E_d` when the scene loses energy)
+    /// to the observer and schedules the next one. Returns the stop to return: the run's end
+    /// ([`Stop::Reached`]) after the last frame, or [`Stop::Frame`] when paused at frames.
+    fn emit_frame(&mut self, t: f64, obs: &mut dyn Observer) -> Result<Option<Stop>, EngineError> {
+        for i in 0..self.n {
+            let (u, v) = self.pos(i, t);
+            self.bu[i] = u;
+            self.bv[i] = v;
+        }
+        self.flush_events(obs)?;
+        if self.chain.loses_energy() {
+            obs.dissipated(t, self.dissipated_at(t))?;
+        }
+        obs.frame(t, &self.bu, &self.bv)?;
+        if t >= self.cfg.until {
+            self.finished = true;
+        } else {
+            self.st.next_frame += 1;
+            let tf = self.cfg.frame_time(self.st.next_frame);
+            self.queue.push(Key::Frame, prio(tf, 0, 0, Key::Frame));
+        }
+        Ok(if self.pause.frames {
+            Some(Stop::Frame { t })
+        } else {
+            self.finished.then_some(Stop::Reached { t })
+        })
+    }
+}
 
 /// The hybrid engine as an [`Engine`].
 pub struct HybridEngine<'a> {
@@ -45,6 +171,15 @@ impl Engine for HybridEngine<'_> {
             return Ok(Stop::Reached { t: self.h.st.t });
         }
         self.h.advance_to(until, obs)
+    }
+
+    fn pause_at(&mut self, pause: PauseAt) {
+        let h = &mut self.h;
+        if pause.events && !h.pause.events {
+            // only events logged from now on come back
+            h.reported = h.logged();
+        }
+        h.pause = pause;
     }
 
     fn time(&self) -> f64 {
