@@ -14,10 +14,12 @@ pub mod checkpoint;
 pub mod dense;
 pub mod events;
 pub mod hybrid;
+mod start;
 pub mod stepper;
 
 pub use checkpoint::{Control, EngineState};
-pub use stepper::{restore, start, Engine, PauseAt, State, Stop};
+pub use start::{restore, start};
+pub use stepper::{Engine, PauseAt, State, Stop};
 
 use crate::integrate::{default_atol, IntegrationError, Method, Stats, DEFAULT_RTOL};
 use crate::linalg::SolverKind;

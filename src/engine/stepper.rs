@@ -34,8 +34,8 @@
 
 use super::checkpoint::EngineState;
 use super::events::EventRecord;
-use super::{EngineError, Observer, RunConfig, RunOutcome};
-use crate::scene::{Engine as EngineKind, Scene};
+use super::{EngineError, Observer, RunOutcome};
+use crate::scene::Scene;
 use serde::{Deserialize, Serialize};
 
 /// Why [`Engine::advance`] returned. Only [`Stop::Reached`] means the target was reached;
@@ -115,49 +115,6 @@ pub trait Engine {
     fn outcome(&self) -> RunOutcome;
     /// The state to continue from exactly (checkpoints).
     fn save(&self) -> EngineState;
-}
-
-/// Starts an engine on `scene` (the configuration is checked first).
-pub fn start<'a>(
-    scene: &'a Scene,
-    cfg: &'a RunConfig,
-) -> Result<Box<dyn Engine + 'a>, EngineError> {
-    super::check_config(scene, cfg)?;
-    Ok(match cfg.engine {
-        EngineKind::Dense => Box::new(super::dense::DenseEngine::new(scene, cfg, None)?),
-        EngineKind::Hybrid => Box::new(super::hybrid::HybridEngine::new(scene, cfg, None)?),
-    })
-}
-
-/// An engine continuing from a checkpointed state (same scene; `cfg.until` may be later).
-pub fn restore<'a>(
-    scene: &'a Scene,
-    cfg: &'a RunConfig,
-    state: &EngineState,
-) -> Result<Box<dyn Engine + 'a>, EngineError> {
-    super::check_config(scene, cfg)?;
-    if state.time() > cfg.until {
-        return Err(EngineError::Config(format!(
-            "the checkpoint is at t = {}, after until = {}",
-            state.time(),
-            cfg.until
-        )));
-    }
-    Ok(match (cfg.engine, state) {
-        (EngineKind::Dense, EngineState::Dense(d)) => Box::new(super::dense::DenseEngine::new(
-            scene,
-            cfg,
-            Some(d.as_ref()),
-        )?),
-        (EngineKind::Hybrid, EngineState::Hybrid(h)) => {
-            Box::new(super::hybrid::HybridEngine::new(scene, cfg, Some(h))?)
-        }
-        _ => {
-            return Err(EngineError::Config(
-                "the checkpoint was written by the other engine".into(),
-            ))
-        }
-    })
 }
 
 /// The part of a [`RunOutcome`] every engine fills the same way: time, wall clock, energies,
