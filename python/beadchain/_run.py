@@ -205,11 +205,16 @@ def load(path: str | os.PathLike) -> Run:
 
 
 class Stop(NamedTuple):
-    """Why :meth:`Simulation.advance` returned: ``reason`` is ``"reached"`` (the requested
-    time) or ``"requested"`` (an observer asked to stop), at engine time ``t``."""
+    """Why :meth:`Simulation.advance` returned, at engine time ``t``: ``reason`` is
+    ``"reached"`` (the requested time), ``"frame"`` (a frame was just recorded) or ``"event"``
+    (a gap just opened or closed: ``event`` holds its log record ``t``, ``contact``, ``kind``,
+    ``rel_velocity``, ``peak_overlap``) when :meth:`Simulation.pause_at` asked for it, or
+    ``"requested"`` (an observer asked to stop). After any reason but ``"reached"``, advancing
+    again goes on from there."""
 
     reason: str
     t: float
+    event: Optional[dict] = None
 
 
 class State(NamedTuple):
@@ -243,10 +248,18 @@ class Simulation:
         self.scene = Scene._wrap(self._sim.scene, scene._text)
         self._chunks: list = []
 
+    def pause_at(self, frames: bool = False, events: bool = False) -> None:
+        """Makes later :meth:`advance` calls return after every frame (``frames``) and after
+        every gap opening or closing (``events``; the hybrid engine logs events, the dense one
+        does not). Pausing changes no number of the run: stepping event by event gives the
+        frames and the event log of one :func:`run`. Default: no pauses."""
+        self._sim.pause_at(frames=frames, events=events)
+
     def advance(self, until: Optional[float] = None) -> Stop:
-        """Advances to ``until`` (default: the run's end time, at most that)."""
-        reason, t = self._sim.advance(until)
-        return Stop(reason, t)
+        """Advances to ``until`` (default: the run's end time, at most that), or to the next
+        pause (:meth:`pause_at`); returns why it stopped (:class:`Stop`)."""
+        reason, t, event = self._sim.advance(until)
+        return Stop(reason, t, event)
 
     @property
     def time(self) -> float:

@@ -7,7 +7,7 @@ use crate::observe::Collector;
 use crate::run::{config, engine_err, frames_dict, stats, Options};
 use crate::scene::Scene;
 use crate::{without_gil, SceneError};
-use beadchain::engine::{self, Engine, RunConfig, Stop};
+use beadchain::engine::{self, Engine, PauseAt, RunConfig, Stop};
 use beadchain::scene::Scene as LibScene;
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
@@ -89,10 +89,23 @@ impl Simulation {
         self.run.obs.callbacks.push(f);
     }
 
-    /// Advances to `until` (default: the run's end time); returns `("reached", t)` or
-    /// `("requested", t)` (an observer raised or Ctrl-C: the exception is raised instead).
+    /// Where later advances pause: after every frame (`frames`), after every logged event
+    /// (`events`, hybrid engine). Pausing changes no number of the run.
+    #[pyo3(signature = (frames=false, events=false))]
+    fn pause_at(&mut self, frames: bool, events: bool) {
+        self.run.engine.pause_at(PauseAt { frames, events });
+    }
+
+    /// Advances to `until` (default: the run's end time); returns `(reason, t, event)`:
+    /// `("reached", t, None)`, `("frame", t, None)` or `("event", t, {t, contact, kind,
+    /// rel_velocity, peak_overlap})` when paused there ([`Simulation::pause_at`]), or
+    /// `("requested", t, None)` (an observer raised or Ctrl-C: the exception is raised instead).
     #[pyo3(signature = (until=None))]
-    fn advance(&mut self, py: Python<'_>, until: Option<f64>) -> PyResult<(&'static str, f64)> {
+    fn advance<'py>(
+        &mut self,
+        py: Python<'py>,
+        until: Option<f64>,
+    ) -> PyResult<(&'static str, f64, Option<Bound<'py, PyDict>>)> {
         let target = until.unwrap_or(self.run.cfg.until);
         let Running { engine, obs, .. } = &mut self.run;
         let r = without_gil(py, || engine.advance(target, obs));
@@ -101,8 +114,18 @@ impl Simulation {
             return Err(err);
         }
         Ok(match stop {
-            Stop::Reached { t } => ("reached", t),
-            Stop::Requested { t } => ("requested", t),
+            Stop::Reached { t } => ("reached", t, None),
+            Stop::Requested { t } => ("requested", t, None),
+            Stop::Frame { t } => ("frame", t, None),
+            Stop::Event { t, event } => {
+                let d = PyDict::new(py);
+                d.set_item("t", event.t)?;
+                d.set_item("contact", event.contact)?;
+                d.set_item("kind", event.kind.name())?;
+                d.set_item("rel_velocity", event.rel_velocity)?;
+                d.set_item("peak_overlap", event.peak_overlap)?;
+                ("event", t, Some(d))
+            }
         })
     }
 

@@ -67,3 +67,30 @@ def test_advance_beyond_the_end_is_refused():
     with pytest.raises(bc.SceneError) as e:
         sim.advance(6.0)
     assert "beyond the run's end time 5" in str(e.value)
+
+
+def test_pausing_at_every_frame_and_event_changes_nothing():
+    scene = bc.Scene.preset("striker")
+    whole = bc.run(scene, every=5.0)
+    sim = bc.Simulation(scene, every=5.0)
+    sim.pause_at(frames=True, events=True)
+    frames, events = [], []
+    while True:
+        stop = sim.advance()
+        if stop.reason == "frame":
+            assert sim.time == stop.t and stop.event is None
+            frames.append(stop.t)
+        elif stop.reason == "event":
+            events.append(stop.event)
+        else:
+            assert stop == bc.Stop("reached", 100.0)
+            break
+    np.testing.assert_array_equal(frames, whole.t)
+    r = sim.frames()
+    np.testing.assert_array_equal(r.u, whole.u)
+    np.testing.assert_array_equal(r.v, whole.v)
+    # every logged event came back once, in order, as the log holds it
+    assert len(events) == len(whole.events["t"]) > 100
+    for k in ("t", "contact", "rel_velocity", "peak_overlap"):
+        np.testing.assert_array_equal([e[k] for e in events], whole.events[k])
+    assert [e["kind"] for e in events] == list(whole.events["kind"])
