@@ -23,8 +23,9 @@ class Run:
     stored beads, listed in ``beads``); ``events``: a dict of columns (``t``, ``contact``,
     ``kind``, ``rel_velocity``, ``peak_overlap``) that ``pandas.DataFrame`` takes as it is;
     ``stats``: counters and energies; ``scene``: the :class:`Scene` that ran; ``dissipated``:
-    energy dissipated up to each frame (dissipative scenes; None for conservative ones and for
-    snapshot files before format 4, which did not store it).
+    energy dissipated up to each frame by damped contacts and hard collisions (scenes that can
+    lose energy: a dissipative law or hard contacts/walls; None for the others and for snapshot
+    files before format 4, which did not store it).
     A loaded snapshot reads its frames when ``u``/``v`` are first used; ``frames(index)`` reads
     only the frames asked for.
     """
@@ -53,8 +54,9 @@ class Run:
 
     @property
     def dissipated(self) -> Optional[np.ndarray]:
-        """Energy dissipated from t = 0 up to each frame (F,), computer units (None when the
-        scene is conservative or the file predates format 4)."""
+        """Energy dissipated from t = 0 up to each frame (F,), computer units: damped contacts
+        and hard collisions (None when the scene cannot lose energy or the file predates
+        format 4)."""
         if self._dissipated is _UNREAD:
             self._read_all()
         return self._dissipated

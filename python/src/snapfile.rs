@@ -102,7 +102,7 @@ pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
     d.set_item("complete", snap.is_complete())?;
     d.set_item("warnings", snap.warnings().to_vec())?;
     d.set_item("stats", summary(py, &snap)?)?;
-    d.set_item("dissipative", h.scene.chain.damping.is_some())?;
+    d.set_item("dissipative", h.scene.chain.loses_energy())?;
     d.set_item("scene", Scene::unchecked(h.scene.clone()))?;
     d.set_item("file", SnapshotFile { snap })?;
     Ok(d)

@@ -214,3 +214,16 @@ def test_snapshots_store_the_dissipated_energy(cli, tmp_path):
     assert bc.load(tmp_path / "d.snap").dissipated is not None  # without reading u, v first
     bc.run(bc.Scene.preset("striker"), until=10.0, out=tmp_path / "c.snap", record=False)
     assert bc.load(tmp_path / "c.snap").dissipated is None
+
+
+def test_hard_collision_losses_are_dissipated_energy(tmp_path):
+    # Newton's cradle with inelastic hard contacts (e = 0.5): every collision loses energy,
+    # and E + E_d stays E0 (abs 1e-12, rel 1e-9) in memory and in the snapshot file.
+    scene = bc.Scene(beads=4, striker=1.0, until=20.0, every=1.0, hard={"contacts": "all", "restitution": 0.5})
+    out = tmp_path / "h.snap"
+    r = bc.run(scene, out=out)
+    for run in (r, bc.load(out)):
+        e = run.energy()
+        assert run.dissipated is not None and run.dissipated[-1] > 0.1 * e["total"][0]
+        np.testing.assert_allclose(e["total"] + run.dissipated, e["total"][0],
+                                   rtol=1e-9, atol=1e-12)

@@ -33,7 +33,7 @@
 //! | tag    | section | payload |
 //! |--------|---------|---------|
 //! | `HEAD` | HEADER  | bincode of the named record of [`Header`]: `Vec<(String, `[`record::Value`]`)>`, keys in [`header4`] (see *bincode* below). Exactly once, first. |
-//! | `FRAM` | FRAME   | frame number `k` u64 (0, 1, 2, … in file order), then `t` f64, then the energy `E_d` f64 dissipated by damped contacts from `t = 0` (0 for a conservative chain), then `u[i]` f64 for every stored bead `i`, then `v[i]` f64 for every stored bead (raw LE, no bincode); a field not stored is left out. `L = 24 + 8 M F` exactly for `M` stored beads and `F` stored fields ([`Header::output`], see [`select`]); every bead and both fields (`L = 24 + 16 N`, `N = Header::n_beads`) unless the run selected fewer. Zero or more, in time order. The number lets a reader reject frames that were moved, duplicated or dropped even where no INDEX survives. |
+//! | `FRAM` | FRAME   | frame number `k` u64 (0, 1, 2, … in file order), then `t` f64, then the energy `E_d` f64 dissipated by damped contacts and hard collisions from `t = 0` (0 for a conservative chain), then `u[i]` f64 for every stored bead `i`, then `v[i]` f64 for every stored bead (raw LE, no bincode); a field not stored is left out. `L = 24 + 8 M F` exactly for `M` stored beads and `F` stored fields ([`Header::output`], see [`select`]); every bead and both fields (`L = 24 + 16 N`, `N = Header::n_beads`) unless the run selected fewer. Zero or more, in time order. The number lets a reader reject frames that were moved, duplicated or dropped even where no INDEX survives. |
 //! | `EVTB` | EVENT BLOCK | `first` u64 (the log index of the block's first event: the number of events in the blocks before it), then bincode of `Vec<`[`EventRecord`]`>` (not empty): the next events of the log, in processing order. Zero or more, between the frames. The number lets a reader reject blocks that were moved, duplicated or dropped. |
 //! | `EVIX` | EVENT INDEX | `count` u64, then `count` × u64 byte offsets of the EVENT BLOCK sections in file order. `L = 8 + 8 count`. |
 //! | `STAT` | STATS   | bincode of [`RunSummary`]. |
@@ -250,7 +250,7 @@ pub struct Frame {
     pub u: Vec<f64>,
     /// Velocities `v_i`, length `N` (or the stored beads; empty when not stored).
     pub v: Vec<f64>,
-    /// Energy dissipated by damped contacts from `t = 0` to `t` (format version 4; 0 for a
+    /// Energy dissipated by damped contacts and hard collisions from `t = 0` to `t` (format version 4; 0 for a
     /// conservative chain; `None` in older files, which did not store it).
     pub dissipated: Option<f64>,
 }
