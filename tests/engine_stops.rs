@@ -12,25 +12,6 @@ use beadchain::integrate::Method;
 use beadchain::scene::{parse_str, Engine as Kind, Scene};
 use std::path::Path;
 
-/// Hard contacts (e = 0.5) and a hard wall (e = 0.8) under gravity: hard collisions, merges,
-/// splits, resting contacts and a pin.
-const HARD_WALL: &str = "
-[chain]
-beads = 8
-[field]
-gravity = 1.0
-[initial]
-displacement = [1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 4.5]
-[hard]
-contacts = [2, 5]
-restitution = 0.5
-[walls]
-left = { hard = true, restitution = 0.8 }
-[run]
-until = 20.0
-every = 0.5
-";
-
 /// A struck chain with a hard contact and a soft right wall 0.2 away: closings, openings, a hard
 /// collision, wall closings and openings.
 const SOFT_WALL: &str = "
@@ -180,8 +161,14 @@ fn pausing_at_frames_and_events_gives_the_bytes_of_one_run_hybrid() {
     cfg.until = cfg.until.min(40.0);
     check_scene("damped_striker", &damped, &cfg);
 
-    for (name, text) in [("hard wall", HARD_WALL), ("soft wall", SOFT_WALL)] {
-        let sc = scene(text);
+    for (name, text) in [
+        (
+            "hard wall",
+            common::SOFT_ON_HARD_WALL.replace("until = 30.0", "until = 20.0"),
+        ),
+        ("soft wall", SOFT_WALL.to_string()),
+    ] {
+        let sc = scene(&text);
         let mut cfg = common::config(Kind::Hybrid, Method::Radau5, 1e-10, 1e-12, sc.run.until);
         cfg.every = sc.run.every;
         check_scene(name, &sc, &cfg);

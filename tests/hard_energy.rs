@@ -39,44 +39,6 @@ until = 60.0
 every = 0.5
 ";
 
-/// Five beads with hard contacts (e = 0.5) falling onto a hard wall (e = 0.8) under gravity:
-/// free groups, resting contacts and a pin; the stack comes to rest.
-const FALLING_STACK: &str = "
-[chain]
-beads = 5
-[field]
-gravity = 1.0
-[initial]
-displacement = [1.0, 1.5, 2.0, 2.5, 3.0]
-[hard]
-contacts = \"all\"
-restitution = 0.5
-[walls]
-left = { hard = true, restitution = 0.8 }
-[run]
-until = 30.0
-every = 0.5
-";
-
-/// Soft beads with two hard contacts (e = 0.5) falling onto a hard wall (e = 0.8): a soft
-/// cluster's end bead collides with the wall and is pinned there.
-const SOFT_ON_HARD_WALL: &str = "
-[chain]
-beads = 8
-[field]
-gravity = 1.0
-[initial]
-displacement = [1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 4.5]
-[hard]
-contacts = [2, 5]
-restitution = 0.5
-[walls]
-left = { hard = true, restitution = 0.8 }
-[run]
-until = 30.0
-every = 0.5
-";
-
 /// Before: hard-collision losses were not counted and frames of these scenes carried no `E_d`,
 /// so `E(t) + E_d(t) − E(0)` at the last frame was the whole loss: −10 (falling stack,
 /// `E(0)` = 10) and −5.60 (soft beads on the wall, `E(0)` = 22), measured before the fix; the
@@ -89,8 +51,8 @@ fn hard_collision_losses_count_as_dissipated() {
     let (atol, rtol) = (1e-12, 1e-8);
     for (name, text) in [
         ("soft chain", SOFT_CHAIN),
-        ("falling stack", FALLING_STACK),
-        ("soft on hard wall", SOFT_ON_HARD_WALL),
+        ("falling stack", common::FALLING_STACK),
+        ("soft on hard wall", common::SOFT_ON_HARD_WALL),
     ] {
         let s = scene(text);
         let mut rec = Recorder::default();

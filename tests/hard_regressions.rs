@@ -178,29 +178,12 @@ fn inelastic_hard_gas_conserves_momentum() {
     assert!(o.energy_final <= o.energy_initial, "energy gained");
 }
 
-const FALLING_STACK: &str = "
-[chain]
-beads = 5
-[field]
-gravity = 1.0
-[initial]
-displacement = [1.0, 1.5, 2.0, 2.5, 3.0]
-[hard]
-contacts = \"all\"
-restitution = 0.5
-[walls]
-left = { hard = true, restitution = 0.5 }
-[run]
-until = 30.0
-every = 0.5
-";
-
 /// Issue 12, scene 1: five hard beads (e = 0.5) falling onto a hard wall under gravity, with
 /// the default collapse interval, ran practically forever (t = 0.059 of 30 in 20 s). Now the
 /// stack comes to rest on the wall in a bounded number of collisions.
 #[test]
 fn falling_hard_stack_comes_to_rest() {
-    let s = scene(FALLING_STACK);
+    let s = scene(&wall_e05(common::FALLING_STACK));
     let (o, rec) = run_bounded(&s, 200_000);
     assert!(hard_events(&o) < 5_000, "{} collisions", hard_events(&o));
     // at rest, stacked on the wall: u = 0, v = 0 (abs 1e-12)
@@ -279,7 +262,8 @@ every = 2.0
 #[test]
 fn hard_scenes_never_gain_energy() {
     for e in ["0.0", "0.3", "0.9", "1.0"] {
-        let text = FALLING_STACK.replace("restitution = 0.5", &format!("restitution = {e}"));
+        let text = wall_e05(common::FALLING_STACK)
+            .replace("restitution = 0.5", &format!("restitution = {e}"));
         let s = scene(&text);
         let (_, rec) = run_bounded(&s, 500_000);
         // abs 1e-12, rel 1e-12 of the total
@@ -342,23 +326,6 @@ fn hard_overlap_at_start_cli_error() {
     assert!(!d.path().join("o.bcs").exists());
 }
 
-const SOFT_ON_HARD_WALL: &str = "
-[chain]
-beads = 8
-[field]
-gravity = 1.0
-[initial]
-displacement = [1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 4.5]
-[hard]
-contacts = [2, 5]
-restitution = 0.5
-[walls]
-left = { hard = true, restitution = 0.5 }
-[run]
-until = 30.0
-every = 0.5
-";
-
 /// Soft beads falling onto a hard wall (bead 0 in a soft cluster) chattered on the wall at the
 /// TC interval: 337 928 wall collisions in 30 time units (measured at commit 21dda2a, before
 /// the cluster's wall collisions used the sticking rule). Now the bead is held on the wall
@@ -366,7 +333,7 @@ every = 0.5
 #[test]
 fn soft_cluster_on_hard_wall_stops_chattering() {
     for contacts in ["[2, 5]", "[0, 2, 5]"] {
-        let s = scene(&SOFT_ON_HARD_WALL.replace("[2, 5]", contacts));
+        let s = scene(&wall_e05(common::SOFT_ON_HARD_WALL).replace("[2, 5]", contacts));
         let (o, rec) = run_bounded(&s, 200_000);
         assert!(
             hard_events(&o) < 1_000,
@@ -420,8 +387,8 @@ fn resting_contacts_resume_bit_identically() {
         "[chain]\nbeads = 20\n[initial]\nstriker = 1.0\n[hard]\ncontacts = { from = 8, to = 11 }\n\
                restitution = 0.5\n[run]\nuntil = 80.0\nevery = 2.0\n";
     let cases = [
-        FALLING_STACK.to_string(),
-        SOFT_ON_HARD_WALL.replace("[2, 5]", "[0, 2, 5]"),
+        wall_e05(common::FALLING_STACK),
+        wall_e05(common::SOFT_ON_HARD_WALL).replace("[2, 5]", "[0, 2, 5]"),
         seg.to_string(),
     ];
     for text in &cases {
@@ -463,4 +430,12 @@ fn resting_contacts_resume_bit_identically() {
             assert_eq!(out.events_by_kind, reference.events_by_kind);
         }
     }
+}
+
+/// A scene of `tests/common` with its hard left wall's restitution 0.5 instead of 0.8.
+fn wall_e05(text: &str) -> String {
+    text.replace(
+        "left = { hard = true, restitution = 0.8 }",
+        "left = { hard = true, restitution = 0.5 }",
+    )
 }

@@ -89,3 +89,41 @@ pub fn assert_ok(o: &std::process::Output) {
         String::from_utf8_lossy(&o.stdout)
     );
 }
+
+/// Soft beads with two hard contacts (e = 0.5) falling onto a hard wall (e = 0.8): a soft
+/// cluster's end bead collides with the wall and is pinned there.
+pub const SOFT_ON_HARD_WALL: &str = "
+[chain]
+beads = 8
+[field]
+gravity = 1.0
+[initial]
+displacement = [1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 4.5]
+[hard]
+contacts = [2, 5]
+restitution = 0.5
+[walls]
+left = { hard = true, restitution = 0.8 }
+[run]
+until = 30.0
+every = 0.5
+";
+
+/// Five beads with hard contacts (e = 0.5) falling onto a hard wall (e = 0.8) under gravity:
+/// free groups, resting contacts and a pin; the stack comes to rest.
+pub const FALLING_STACK: &str = "
+[chain]
+beads = 5
+[field]
+gravity = 1.0
+[initial]
+displacement = [1.0, 1.5, 2.0, 2.5, 3.0]
+[hard]
+contacts = \"all\"
+restitution = 0.5
+[walls]
+left = { hard = true, restitution = 0.8 }
+[run]
+until = 30.0
+every = 0.5
+";
