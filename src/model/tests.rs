@@ -1,4 +1,5 @@
-//! Unit tests of the chain model: stiffness against a finite difference of the force, fast powers, Newton's third law, open contacts.
+//! Unit tests of the chain model: stiffness against a finite difference of the force, fast
+//! powers, Newton's third law, open contacts.
 
 use super::*;
 
