@@ -167,7 +167,7 @@ pub fn print_outcome(
     )?;
     writeln!(
         w,
-        "t = {} in {:.3} s: {} steps ({} rejected), {} active bead-steps, {} RHS evaluations, {} factorizations, {} Newton iterations ({} failures), largest cluster {}",
+        "t = {} in {:.4} s: {} steps ({} rejected), {} active bead-steps, {} RHS evaluations, {} factorizations, {} Newton iterations ({} failures), largest cluster {}",
         out.t_end,
         out.wall_seconds,
         s.steps,

@@ -58,70 +58,88 @@ pub struct AutoState {
 }
 
 /// DOP853 and Radau IIA behind one [`Integrator`], switched by the rule of the module docs.
+///
+/// Only DOP853 is built with the integrator: Radau IIA (some 40 arrays and two tridiagonal
+/// solvers) is built at the first switch to it, and the stiffness-test scratch at the first
+/// test. A hybrid run makes a new integrator for every cluster it forms (one per gap event), and
+/// most clusters live a few explicit steps: building and dropping Radau IIA for each of them was
+/// ~10 % of the instructions of a 1000-bead striker run (`valgrind --tool=callgrind`). Building it later changes no number:
+/// [`Integrator::reset`] sets every array a step reads.
 pub struct Auto {
     m: usize,
+    tol: Tolerances,
+    solver: SolverKind,
     dop: Dop853,
-    radau: Radau5,
+    /// Built at the first switch to the implicit method (or by `new`/`load` when implicit).
+    radau: Option<Box<Radau5>>,
     mode: AutoState,
     stats: Stats,
-    /// Scratch: state copy at a switch (`2m`), accelerations (`m`), stiffnesses (`m + 1`).
-    zbuf: Vec<f64>,
-    acc: Vec<f64>,
-    k: Vec<f64>,
-    /// Scratch: damping Jacobian (`m + 1`).
-    kv: Vec<f64>,
+    /// Scratch, empty until the first stiffness test or switch: state copy at a switch (`2m`),
+    /// accelerations (`m`), stiffnesses (`m + 1`), damping Jacobian (`m + 1`).
+    scratch: Vec<f64>,
 }
 
 impl Auto {
     /// An `m`-bead integrator, starting explicit (or implicit when `implicit`).
     pub fn new(m: usize, tol: Tolerances, solver: SolverKind, implicit: bool) -> Self {
-        Self {
+        let mut auto = Self {
             m,
+            tol,
+            solver,
             dop: Dop853::new(m, tol),
-            radau: Radau5::new(m, tol, solver),
+            radau: None,
             mode: AutoState {
                 implicit,
                 ..AutoState::default()
             },
             stats: Stats::default(),
-            zbuf: vec![0.0; 2 * m],
-            acc: vec![0.0; m],
-            k: vec![0.0; m + 1],
-            kv: vec![0.0; m + 1],
+            scratch: Vec::new(),
+        };
+        if implicit {
+            auto.build_radau();
         }
+        auto
+    }
+
+    /// Builds the implicit integrator if it does not exist yet.
+    fn build_radau(&mut self) -> &mut Radau5 {
+        let (m, tol, solver) = (self.m, self.tol, self.solver);
+        self.radau
+            .get_or_insert_with(|| Box::new(Radau5::new(m, tol, solver)))
     }
 
     fn active(&self) -> &dyn Integrator {
-        if self.mode.implicit {
-            &self.radau
-        } else {
-            &self.dop
+        match (&self.radau, self.mode.implicit) {
+            (Some(r), true) => &**r,
+            _ => &self.dop,
         }
     }
 
     fn active_mut(&mut self) -> &mut dyn Integrator {
-        if self.mode.implicit {
-            &mut self.radau
-        } else {
-            &mut self.dop
+        match (&mut self.radau, self.mode.implicit) {
+            (Some(r), true) => &mut **r,
+            _ => &mut self.dop,
         }
     }
 
     /// Upper bound of the largest angular frequency at the current state (module docs).
     fn omega_max(&mut self, sys: &dyn System) -> f64 {
         let m = self.m;
-        let z = if self.mode.implicit {
-            self.radau.state()
-        } else {
-            self.dop.state()
+        self.scratch.resize(5 * m + 2, 0.0);
+        let (_, rest) = self.scratch.split_at_mut(2 * m);
+        let (acc, rest) = rest.split_at_mut(m);
+        let (k, kv) = rest.split_at_mut(m + 1);
+        let z = match (&self.radau, self.mode.implicit) {
+            (Some(r), true) => r.state(),
+            _ => self.dop.state(),
         };
-        sys.accel_stiffness(&z[..m], &z[m..], &mut self.acc, &mut self.k, &mut self.kv);
+        sys.accel_stiffness(&z[..m], &z[m..], acc, k, kv);
         let mass = sys.mass();
-        let w = gershgorin_sqrt(mass, &self.k);
+        let w = gershgorin_sqrt(mass, k);
         if sys.dissipative() {
             // Damping moves the eigenvalues to λ = −γ ± sqrt(γ² − ω²): |λ| ≤ ω + g with g the
             // Gershgorin bound of M⁻¹ L(k_v).
-            w + gershgorin_sqrt(mass, &self.kv).powi(2)
+            w + gershgorin_sqrt(mass, kv).powi(2)
         } else {
             w
         }
@@ -131,27 +149,25 @@ impl Auto {
     fn switch(&mut self, sys: &dyn System) {
         let m = self.m;
         let (t, h) = (self.active().t(), self.active().step_size());
-        let z = if self.mode.implicit {
-            self.radau.state()
-        } else {
-            self.dop.state()
-        };
-        self.zbuf.copy_from_slice(z);
-        self.mode.diss_base += self.active().dissipated().1;
+        let diss = self.active().dissipated().1;
+        let mut zbuf = std::mem::take(&mut self.scratch);
+        zbuf.resize(5 * m + 2, 0.0);
+        zbuf[..2 * m].copy_from_slice(self.active().state());
+        self.mode.diss_base += diss;
         self.mode.implicit = !self.mode.implicit;
         self.mode.streak = 0;
         self.mode.since = 0;
         self.mode.pending = false;
-        let (u, v) = self.zbuf.split_at(m);
+        if self.mode.implicit {
+            self.build_radau();
+        }
+        let (u, v) = zbuf[..2 * m].split_at(m);
         let before = self.active().stats().clone();
-        let next: &mut dyn Integrator = if self.mode.implicit {
-            &mut self.radau
-        } else {
-            &mut self.dop
-        };
-        next.reset(sys, t, u, v);
-        next.set_step_size(h);
-        add_diff(&mut self.stats, next.stats(), &before);
+        let next = self.active_mut();
+        next.restart(sys, t, u, v, h);
+        let now = next.stats().clone();
+        add_diff(&mut self.stats, &now, &before);
+        self.scratch = zbuf;
     }
 
     /// Votes after an accepted step (module docs).
@@ -166,6 +182,16 @@ impl Auto {
         if self.mode.streak >= STREAK {
             self.mode.pending = true;
         }
+    }
+
+    /// (Re)starts the active method with `start` (a reset or restart), counting its work.
+    fn start_active(&mut self, start: impl FnOnce(&mut dyn Integrator)) {
+        let before = self.active().stats().clone();
+        start(self.active_mut());
+        self.mode.diss_base = 0.0;
+        self.mode.pending = false;
+        let now = self.active().stats().clone();
+        add_diff(&mut self.stats, &now, &before);
     }
 
     /// Accepted steps taken by the implicit method.
@@ -208,16 +234,15 @@ fn add_diff(acc: &mut Stats, now: &Stats, before: &Stats) {
 
 impl Integrator for Auto {
     fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]) {
-        let before = self.active().stats().clone();
-        self.active_mut().reset(sys, t, u, v);
-        self.mode.diss_base = 0.0;
-        self.mode.pending = false;
-        let now = self.active().stats().clone();
-        add_diff(&mut self.stats, &now, &before);
+        self.start_active(|i| i.reset(sys, t, u, v));
     }
 
     fn set_step_size(&mut self, h: f64) {
         self.active_mut().set_step_size(h);
+    }
+
+    fn restart(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64], h: f64) {
+        self.start_active(|i| i.restart(sys, t, u, v, h));
     }
 
     fn step_size(&self) -> f64 {
@@ -296,6 +321,9 @@ impl Integrator for Auto {
         })?;
         let before = self.mode;
         self.mode = mode;
+        if mode.implicit {
+            self.build_radau();
+        }
         if let Err(e) = self.active_mut().load(s) {
             self.mode = before;
             return Err(e);

@@ -231,6 +231,32 @@ impl Dop853 {
         }
     }
 
+    /// The part of [`Integrator::reset`] that sets the state: `z`, `f(z)` (stage 0), the
+    /// continuous output (zero), the dissipation and the velocity scales.
+    ///
+    /// # Panics
+    /// If `sys.len()`, `u.len()` or `v.len()` differs from the `m` given to [`Dop853::new`].
+    fn start(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]) {
+        let m = self.m;
+        assert_eq!(sys.len(), m, "system size differs from the integrator's");
+        assert_eq!(
+            u.len(),
+            m,
+            "displacement length differs from the integrator's"
+        );
+        assert_eq!(v.len(), m, "velocity length differs from the integrator's");
+        self.t = t;
+        self.t_prev = t;
+        self.z[..m].copy_from_slice(u);
+        self.z[m..].copy_from_slice(v);
+        self.z_old.copy_from_slice(&self.z);
+        self.f.fill(0.0);
+        let (k0, _) = self.k.split_at_mut(2 * m);
+        self.pw[0] = rhs(sys, &mut self.stats, &self.z, k0);
+        self.diss = (0.0, 0.0);
+        self.tol.velocity_scales(sys.mass(), &mut self.vs);
+    }
+
     /// Stages 1–12 of a step of size `h` from `z`; leaves the new state in `y` and
     /// `f(y)` in stage 12.
     fn main_stages(&mut self, sys: &dyn System, h: f64) {
@@ -345,25 +371,15 @@ impl Integrator for Dop853 {
     /// # Panics
     /// If `sys.len()`, `u.len()` or `v.len()` differs from the `m` given to [`Dop853::new`].
     fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]) {
-        let m = self.m;
-        assert_eq!(sys.len(), m, "system size differs from the integrator's");
-        assert_eq!(
-            u.len(),
-            m,
-            "displacement length differs from the integrator's"
-        );
-        assert_eq!(v.len(), m, "velocity length differs from the integrator's");
-        self.t = t;
-        self.t_prev = t;
-        self.z[..m].copy_from_slice(u);
-        self.z[m..].copy_from_slice(v);
-        self.z_old.copy_from_slice(&self.z);
-        self.f.fill(0.0);
-        let (k0, _) = self.k.split_at_mut(2 * m);
-        self.pw[0] = rhs(sys, &mut self.stats, &self.z, k0);
-        self.diss = (0.0, 0.0);
-        self.tol.velocity_scales(sys.mass(), &mut self.vs);
+        self.start(sys, t, u, v);
         self.h = self.initial_step(sys);
+    }
+
+    /// As `reset`, without the starting-step estimate (its stage-1 and `y` scratch is
+    /// overwritten by the first step before it is read, so the step is the same).
+    fn restart(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64], h: f64) {
+        self.start(sys, t, u, v);
+        self.h = h;
     }
 
     /// One accepted step of at most `t_bound − t` (landing exactly on `t_bound` when shortened).
@@ -435,6 +451,8 @@ impl Integrator for Dop853 {
             last_nonfinite = !err.is_finite();
             let factor = if last_nonfinite {
                 MIN_FACTOR
+            } else if let Some(f) = sys.retry_fraction(&self.z, &self.y, h) {
+                f
             } else {
                 MIN_FACTOR.max(SAFETY * err.powf(ERROR_EXPONENT))
             };

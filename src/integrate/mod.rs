@@ -95,6 +95,14 @@ pub trait System {
     fn dissipative(&self) -> bool {
         false
     }
+    /// After an explicit trial step of size `h` from state `z0` to `z1` was rejected: the
+    /// fraction of `h` to retry with when the trial step crossed a point where the right-hand
+    /// side is not smooth (a contact opening: its error estimate then measures the kink, not
+    /// the step, and an error-based retry straddles it again). `None` (the default): retry by
+    /// the error estimate.
+    fn retry_fraction(&self, _z0: &[f64], _z1: &[f64], _h: f64) -> Option<f64> {
+        None
+    }
 }
 
 /// Beads `lo..lo+m` of a chain, as a [`System`].
@@ -338,6 +346,14 @@ pub trait Integrator {
     fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]);
     /// Overrides the next step-size proposal (e.g. to land on a known time in one step).
     fn set_step_size(&mut self, h: f64);
+    /// [`Integrator::reset`] then [`Integrator::set_step_size`]`(h)`, for a restart whose first
+    /// step is known (the hybrid engine redoing a step to land on an event, a method switch):
+    /// a method whose `reset` estimates a starting step skips that estimate (DOP853: one
+    /// right-hand side). The states and steps are those of `reset` + `set_step_size`.
+    fn restart(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64], h: f64) {
+        self.reset(sys, t, u, v);
+        self.set_step_size(h);
+    }
     /// The next step-size proposal.
     fn step_size(&self) -> f64;
     /// Advances one accepted step, never past `t_bound`. Returns the new time.

@@ -60,6 +60,7 @@ impl Hybrid<'_> {
             mass: &mass,
             pinned,
             rigid: rigid.then(|| &self.st.stuck[lo..hi - 1]),
+            theta: self.theta,
         };
         integ.reset(&sys, t, &self.bu[..m], &self.bv[..m]);
         let cl = Cluster {
@@ -280,6 +281,7 @@ impl Hybrid<'_> {
             mass: &cl.mass,
             pinned: cl.pinned,
             rigid: cl.rigid.then(|| &self.st.stuck[cl.lo..cl.hi - 1]),
+            theta: self.theta,
         };
         if t - t0 <= 64.0 * f64::EPSILON * t.abs().max(f64::MIN_POSITIVE) {
             // A few ulps after the step start: too short to integrate (the stage times would
@@ -291,12 +293,9 @@ impl Hybrid<'_> {
         }
         cl.integ.dense(t0, z);
         self.st.dissipated += cl.integ.dissipated().0;
-        cl.integ.reset(&sys, t0, &z[..m], &z[m..]);
-        if t > t0 {
-            cl.integ.set_step_size(t - t0);
-            while cl.integ.t() < t {
-                cl.integ.step(&sys, t)?;
-            }
+        cl.integ.restart(&sys, t0, &z[..m], &z[m..], t - t0);
+        while cl.integ.t() < t {
+            cl.integ.step(&sys, t)?;
         }
         Ok(())
     }
