@@ -211,7 +211,11 @@ fn progress_bar_is_drawn_on_a_terminal_unless_quiet() {
         return;
     }
     let d = tempfile::tempdir().unwrap();
-    let scene = LONG.replace("until = 250.0", "until = 2000.0");
+    // long enough (0.4 s) for the bar to redraw (every 100 ms) with its rate: the 300-bead run
+    // to t = 2000 used before took 0.06 s on an idle machine, and the bar never redrew
+    let scene = LONG
+        .replace("beads = 300", "beads = 1000")
+        .replace("until = 250.0", "until = 600.0");
     std::fs::write(d.path().join("s.toml"), scene).unwrap();
     let on_tty = |extra: &str| -> String {
         let cmd = format!("{BIN} run s.toml --out t.snap {extra}");
@@ -226,7 +230,7 @@ fn progress_bar_is_drawn_on_a_terminal_unless_quiet() {
     };
     let shown = on_tty("");
     assert!(
-        shown.contains("events/s") && shown.contains("of 2.0000e3"),
+        shown.contains("events/s") && shown.contains("of 6.0000e2"),
         "{shown:?}"
     );
     assert!(shown.contains("wrote t.snap"), "{shown:?}");

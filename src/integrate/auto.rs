@@ -332,3 +332,43 @@ impl Integrator for Auto {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrate::test_util::{striker, uniform_chain};
+    use crate::integrate::ChainRange;
+
+    /// Radau IIA is built at the first switch to it, not with the integrator (a hybrid run
+    /// makes one integrator per cluster; building Radau IIA for each was ~10 % of a 1000-bead
+    /// striker run): explicit steps never build it, a switch does (here forced, as the
+    /// stiffness vote would), and a state saved while implicit loads into a new integrator,
+    /// which builds it and continues with the same steps.
+    #[test]
+    fn radau_is_built_at_the_first_switch_only() {
+        let chain = uniform_chain(6);
+        let (u, v) = striker(6, 1.0);
+        let tol = Tolerances {
+            rtol: 1e-8,
+            atol: 1e-10,
+            scales: chain.scales(&u, &v),
+            v_frame: 0.0,
+        };
+        let sys = ChainRange::whole(&chain);
+        let mut a = Auto::new(6, tol, SolverKind::Auto, false);
+        a.reset(&sys, 0.0, &u, &v);
+        for _ in 0..40 {
+            a.step(&sys, 1e4).expect("steps");
+        }
+        assert!(a.radau.is_none() && !a.mode.implicit);
+        a.mode.pending = true;
+        a.step(&sys, 1e4).expect("steps");
+        assert!(a.mode.implicit && a.radau.is_some());
+        let mut resumed = Auto::new(6, tol, SolverKind::Auto, false);
+        resumed.load(&a.save()).expect("loads");
+        assert!(resumed.radau.is_some());
+        let t = a.step(&sys, 1e4).expect("steps");
+        assert_eq!(resumed.step(&sys, 1e4).expect("steps"), t);
+        assert_eq!(resumed.state(), a.state(), "same step after the load");
+    }
+}

@@ -451,8 +451,6 @@ impl Integrator for Dop853 {
             last_nonfinite = !err.is_finite();
             let factor = if last_nonfinite {
                 MIN_FACTOR
-            } else if let Some(f) = sys.retry_fraction(&self.z, &self.y, h) {
-                f
             } else {
                 MIN_FACTOR.max(SAFETY * err.powf(ERROR_EXPONENT))
             };

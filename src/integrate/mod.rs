@@ -95,14 +95,6 @@ pub trait System {
     fn dissipative(&self) -> bool {
         false
     }
-    /// After an explicit trial step of size `h` from state `z0` to `z1` was rejected: the
-    /// fraction of `h` to retry with when the trial step crossed a point where the right-hand
-    /// side is not smooth (a contact opening: its error estimate then measures the kink, not
-    /// the step, and an error-based retry straddles it again). `None` (the default): retry by
-    /// the error estimate.
-    fn retry_fraction(&self, _z0: &[f64], _z1: &[f64], _h: f64) -> Option<f64> {
-        None
-    }
 }
 
 /// Beads `lo..lo+m` of a chain, as a [`System`].

@@ -20,7 +20,11 @@ Accuracy, at the scene's end time:
   - lead: relative error of the leading-wave energy (beads within --lead-window of the fastest
     bead, kinetic + contact energy) against the reference's: the paper's observable.
 For chaotic scenes (disorder, periodic decay: tolerance-level differences grow) give
---metric observables: the equal-or-better comparison then uses max(energy, lead) errors.
+--metric observables: the equal-or-better comparison then uses max(energy, lead) errors, or
+--metric energy: the total-energy error alone (the conserved quantity; on disorder the final
+leading-wave energy is itself chaotic, 1e-2 between any two solvers, so it ranks runs by chance).
+
+--from-csv OUT.csv re-makes OUT.md from an earlier invocation's CSV with another --metric (no run).
 
 Wall time: integration only, median of --repeat runs; runs longer than --timeout are recorded
 as "timeout" (a lower bound on their time).
@@ -28,6 +32,7 @@ as "timeout" (a lower bound on their time).
 Usage: python3 validation/peers/run_scene_peers.py --scene interface_3.0_2.5
        [--rtols 1e-6,1e-8,1e-10,1e-12] [--metric velocity|observables] [--repeat 3] [--timeout S]
        [--peers vode_bdf_banded,lsoda,dop853] [--beadchain hybrid:auto,...] [--out PREFIX]
+       [--metric energy --from-csv validation/peers/scene-SCENE.csv --out PREFIX]
 """
 import argparse
 import csv
@@ -182,7 +187,8 @@ def main():
     ap.add_argument("--scene", default="interface_3.0_2.5")
     ap.add_argument("--rtols", default="1e-6,1e-8,1e-10,1e-12")
     ap.add_argument("--hybrid-rtols", default="1e-4,1e-5,1e-6,1e-7,1e-8,1e-9,1e-10,1e-11,1e-12")
-    ap.add_argument("--metric", choices=["velocity", "observables"], default="velocity")
+    ap.add_argument("--metric", choices=["velocity", "observables", "energy"], default="velocity")
+    ap.add_argument("--from-csv", help="re-make the tables from this CSV of an earlier invocation (no run)")
     ap.add_argument("--reference-rtol", type=float, default=1e-13)
     ap.add_argument("--reference", choices=["scipy", "dense"], default="scipy",
                     help="reference run: SciPy DOP853 or beadchain's dense engine (DOP853, no events)")
@@ -197,6 +203,8 @@ def main():
     if args.worker:
         with open(args.worker) as f:
             return worker(json.load(f))
+    if args.from_csv:
+        return rescore(args)
     out = args.out or os.path.join(HERE, "scene-" + os.path.basename(args.scene).replace(".toml", ""))
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -228,17 +236,43 @@ def main():
 
 
 def err_of(args, r):
+    if args.metric == "energy":
+        return r["energy"]
     return r["velocity"] if args.metric == "velocity" else max(r["energy"], r["lead"])
+
+
+def number(text):
+    """A float from a CSV cell, also in the `np.float64(x)` form older invocations wrote."""
+    return float(text[len("np.float64("):-1] if text.startswith("np.float64(") else text)
+
+
+def rescore(args):
+    """The tables of an earlier invocation's CSV under this --metric (no run), written to --out
+    (default: the CSV's own prefix, the CSV rewritten in place)."""
+    with open(args.from_csv) as f:
+        table = list(csv.DictReader(f))
+    out = args.out or args.from_csv[:-len(".csv")]
+    rows = []
+    for r in table:
+        row = dict(solver=r["solver"], rtol=float(r["rtol"]), status=r["status"])
+        if r["status"] == "ok":
+            row.update(wall=number(r["wall_seconds"]), velocity=number(r["velocity_error"]),
+                       energy=number(r["energy_error"]), lead=number(r["lead_error"]))
+        rows.append(row)
+    args.scene, args.repeat = table[0]["scene"], int(table[0]["repeat"])
+    runs = [tuple(x.split(":")) for x in args.beadchain.split(",") if x]
+    write(args, out, rows, "beadchain %s %s" % runs[0])
 
 
 def write(args, out, rows, main_solver):
     with open(out + ".csv", "w") as f:
         f.write("scene,solver,rtol,atol_rel,status,wall_seconds,velocity_error,energy_error,lead_error,repeat\n")
         for r in rows:
-            vals = ["%r" % r[k] if k in r else "" for k in ("wall", "velocity", "energy", "lead")]
+            vals = [repr(float(r[k])) if k in r else "" for k in ("wall", "velocity", "energy", "lead")]
             f.write("%s,%s,%r,%r,%s,%s,%d\n" % (args.scene, r["solver"], r["rtol"], r["rtol"] / 100,
                                                 r["status"], ",".join(vals), args.repeat))
-    metric = "final velocity error" if args.metric == "velocity" else "max(energy error, leading-wave energy error)"
+    metric = {"velocity": "final velocity error", "energy": "total-energy error",
+              "observables": "max(energy error, leading-wave energy error)"}[args.metric]
     lines = ["Scene `%s`; atol = rtol/100 (scaled); reference %s DOP853 rtol %g; median of %d; "
              "error metric for the comparison: %s" % (args.scene, "SciPy" if args.reference == "scipy" else
                                                      "beadchain dense", args.reference_rtol, args.repeat, metric), "",

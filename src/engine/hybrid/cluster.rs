@@ -27,9 +27,6 @@ pub struct ClusterSys<'a> {
     /// Resting hard contacts inside the cluster (local contact `k` joins beads `k`, `k + 1`),
     /// when it has any: the beads they join move as one rigid body ([`super::stick`]).
     pub rigid: Option<&'a [bool]>,
-    /// The engine's contact threshold `θ` for [`System::retry_fraction`]
-    /// ([`super::opening::retry_fraction`]); 0 turns the targeted retry off.
-    pub theta: f64,
 }
 
 impl System for ClusterSys<'_> {
@@ -58,12 +55,6 @@ impl System for ClusterSys<'_> {
     }
     fn dissipative(&self) -> bool {
         self.chain.is_dissipative()
-    }
-    fn retry_fraction(&self, z0: &[f64], z1: &[f64], h: f64) -> Option<f64> {
-        if self.theta <= 0.0 || self.rigid.is_some() || self.pinned != [false, false] {
-            return None;
-        }
-        super::opening::retry_fraction(self.chain, self.lo, self.theta, (z0, z1), h)
     }
 }
 
@@ -204,7 +195,6 @@ impl Cluster {
             mass: &self.mass,
             pinned: self.pinned,
             rigid: self.rigid.then(|| &stuck[self.lo..self.hi - 1]),
-            theta: 0.0,
         }
     }
 

@@ -366,7 +366,6 @@ impl<'a> Hybrid<'a> {
                 mass: &cl.mass,
                 pinned: cl.pinned,
                 rigid: cl.rigid.then(|| &self.st.stuck[cl.lo..cl.hi - 1]),
-                theta: self.theta,
             };
             let t0 = cl.t_now;
             let t1 = cl.integ.step(&sys, until)?;

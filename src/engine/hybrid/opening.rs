@@ -31,74 +31,9 @@
 use super::cluster::{Cluster, Pending};
 use super::{prio, Hybrid, Key};
 use crate::engine::EngineError;
-use crate::model::Chain;
 
 /// Smallest located opening time after the step start, as a fraction of the step.
 const MIN_FRACTION: f64 = 1e-3;
-
-/// Overlap, as a fraction of `θ`, at which an aimed retry should end ([`retry_fraction`]):
-/// the located opening's own `θ/2`.
-const RETRY_TARGET: f64 = 0.5;
-
-/// A step that ends with a separating contact's overlap in `[LATE·θ, θ/2)` is split at its end
-/// rather than redone to land on `θ/2`: an aimed retry ends there when its prediction ran a
-/// little long, and splitting later (at a smaller overlap) neglects less of the contact force
-/// than splitting at `θ/2` does.
-const LATE: f64 = 0.4;
-
-/// The aimed retry of a rejected explicit step that opened a contact.
-///
-/// A DOP853 step across an opening (`δ > 0` at its start, `δ ≤ 0` at its end) integrates
-/// across the kink of `δ₊^{n−1}`; its error estimate then measures the kink and the step is
-/// rejected, and the error-based retry (at least a fifth of the step) usually straddles the
-/// kink again: on `disorder_2.5_0.04` 85 % of all rejections were such steps. Instead the
-/// retry ends where the contact's overlap reaches `RETRY_TARGET·θ` (or half its starting
-/// overlap, when smaller), located on the cubic Hermite interpolant of `δ` through the
-/// rejected step's end values and slopes `δ̇` (both exact derivatives of the states), earliest
-/// over the contacts that opened. The retry is an ordinary step: it is accepted only by the
-/// error test, so accuracy is untouched; only the size of the next trial changes. `None` when
-/// no contact opened, or when the located time is closer to the start than `MIN_FRACTION`
-/// (the error-based retry is then kept). `z = (w, ẇ)` of the cluster's beads `lo..lo+m`.
-pub(super) fn retry_fraction(
-    chain: &Chain,
-    lo: usize,
-    theta: f64,
-    (z0, z1): (&[f64], &[f64]),
-    h: f64,
-) -> Option<f64> {
-    let m = z0.len() / 2;
-    let mut first: Option<f64> = None;
-    for k in 0..m.saturating_sub(1) {
-        let c = lo + k;
-        let pre = chain.precompression.as_ref().map_or(0.0, |p| p[c]);
-        let (d0, d1) = (pre + z0[k] - z0[k + 1], pre + z1[k] - z1[k + 1]);
-        if d0 <= 0.0 || d1 > 0.0 || chain.hard_restitution(c).is_some() {
-            continue;
-        }
-        let (s0, s1) = (
-            h * (z0[m + k] - z0[m + k + 1]),
-            h * (z1[m + k] - z1[m + k + 1]),
-        );
-        let target = (RETRY_TARGET * theta).min(0.5 * d0);
-        let g = |x: f64| target - hermite(d0, s0, d1, s1, x);
-        if let Some(x) = super::detect::first_crossing(g, 0.0, first.unwrap_or(1.0)) {
-            if x < MIN_FRACTION {
-                return None;
-            }
-            first = Some(x);
-        }
-    }
-    first
-}
-
-/// The cubic Hermite interpolant on `[0, 1]` with values `p0`, `p1` and slopes `s0`, `s1`.
-fn hermite(p0: f64, s0: f64, p1: f64, s1: f64, x: f64) -> f64 {
-    let (x2, x3) = (x * x, x * x * x);
-    (2.0 * x3 - 3.0 * x2 + 1.0) * p0
-        + (x3 - 2.0 * x2 + x) * s0
-        + (3.0 * x2 - 2.0 * x3) * p1
-        + (x3 - x2) * s1
-}
 
 impl Hybrid<'_> {
     /// Earliest located opening time `t* ∈ (t0, t1)` of a contact of `cl` over its last step
@@ -114,8 +49,8 @@ impl Hybrid<'_> {
         for k in 0..m - 1 {
             let c = cl.lo + k;
             let pre = self.pre(c);
-            if pre + z[k] - z[k + 1] >= LATE * theta || z[m + k] - z[m + k + 1] >= 0.0 {
-                continue; // still above θ, ends late (LATE), or not separating
+            if pre + z[k] - z[k + 1] >= theta || z[m + k] - z[m + k + 1] >= 0.0 {
+                continue;
             }
             let delta = |t: f64| pre + cl.w_at(t, c) - cl.w_at(t, c + 1);
             if delta(t0) < theta {
@@ -164,41 +99,5 @@ impl Hybrid<'_> {
         self.queue
             .push(Key::Cluster(slot), prio(t, class, lo, Key::Cluster(slot)));
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Two beads (n = 2.5, a = 1, m = 1): one contact.
-    fn pair() -> Chain {
-        Chain {
-            mass: vec![1.0, 1.0],
-            exponent: vec![2.5],
-            prefactor: vec![1.0],
-            precompression: None,
-            field: None,
-            left_wall: None,
-            right_wall: None,
-            hard: None,
-            damping: None,
-        }
-    }
-
-    #[test]
-    fn retry_fraction_ends_a_straddling_step_before_the_opening() {
-        let (theta, h) = (1e-3, 0.1);
-        // δ falls linearly from 0.01 to −0.01 over the step (δ̇ = −0.2 at both ends): the
-        // Hermite cubic is that line, which reaches θ/2 at x = (0.01 − 5e-4)/0.02
-        let z0 = [0.01, 0.0, -0.2, 0.0];
-        let z1 = [-0.01, 0.0, -0.2, 0.0];
-        let x = retry_fraction(&pair(), 0, theta, (&z0, &z1), h).expect("straddles");
-        // abs tol 1e-12: Illinois refines the root to a few ulps
-        assert!((x - (0.01 - 5e-4) / 0.02).abs() < 1e-12, "x = {x}");
-        // a step that ends still touching, or starts open, is not targeted
-        let inside = [0.001, 0.0, -0.2, 0.0];
-        assert_eq!(retry_fraction(&pair(), 0, theta, (&z0, &inside), h), None);
-        assert_eq!(retry_fraction(&pair(), 0, theta, (&z1, &z0), h), None);
     }
 }

@@ -60,7 +60,6 @@ impl Hybrid<'_> {
             mass: &mass,
             pinned,
             rigid: rigid.then(|| &self.st.stuck[lo..hi - 1]),
-            theta: self.theta,
         };
         integ.reset(&sys, t, &self.bu[..m], &self.bv[..m]);
         let cl = Cluster {
@@ -281,7 +280,6 @@ impl Hybrid<'_> {
             mass: &cl.mass,
             pinned: cl.pinned,
             rigid: cl.rigid.then(|| &self.st.stuck[cl.lo..cl.hi - 1]),
-            theta: self.theta,
         };
         if t - t0 <= 64.0 * f64::EPSILON * t.abs().max(f64::MIN_POSITIVE) {
             // A few ulps after the step start: too short to integrate (the stage times would
