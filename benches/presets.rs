@@ -1,4 +1,4 @@
-//! Whole-run benchmark of the hybrid engine on paper presets (interfaces, disorder): time and
+//! Whole-run benchmark of the hybrid engine on paper presets (interfaces, periodic decay, disorder): time and
 //! active bead-steps per traversed bead. Run: `cargo bench --bench presets` (~1 minute).
 
 mod common;
@@ -16,6 +16,7 @@ fn main() {
         "interface_3.0_3.5",
         "interface_3.0_2.5",
         "impurity_s5_4.0_2.5",
+        "periodic_decay_2.5_2.555",
         "disorder_2.5_0.04",
     ] {
         let s = scene::preset(name).expect("preset");
