@@ -238,13 +238,7 @@ impl Dop853 {
     /// If `sys.len()`, `u.len()` or `v.len()` differs from the `m` given to [`Dop853::new`].
     fn start(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]) {
         let m = self.m;
-        assert_eq!(sys.len(), m, "system size differs from the integrator's");
-        assert_eq!(
-            u.len(),
-            m,
-            "displacement length differs from the integrator's"
-        );
-        assert_eq!(v.len(), m, "velocity length differs from the integrator's");
+        super::assert_sizes(m, sys, u, v);
         self.t = t;
         self.t_prev = t;
         self.z[..m].copy_from_slice(u);

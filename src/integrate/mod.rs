@@ -332,6 +332,17 @@ pub fn check_state(s: &IntegratorState, method: Method, lens: &[usize]) -> Resul
     Ok(())
 }
 
+/// Panics unless `sys`, `u` and `v` all have the `m` beads an integrator was built for.
+pub(crate) fn assert_sizes(m: usize, sys: &dyn System, u: &[f64], v: &[f64]) {
+    assert_eq!(sys.len(), m, "system size differs from the integrator's");
+    assert_eq!(
+        u.len(),
+        m,
+        "displacement length differs from the integrator's"
+    );
+    assert_eq!(v.len(), m, "velocity length differs from the integrator's");
+}
+
 /// An adaptive one-step integrator with continuous output over the last accepted step.
 pub trait Integrator {
     /// Starts (or restarts) from state `(u, v)` at time `t`.

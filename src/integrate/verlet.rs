@@ -98,13 +98,7 @@ impl Verlet {
 impl Integrator for Verlet {
     fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]) {
         let m = self.m;
-        assert_eq!(sys.len(), m, "system size differs from the integrator's");
-        assert_eq!(
-            u.len(),
-            m,
-            "displacement length differs from the integrator's"
-        );
-        assert_eq!(v.len(), m, "velocity length differs from the integrator's");
+        super::assert_sizes(m, sys, u, v);
         self.z[..m].copy_from_slice(u);
         self.z[m..].copy_from_slice(v);
         self.z_old.copy_from_slice(&self.z);
