@@ -1,0 +1,58 @@
+"""Tests of run_scene_peers.py's tables (no SciPy run): run by CI's pytest (.ci/run)."""
+
+import argparse
+import csv
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import run_scene_peers as rsp  # noqa: E402
+
+
+def _args(tmp_path, metric):
+    return argparse.Namespace(scene="s", metric=metric, reference="scipy", reference_rtol=1e-13,
+                              repeat=3, timeout=10.0, beadchain="hybrid:auto,dense:dop853",
+                              from_csv=None, out=str(tmp_path / "t"))
+
+
+def _rows():
+    # the scores come from NumPy reductions: np.float64 values, as in a real invocation
+    row = lambda solver, rtol, wall, e: dict(solver=solver, rtol=rtol, status="ok", wall=wall,  # noqa: E731
+                                             velocity=np.float64(0.3), energy=np.float64(e),
+                                             lead=np.float64(1e-2))
+    return [row("beadchain hybrid auto", 1e-6, 0.5, 2e-6), row("beadchain hybrid auto", 1e-4, 0.2, 3e-4),
+            row("scipy dop853", 1e-6, 4.0, 5e-4)]
+
+
+def test_csv_numbers_are_plain_floats_not_numpy_reprs(tmp_path):
+    """Under NumPy 2 the CSV held `np.float64(2.9e-06)` (written with %r), which no CSV reader
+    takes as a number."""
+    args = _args(tmp_path, "observables")
+    rsp.write(args, args.out, _rows(), "beadchain hybrid auto")
+    with open(args.out + ".csv") as f:
+        rows = list(csv.DictReader(f))
+    for r in rows:
+        for k in ("wall_seconds", "velocity_error", "energy_error", "lead_error"):
+            float(r[k])  # raises on "np.float64(...)"
+
+
+def test_energy_metric_rescored_from_an_older_csv(tmp_path):
+    """--from-csv reads a CSV of either form and ranks by the energy error alone: the peer's
+    5e-4 is matched by the 0.2 s run (3e-4), a 20x speed-up."""
+    args = _args(tmp_path, "observables")
+    rsp.write(args, args.out, _rows(), "beadchain hybrid auto")
+    old = args.out + "-old.csv"
+    with open(args.out + ".csv") as f, open(old, "w") as g:
+        text = f.read()
+        for key in ("2e-06", "0.0003", "0.0005"):  # the energy errors, in the old written form
+            text = text.replace("," + key + ",", ",np.float64(%s)," % key)
+        g.write(text)
+    assert "np.float64(" in open(old).read()
+    args = _args(tmp_path, "energy")
+    args.from_csv, args.out = old, str(tmp_path / "energy")
+    rsp.rescore(args)
+    md = open(args.out + ".md").read()
+    assert "total-energy error" in md
+    assert "| scipy dop853 | 1e-06 | 4.000 | 5.0e-04 | 0.0001 | 0.200 | 3.0e-04 | 20× |" in md, md
