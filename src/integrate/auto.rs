@@ -63,8 +63,8 @@ pub struct AutoState {
 /// solvers) is built at the first switch to it, and the stiffness-test scratch at the first
 /// test. A hybrid run makes a new integrator for every cluster it forms (one per gap event), and
 /// most clusters live a few explicit steps: building and dropping Radau IIA for each of them was
-/// ~10 % of the instructions of a 1000-bead striker run (`valgrind --tool=callgrind`). Building it later changes no number:
-/// [`Integrator::reset`] sets every array a step reads.
+/// ~10 % of the instructions of a 1000-bead striker run (`valgrind --tool=callgrind`). Building
+/// it later changes no number: [`Integrator::reset`] sets every array a step reads.
 pub struct Auto {
     m: usize,
     tol: Tolerances,
