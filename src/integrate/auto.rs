@@ -292,6 +292,10 @@ impl Integrator for Auto {
         self.active().dense_at(t, j)
     }
 
+    fn end_states(&self) -> Option<(&[f64], &[f64])> {
+        self.active().end_states()
+    }
+
     fn stats(&self) -> &Stats {
         &self.stats
     }
@@ -361,9 +365,13 @@ mod tests {
             a.step(&sys, 1e4).expect("steps");
         }
         assert!(a.radau.is_none() && !a.mode.implicit);
+        // explicit: the step's end states are DOP853's arrays; implicit: none (the callers
+        // then read the collocation polynomial through dense_at)
+        assert_eq!(a.end_states().map(|(_, z)| z), Some(a.state()));
         a.mode.pending = true;
         a.step(&sys, 1e4).expect("steps");
         assert!(a.mode.implicit && a.radau.is_some());
+        assert!(a.end_states().is_none());
         let mut resumed = Auto::new(6, tol, SolverKind::Auto, false);
         resumed.load(&a.save()).expect("loads");
         assert!(resumed.radau.is_some());

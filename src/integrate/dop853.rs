@@ -519,6 +519,10 @@ impl Integrator for Dop853 {
         self.z_old[j] + x * p
     }
 
+    fn end_states(&self) -> Option<(&[f64], &[f64])> {
+        Some((&self.z_old, &self.z))
+    }
+
     fn stats(&self) -> &Stats {
         &self.stats
     }

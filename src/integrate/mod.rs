@@ -371,6 +371,12 @@ pub trait Integrator {
     fn dense(&self, t: f64, z: &mut [f64]);
     /// Continuous output of one component `j` (`0..2m`) at `t ∈ [t_prev, t]` (no allocation).
     fn dense_at(&self, t: f64, j: usize) -> f64;
+    /// The states at `t_prev` and at `t` as arrays, when [`Integrator::dense_at`] returns exactly
+    /// their components at those two times (DOP853); `None` otherwise. A fast path for callers
+    /// that read a whole step's end points (the peak overlaps of the event log).
+    fn end_states(&self) -> Option<(&[f64], &[f64])> {
+        None
+    }
     /// Counters so far.
     fn stats(&self) -> &Stats;
     /// Accepted steps taken by an implicit method so far (all of them for Radau IIA, none for

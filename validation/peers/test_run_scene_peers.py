@@ -14,7 +14,7 @@ import run_scene_peers as rsp  # noqa: E402
 def _args(tmp_path, metric):
     return argparse.Namespace(scene="s", metric=metric, reference="scipy", reference_rtol=1e-13,
                               repeat=3, timeout=10.0, beadchain="hybrid:auto,dense:dop853",
-                              from_csv=None, out=str(tmp_path / "t"))
+                              from_csv=None, out=str(tmp_path / "t"), beadchain_atol="matched")
 
 
 def _rows():
@@ -56,3 +56,22 @@ def test_energy_metric_rescored_from_an_older_csv(tmp_path):
     md = open(args.out + ".md").read()
     assert "total-energy error" in md
     assert "| scipy dop853 | 1e-06 | 4.000 | 5.0e-04 | 0.0001 | 0.200 | 3.0e-04 | 20× |" in md, md
+
+
+def test_default_atol_is_recorded_and_read_back(tmp_path):
+    """With --beadchain-atol default the CSV records beadchain's own atol (rtol/10^4, SciPy's stays
+    rtol/100), the header says so, and --from-csv recovers the mode from the CSV."""
+    args = _args(tmp_path, "energy")
+    args.beadchain_atol = "default"
+    rsp.write(args, args.out, _rows(), "beadchain hybrid auto")
+    with open(args.out + ".csv") as f:
+        atol = {(r["solver"], float(r["rtol"])): float(r["atol_rel"]) for r in csv.DictReader(f)}
+    # rel tol 1e-12 on exact decimal ratios
+    assert abs(atol[("beadchain hybrid auto", 1e-6)] - 1e-10) <= 1e-12 * 1e-10
+    assert abs(atol[("scipy dop853", 1e-6)] - 1e-8) <= 1e-12 * 1e-8
+    assert "beadchain atol = its default rtol/10^4" in open(args.out + ".md").read()
+    again = _args(tmp_path, "energy")
+    again.from_csv, again.out = args.out + ".csv", str(tmp_path / "again")
+    rsp.rescore(again)
+    assert again.beadchain_atol == "default"
+    assert "beadchain atol = its default rtol/10^4" in open(again.out + ".md").read()

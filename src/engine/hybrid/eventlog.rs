@@ -48,12 +48,30 @@ impl Hybrid<'_> {
         let ta = cl.integ.t_prev();
         let tb = tb.min(cl.integ.t()).max(ta);
         let m = cl.m();
+        // Where the step's end states are arrays, the end-point values step_max reads are taken
+        // from them (the same numbers), and the continuous output is read only to refine an
+        // interior maximum.
+        let ends = if tb == cl.integ.t() {
+            cl.integ.end_states()
+        } else {
+            None
+        };
         for k in 0..m - 1 {
             let c = cl.lo + k;
             let pre = chain.precompression.as_ref().map_or(0.0, |p| p[c]);
             let d = |t: f64| pre + cl.w_at(t, c) - cl.w_at(t, c + 1);
             let dd = |t: f64| cl.integ.dense_at(t, m + k) - cl.integ.dense_at(t, m + k + 1);
-            let p = step_max(d, dd, ta, tb);
+            let p = match ends {
+                Some((z0, z1)) => {
+                    let (sa, sb) = (z0[m + k] - z0[m + k + 1], z1[m + k] - z1[m + k + 1]);
+                    if tb > ta && sa > 0.0 && sb < 0.0 {
+                        step_max(d, dd, ta, tb)
+                    } else {
+                        pre + z1[k] - z1[k + 1]
+                    }
+                }
+                None => step_max(d, dd, ta, tb),
+            };
             if p > self.st.peak[c] {
                 self.st.peak[c] = p;
             }

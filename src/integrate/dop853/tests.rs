@@ -129,6 +129,31 @@ fn dense_output_reproduces_step_endpoints() {
 }
 
 #[test]
+fn end_states_are_what_dense_at_returns_at_the_step_ends() {
+    // The event log reads the peak overlaps' end points from `end_states` instead of
+    // `dense_at`: they must be the same numbers (bit for bit), after a reset and every step.
+    let chain = uniform_chain(4);
+    let sys = ChainRange::whole(&chain);
+    let (u, v) = striker(4, 1.0);
+    let mut ig = Dop853::new(4, tolerances(&chain, &u, &v, 1e-6, 1e-10));
+    ig.reset(&sys, 0.0, &u, &v);
+    for _ in 0..=15 {
+        let (z0, z1) = ig
+            .end_states()
+            .expect("DOP853 has its end states as arrays");
+        for j in 0..8 {
+            assert_eq!(
+                z0[j].to_bits(),
+                ig.dense_at(ig.t_prev(), j).to_bits(),
+                "t_prev, {j}"
+            );
+            assert_eq!(z1[j].to_bits(), ig.dense_at(ig.t(), j).to_bits(), "t, {j}");
+        }
+        ig.step(&sys, f64::INFINITY).expect("step");
+    }
+}
+
+#[test]
 fn error_decreases_with_tolerance() {
     let chain = uniform_chain(10);
     let (u, v) = striker(10, 1.0);
