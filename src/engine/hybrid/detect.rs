@@ -53,8 +53,22 @@ pub fn step_max(d: impl Fn(f64) -> f64, dd: impl Fn(f64) -> f64, ta: f64, tb: f6
     if tb <= ta {
         return end;
     }
-    let (sa, sb) = (dd(ta), dd(tb));
-    if sa > 0.0 && sb < 0.0 {
+    step_max_from(end, dd(ta), dd(tb), d, dd, ta, tb)
+}
+
+/// [`step_max`] given the end-point values it reads (`end = d(tb)`, `sa = dd(ta)`,
+/// `sb = dd(tb)`), for a caller that has them already: `d` and `dd` are evaluated only to refine
+/// an interior maximum.
+pub fn step_max_from(
+    end: f64,
+    sa: f64,
+    sb: f64,
+    d: impl Fn(f64) -> f64,
+    dd: impl Fn(f64) -> f64,
+    ta: f64,
+    tb: f64,
+) -> f64 {
+    if tb > ta && sa > 0.0 && sb < 0.0 {
         let neg = |t: f64| -dd(t);
         let tm = illinois(&neg, ta, -sa, tb, -sb);
         end.max(d(tm))

@@ -23,7 +23,7 @@
 //! power law `a δⁿ` (paper eq. 6) it equals the energy bound `a δ_maxⁿ = ½ μ w²`.
 
 use super::cluster::Cluster;
-use super::detect::{first_crossing, step_max};
+use super::detect::{first_crossing, step_max, step_max_from};
 use super::Hybrid;
 use crate::engine::events::{EventKind, EventRecord};
 use crate::engine::{EngineError, Observer};
@@ -63,12 +63,9 @@ impl Hybrid<'_> {
             let dd = |t: f64| cl.integ.dense_at(t, m + k) - cl.integ.dense_at(t, m + k + 1);
             let p = match ends {
                 Some((z0, z1)) => {
+                    let end = pre + z1[k] - z1[k + 1];
                     let (sa, sb) = (z0[m + k] - z0[m + k + 1], z1[m + k] - z1[m + k + 1]);
-                    if tb > ta && sa > 0.0 && sb < 0.0 {
-                        step_max(d, dd, ta, tb)
-                    } else {
-                        pre + z1[k] - z1[k + 1]
-                    }
+                    step_max_from(end, sa, sb, d, dd, ta, tb)
                 }
                 None => step_max(d, dd, ta, tb),
             };
