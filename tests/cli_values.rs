@@ -67,3 +67,41 @@ fn large_output_size_is_announced_before_the_run() {
     let small = beadchain(d.path(), &["run", "striker", "--out", "s.snap"]);
     assert!(!String::from_utf8_lossy(&small.stderr).contains("note:"));
 }
+
+/// The run summary and the snapshot's notes say when closings happened at tolerance-level
+/// speeds (before: silent), and name the option to tighten.
+#[test]
+fn slow_closings_are_reported_by_run_and_inspect() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let scene = "[chain]\nbeads = 1000\nexponent = 2.5\nprefactor = 1.0\n\
+                 [initial]\nstriker = 1.0\n[run]\nuntil = 866.446\n";
+    std::fs::write(dir.path().join("s.toml"), scene).expect("write");
+    let args = [
+        "run", "s.toml", "--rtol", "3e-5", "--atol", "3e-7", "--out", "s.snap",
+    ];
+    let out = common::bc(dir.path(), &args);
+    common::assert_ok(&out);
+    let text = String::from_utf8_lossy(&out.stdout);
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("warning: "))
+        .unwrap_or_else(|| panic!("no warning in\n{text}"));
+    assert!(
+        line.contains("closings at relative speeds below 30x"),
+        "{line}"
+    );
+    assert!(line.contains("--atol"), "{line}");
+    let inspect = common::bc(dir.path(), &["inspect", "s.snap"]);
+    common::assert_ok(&inspect);
+    let info = String::from_utf8_lossy(&inspect.stdout);
+    assert!(
+        info.contains("closings at relative speeds below 30x"),
+        "{info}"
+    );
+    let quiet = common::bc(
+        dir.path(),
+        &["run", "s.toml", "--rtol", "3e-5", "--out", "d.snap"],
+    );
+    common::assert_ok(&quiet);
+    assert!(!String::from_utf8_lossy(&quiet.stdout).contains("warning: "));
+}

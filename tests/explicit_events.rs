@@ -128,3 +128,36 @@ fn auto_on_a_uniform_chain_is_dop853() {
     assert_eq!(a.stats.steps, d.stats.steps);
     assert_eq!(a.v, d.v);
 }
+
+/// Under a loose `--atol` the beads the wave leaves behind re-collide with their own velocity
+/// errors: 1668 closings instead of 998 at rtol 3e-5, atol 3e-7, and before the diagnostic the
+/// run returned them silently. Now 632 of them (relative speeds 4e-7 … 9e-6, within 30·atol·V)
+/// are counted, while the wave's own closings (~1e-4) are not, and the default atol
+/// (`rtol/10⁴`) gives the 998 closings and no count.
+#[test]
+fn loose_atol_recollisions_behind_a_wave_are_counted() {
+    let s = striker(1000);
+    let loose = run(&s, Engine::Hybrid, Method::Auto, 3e-5, 3e-7);
+    let spurious = count(&loose, "close").saturating_sub(998);
+    assert!(spurious > 300, "{spurious} re-closings: the case is gone");
+    assert!(
+        loose.slow_closings >= spurious * 8 / 10 && loose.slow_closings <= spurious,
+        "{} slow closings counted for {spurious} spurious ones",
+        loose.slow_closings
+    );
+    let default = run(&s, Engine::Hybrid, Method::Auto, 3e-5, 3e-9);
+    assert_eq!(count(&default, "close"), 998);
+    assert_eq!(default.slow_closings, 0);
+}
+
+/// A wave's front closes contacts at speeds that scale with the threshold `θ ∝ rtol`
+/// (`rectangular_pulse`: 2e-7 at rtol 1e-8 between beads moving at ~0.3): real closings, not
+/// counted as slow (a criterion of `100·(atol·V + rtol·|v|)` counted 3 of 174).
+#[test]
+fn wave_fronts_closing_slowly_are_not_counted_as_slow() {
+    let s = beadchain::scene::preset("rectangular_pulse").expect("preset");
+    for rtol in [1e-8, 1e-10] {
+        let o = run(&s, Engine::Hybrid, Method::Auto, rtol, rtol * 1e-4);
+        assert_eq!(o.slow_closings, 0, "rtol {rtol:e}");
+    }
+}

@@ -126,6 +126,7 @@ pub(crate) fn stats<'py>(py: Python<'py>, o: &RunOutcome) -> PyResult<Bound<'py,
     d.set_item("events_by_kind", ev)?;
     d.set_item("largest_cluster", o.largest_cluster)?;
     d.set_item("late_merges", o.late_merges)?;
+    d.set_item("slow_closings", o.slow_closings)?;
     Ok(d)
 }
 
@@ -141,9 +142,14 @@ fn summary(out: &RunOutcome) -> RunSummary {
         momentum_final: out.momentum_final,
         events_by_kind: out.events_by_kind.clone(),
         largest_cluster: out.largest_cluster,
-        notes: vec![
-            "wall time not recorded (identical inputs give identical bytes; see --timing)".into(),
-        ],
+        notes: out
+            .slow_closings_note()
+            .into_iter()
+            .chain(std::iter::once(
+                "wall time not recorded (identical inputs give identical bytes; see --timing)"
+                    .into(),
+            ))
+            .collect(),
     }
 }
 

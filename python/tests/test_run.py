@@ -48,6 +48,8 @@ def test_events_are_dataframe_ready_columns(striker_run):
     assert set(ev["kind"]) <= {"close", "open", "hard_collision", "wall_close", "wall_open"}
     assert np.all(np.diff(ev["t"]) >= 0)
     assert sum(striker_run.stats["events_by_kind"].values()) == n
+    # closings at tolerance-level speeds (a loose --atol): none at the default tolerances
+    assert striker_run.stats["slow_closings"] == 0
 
 
 def test_cli_snapshot_reads_back_with_identical_numbers(cli, tmp_path, striker_run):

@@ -117,6 +117,9 @@ impl Observer for SnapshotSink {
 /// Summary stored in the snapshot.
 pub fn summary(out: &RunOutcome, timing: bool) -> RunSummary {
     let mut notes = Vec::new();
+    if let Some(note) = out.slow_closings_note() {
+        notes.push(note);
+    }
     if !timing {
         notes.push(
             "wall time not recorded (identical inputs give identical bytes; see --timing)".into(),

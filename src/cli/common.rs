@@ -204,6 +204,9 @@ pub fn print_outcome(
             }
         )?;
     }
+    if let Some(note) = out.slow_closings_note() {
+        writeln!(w, "warning: {note}")?;
+    }
     if out.dissipated != 0.0 {
         writeln!(
             w,

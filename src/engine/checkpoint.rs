@@ -145,6 +145,9 @@ pub struct HybridData {
     pub steps_total: u64,
     /// Late merges so far.
     pub late_merges: u64,
+    /// Closings so far at relative speeds within [`crate::engine::SLOW_CLOSING_FACTOR`] times
+    /// the velocity tolerance.
+    pub slow_closings: u64,
     /// Implicit steps of the clusters removed so far.
     pub implicit_steps: u64,
     /// Last hard collision per contact / wall.

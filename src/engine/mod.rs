@@ -136,6 +136,14 @@ pub(crate) fn poll_stop(
     }
 }
 
+/// A closing whose relative speed is below this many times the beads' absolute velocity
+/// tolerance `atol·V` (the floor of every velocity error weight,
+/// [`crate::integrate::Tolerances::weight_v`]) is counted in [`RunOutcome::slow_closings`].
+/// Not the relative part `rtol·|v|`: a wave's front closes at speeds that scale with the
+/// contact threshold `θ ∝ rtol` (`rectangular_pulse`: 2e-7, 2e-9, 3e-11 at rtol 1e-8, 1e-10,
+/// 1e-12, between beads moving at ~0.3), real closings at every tolerance.
+pub const SLOW_CLOSING_FACTOR: f64 = 30.0;
+
 /// Events the hybrid engine buffers before handing them to [`Observer::events`].
 pub const EVENT_BLOCK: usize = 4096;
 
@@ -201,6 +209,13 @@ pub struct RunOutcome {
     /// Hybrid engine diagnostic: merges whose overlap at the merge was far above the contact
     /// threshold (a closing detected late). Expected 0.
     pub late_merges: u64,
+    /// Hybrid engine diagnostic: gap closings (and soft-wall closings) whose relative speed was
+    /// below [`SLOW_CLOSING_FACTOR`] times the beads' absolute velocity tolerance `atol·V`:
+    /// whether they happen at all is decided at the tolerance level (typically beads a wave
+    /// left behind re-colliding with their own velocity errors under a loose `--atol`). 0 on
+    /// every preset at the default tolerances.
+    #[serde(default)]
+    pub slow_closings: u64,
     /// Accepted steps taken by an implicit method (Radau IIA); `stats.steps` minus this is the
     /// number of explicit steps.
     pub implicit_steps: u64,
@@ -271,6 +286,26 @@ impl RunOutcome {
             self.energy_final + self.dissipated,
             scale,
         )
+    }
+
+    /// The warning of a run with closings at tolerance-level speeds
+    /// ([`RunOutcome::slow_closings`]), or `None` when there were none.
+    pub fn slow_closings_note(&self) -> Option<String> {
+        let closings: u64 = self
+            .events_by_kind
+            .iter()
+            .filter(|(k, _)| k == "close" || k == "wall_close")
+            .map(|(_, c)| c)
+            .sum();
+        (self.slow_closings > 0).then(|| {
+            format!(
+                "{} of {} closings at relative speeds below {}x the absolute velocity tolerance \
+                 atol*V: whether they happen is decided by the tolerance (e.g. beads left behind a \
+                 wave re-colliding with their own velocity errors); rerun with a smaller --atol to \
+                 check that they persist",
+                self.slow_closings, closings, SLOW_CLOSING_FACTOR
+            )
+        })
     }
 }
 

@@ -18,8 +18,9 @@ pub const CKPT_MAGIC: [u8; 8] = *b"BEADCKPT";
 /// Checkpoint format version (2: the engine state holds only the unflushed events, the writer
 /// mark the event blocks already written, the clusters' integrators their method-switching
 /// state, the hybrid state the resting hard contacts; 3: the scene as a named record, the
-/// snapshot it continues of format 4).
-pub const CKPT_VERSION: u32 = 3;
+/// snapshot it continues of format 4; 4: the hybrid state counts closings at tolerance-level
+/// speeds).
+pub const CKPT_VERSION: u32 = 4;
 
 /// Everything a resumed run needs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -226,6 +226,7 @@ impl<'a> Hybrid<'a> {
                 largest: 0,
                 steps_total: 0,
                 late_merges: 0,
+                slow_closings: 0,
                 implicit_steps: 0,
                 last_hard: vec![f64::NEG_INFINITY; n + 1],
                 pinned: [false; 2],

@@ -337,6 +337,7 @@ impl Hybrid<'_> {
         self.st.peak[c] = 0.0;
         if !self.st.stuck[c] {
             self.log(t, c, EventKind::Close, rel, 0.0);
+            self.count_slow_closing(rel, &[c, c + 1]);
         }
         self.make_cluster(lo, hi, t, &u, &v);
         Ok(())
@@ -379,6 +380,7 @@ impl Hybrid<'_> {
         self.drop_predictions(i, i + 1);
         self.st.peak[self.n - 1 + side as usize] = 0.0;
         self.log(t, i, EventKind::WallClose, v, 0.0);
+        self.count_slow_closing(v, &[i]);
         self.make_cluster(i, i + 1, t, &[u], &[v]);
     }
 

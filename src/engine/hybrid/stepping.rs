@@ -244,6 +244,7 @@ impl Engine for HybridEngine<'_> {
                 .collect(),
             largest_cluster: h.st.largest,
             late_merges: h.st.late_merges,
+            slow_closings: h.st.slow_closings,
             implicit_steps,
             dissipated: h.dissipated_at(h.st.t),
             ..outcome_at(self.scene, self.state(), self.start)
