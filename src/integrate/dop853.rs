@@ -30,6 +30,7 @@
 //!   has no access to the system.
 
 mod coefficients;
+mod start;
 
 use super::{IntegrationError, Integrator, IntegratorState, Stats, System, Tolerances};
 use coefficients::{A, D, E3, E5};
@@ -94,7 +95,7 @@ fn ulp(t: f64) -> f64 {
 }
 
 /// `z = (u, v)` → `k = (v, f(u, v))`; returns the dissipated power at `z`.
-#[inline]
+#[inline(always)]
 fn rhs(sys: &dyn System, stats: &mut Stats, z: &[f64], k: &mut [f64]) -> f64 {
     let m = z.len() / 2;
     k[..m].copy_from_slice(&z[m..]);
@@ -103,7 +104,7 @@ fn rhs(sys: &dyn System, stats: &mut Stats, z: &[f64], k: &mut [f64]) -> f64 {
 }
 
 /// `y = z + h Σ_j a_j K_j` over the stages `K_j` stored in `k` (allocation-free).
-#[inline]
+#[inline(always)]
 fn combine(y: &mut [f64], z: &[f64], h: f64, a: &[f64], k: &[f64]) {
     let n = z.len();
     y.fill(0.0);
@@ -181,56 +182,6 @@ impl Dop853 {
         }
     }
 
-    /// Time scale for the dimensionless initial-step heuristic.
-    fn time_scale(&self) -> f64 {
-        let t = self.tol.scales.time();
-        if t.is_finite() && t > 0.0 {
-            t
-        } else {
-            1.0
-        }
-    }
-
-    /// Hairer's starting step (SciPy `select_initial_step`, order 7), in max norms and units of
-    /// the time scale. Needs `k[0] = f(z)`; uses stage 1 and `y` as scratch.
-    fn initial_step(&mut self, sys: &dyn System) -> f64 {
-        let n = 2 * self.m;
-        let ts = self.time_scale();
-        let (mut d0, mut d1) = (0.0_f64, 0.0_f64);
-        for i in 0..n {
-            let sc = self.weight(i, self.z[i], self.z[i]);
-            d0 = d0.max((self.z[i] / sc).abs());
-            d1 = d1.max((self.k[i] / sc).abs());
-        }
-        d1 *= ts;
-        let h0 = if d0 < 1e-5 || d1 < 1e-5 || !(d0 / d1).is_finite() {
-            1e-6
-        } else {
-            0.01 * d0 / d1
-        };
-        for i in 0..n {
-            self.y[i] = self.z[i] + h0 * ts * self.k[i];
-        }
-        rhs(sys, &mut self.stats, &self.y, &mut self.k[n..2 * n]);
-        let mut d2 = 0.0_f64;
-        for i in 0..n {
-            let sc = self.weight(i, self.z[i], self.z[i]);
-            d2 = d2.max(((self.k[n + i] - self.k[i]) / sc).abs());
-        }
-        d2 *= ts / h0;
-        let h1 = if d1 <= 1e-15 && d2 <= 1e-15 {
-            (h0 * 1e-3).max(1e-6)
-        } else {
-            (0.01 / d1.max(d2)).powf(-ERROR_EXPONENT)
-        };
-        let h = ts * (100.0 * h0).min(h1);
-        if h.is_finite() && h > 0.0 {
-            h
-        } else {
-            1e-6 * ts
-        }
-    }
-
     /// The part of [`Integrator::reset`] that sets the state: `z`, `f(z)` (stage 0), the
     /// continuous output (zero), the dissipation and the velocity scales.
     ///
@@ -253,6 +204,7 @@ impl Dop853 {
 
     /// Stages 1–12 of a step of size `h` from `z`; leaves the new state in `y` and
     /// `f(y)` in stage 12.
+    #[inline(always)]
     fn main_stages(&mut self, sys: &dyn System, h: f64) {
         let n = 2 * self.m;
         for (s, a) in A.iter().enumerate().take(N_MAIN).skip(1) {
@@ -265,6 +217,7 @@ impl Dop853 {
     /// Energy dissipated over the step of size `h` just computed: the 8th-order weights (the
     /// last main row of `A`) applied to the stage powers, i.e. `Ė_d = P` integrated as one more
     /// component of the state.
+    #[inline(always)]
     fn step_dissipation(&self, h: f64) -> f64 {
         let b = &A[N_MAIN - 1];
         h * b.iter().zip(&self.pw).map(|(b, p)| b * p).sum::<f64>()
@@ -272,6 +225,7 @@ impl Dop853 {
 
     /// Weighted max-norm error of the step just computed by [`Self::main_stages`] (`INFINITY`
     /// when anything is non-finite).
+    #[inline(always)]
     fn error_norm(&mut self, h: f64) -> f64 {
         let n = 2 * self.m;
         self.e5.fill(0.0);
@@ -325,6 +279,7 @@ impl Dop853 {
 
     /// The 3 extra stages and the continuous-output coefficients of the step `z_old → z` of
     /// size `h` (SciPy `_dense_output_impl`), then the FSAL shift of stage 12 into stage 0.
+    #[inline(always)]
     fn dense_coefficients(&mut self, sys: &dyn System, h: f64) {
         let n = 2 * self.m;
         for (s, a) in A.iter().enumerate().skip(N_MAIN) {
@@ -356,29 +311,24 @@ impl Dop853 {
         }
         self.k.copy_within(12 * n..13 * n, 0);
     }
-}
 
-impl Integrator for Dop853 {
-    /// Starts from `(u, v)` at `t`: evaluates `f(z)` and Hairer's starting step (2 right-hand
-    /// sides). Counters accumulate across resets.
+    /// [`Integrator::step`] compiled for AVX2.
     ///
-    /// # Panics
-    /// If `sys.len()`, `u.len()` or `v.len()` differs from the `m` given to [`Dop853::new`].
-    fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]) {
-        self.start(sys, t, u, v);
-        self.h = self.initial_step(sys);
+    /// # Safety
+    /// The processor must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn step_avx2(
+        &mut self,
+        sys: &dyn System,
+        t_bound: f64,
+    ) -> Result<f64, IntegrationError> {
+        self.step_impl(sys, t_bound)
     }
 
-    /// As `reset`, without the starting-step estimate (its stage-1 and `y` scratch is
-    /// overwritten by the first step before it is read, so the step is the same).
-    fn restart(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64], h: f64) {
-        self.start(sys, t, u, v);
-        self.h = h;
-    }
-
-    /// One accepted step of at most `t_bound − t` (landing exactly on `t_bound` when shortened).
-    /// Returns `t` unchanged, without stepping, when `t_bound ≤ t`.
-    fn step(&mut self, sys: &dyn System, t_bound: f64) -> Result<f64, IntegrationError> {
+    /// The body of [`Integrator::step`] (inlined into its baseline and AVX2 versions).
+    #[inline(always)]
+    fn step_impl(&mut self, sys: &dyn System, t_bound: f64) -> Result<f64, IntegrationError> {
         debug_assert_eq!(sys.len(), self.m);
         self.tol.velocity_scales(sys.mass(), &mut self.vs);
         self.damped = sys.dissipative();
@@ -450,6 +400,40 @@ impl Integrator for Dop853 {
             };
             h_abs = h * factor;
         }
+    }
+}
+
+impl Integrator for Dop853 {
+    /// Starts from `(u, v)` at `t`: evaluates `f(z)` and Hairer's starting step (2 right-hand
+    /// sides). Counters accumulate across resets.
+    ///
+    /// # Panics
+    /// If `sys.len()`, `u.len()` or `v.len()` differs from the `m` given to [`Dop853::new`].
+    fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]) {
+        self.start(sys, t, u, v);
+        self.h = self.initial_step(sys);
+    }
+
+    /// As `reset`, without the starting-step estimate (its stage-1 and `y` scratch is
+    /// overwritten by the first step before it is read, so the step is the same).
+    fn restart(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64], h: f64) {
+        self.start(sys, t, u, v);
+        self.h = h;
+    }
+
+    /// One accepted step of at most `t_bound − t` (landing exactly on `t_bound` when shortened).
+    /// Returns `t` unchanged, without stepping, when `t_bound ≤ t`.
+    ///
+    /// On x86-64 processors with AVX2 the same code runs compiled for AVX2 (twice the vector
+    /// width for the stage sums): bit-identical results, since Rust never fuses or reorders
+    /// floating-point operations (no fused multiply-add is enabled or formed).
+    fn step(&mut self, sys: &dyn System, t_bound: f64) -> Result<f64, IntegrationError> {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: `step_avx2` requires AVX2, which the processor was just checked to have.
+            return unsafe { self.step_avx2(sys, t_bound) };
+        }
+        self.step_impl(sys, t_bound)
     }
 
     fn step_size(&self) -> f64 {

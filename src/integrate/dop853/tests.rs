@@ -195,3 +195,31 @@ fn similarity_scaling_gives_same_steps() {
     assert!(s1.abs_diff(s2) <= 2, "steps {s1} (v=1) vs {s2} (v=1e-7)");
     assert!(r1.abs_diff(r2) <= 2, "rejections {r1} vs {r2}");
 }
+
+/// [`Dop853::step`] runs its AVX2 build where the processor has AVX2; it must give the bits of
+/// the baseline build (`step_impl` inlined here, compiled without AVX2): the same operations in
+/// the same order, no fused multiply-adds. Without AVX2 both run the baseline code.
+#[test]
+fn avx2_and_baseline_steps_are_bit_identical() {
+    let chain = uniform_chain(20);
+    let (u, v) = striker(20, 1.0);
+    let tol = tolerances(&chain, &u, &v, 1e-8, 1e-12);
+    let sys = ChainRange::whole(&chain);
+    let (mut a, mut b) = (Dop853::new(20, tol), Dop853::new(20, tol));
+    a.reset(&sys, 0.0, &u, &v);
+    b.reset(&sys, 0.0, &u, &v);
+    let bits = |x: &[f64]| x.iter().map(|y| y.to_bits()).collect::<Vec<_>>();
+    let (mut za, mut zb) = (vec![0.0; 40], vec![0.0; 40]);
+    while a.t() < 30.0 {
+        let ta = a.step(&sys, 30.0).expect("step");
+        let tb = b.step_impl(&sys, 30.0).expect("step");
+        assert_eq!(ta.to_bits(), tb.to_bits());
+        assert_eq!(bits(a.state()), bits(b.state()), "t = {ta}");
+        let mid = 0.5 * (a.t_prev() + a.t());
+        a.dense(mid, &mut za);
+        b.dense(mid, &mut zb);
+        assert_eq!(bits(&za), bits(&zb), "continuous output at t = {mid}");
+    }
+    assert!(a.stats().steps > 20, "{} steps", a.stats().steps);
+    assert_eq!(a.stats(), b.stats());
+}
