@@ -222,3 +222,21 @@ fn damped_resume_is_bit_identical_including_the_dissipated_energy() {
         }
     }
 }
+
+/// The count of closings at tolerance-level speeds survives a checkpoint: a run stopped and
+/// resumed reports the same count as the run never interrupted (a 300-bead striker under a loose
+/// atol, where beads left behind the wave re-collide).
+#[test]
+fn resumed_run_reports_the_same_slow_closings() {
+    let s = striker(300, 2.5, 1.0, 1.0, 290.0);
+    let cfg = config(Engine::Hybrid, Method::Auto, 3e-5, 3e-7, 290.0);
+    let mut full = probe(u64::MAX, false);
+    let reference = engine::run(&s, &cfg, &mut full).expect("runs");
+    assert!(reference.slow_closings > 20, "{}", reference.slow_closings);
+    let mut first = probe(full.polls / 2, true);
+    engine::run(&s, &cfg, &mut first).expect_err("stopped");
+    let (state, _) = first.saved.take().expect("checkpoint");
+    let out = engine::resume(&s, &cfg, &state, &mut probe(u64::MAX, false)).expect("resumes");
+    assert_eq!(out.slow_closings, reference.slow_closings);
+    assert_eq!(out.events_by_kind, reference.events_by_kind);
+}

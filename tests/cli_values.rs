@@ -90,7 +90,7 @@ fn slow_closings_are_reported_by_run_and_inspect() {
         line.contains("closings at relative speeds below 30x"),
         "{line}"
     );
-    assert!(line.contains("--atol"), "{line}");
+    assert!(line.contains("smaller atol"), "{line}");
     let inspect = common::bc(dir.path(), &["inspect", "s.snap"]);
     common::assert_ok(&inspect);
     let info = String::from_utf8_lossy(&inspect.stdout);

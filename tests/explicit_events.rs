@@ -131,8 +131,8 @@ fn auto_on_a_uniform_chain_is_dop853() {
 
 /// Under a loose `--atol` the beads the wave leaves behind re-collide with their own velocity
 /// errors: 1668 closings instead of 998 at rtol 3e-5, atol 3e-7, and before the diagnostic the
-/// run returned them silently. Now 632 of them (relative speeds 4e-7 … 9e-6, within 30·atol·V)
-/// are counted, while the wave's own closings (~1e-4) are not, and the default atol
+/// run returned them silently. Now 632 of the 670 extra ones (relative speeds 4e-7 … 1e-5; the
+/// count takes those below 30·atol·V = 9e-6) are counted, while the wave's own closings (~1e-4) are not, and the default atol
 /// (`rtol/10⁴`) gives the 998 closings and no count.
 #[test]
 fn loose_atol_recollisions_behind_a_wave_are_counted() {

@@ -301,7 +301,7 @@ impl RunOutcome {
             format!(
                 "{} of {} closings at relative speeds below {}x the absolute velocity tolerance \
                  atol*V: whether they happen is decided by the tolerance (e.g. beads left behind a \
-                 wave re-colliding with their own velocity errors); rerun with a smaller --atol to \
+                 wave re-colliding with their own velocity errors); rerun with a smaller atol to \
                  check that they persist",
                 self.slow_closings, closings, SLOW_CLOSING_FACTOR
             )

@@ -18,8 +18,9 @@
 //! decided at the tolerance level. Under a loose `--atol` the beads a solitary wave
 //! leaves behind, whose true separation speeds are super-exponentially small, re-collide with
 //! their own velocity errors (1000-bead striker, rtol 3e-5, atol 3e-7: 1668 closings instead
-//! of 998, 654 of them at 4e-7 … 3e-6 where the wave's own closings are at ~1e-4); the count
-//! lets `run` say so instead of returning those collisions silently.
+//! of 998, the 670 extra ones at 4e-7 … 1e-5 where the wave's own closings are at ~1e-4; 632 of
+//! them are counted); the count lets `run` say so instead of returning those collisions
+//! silently.
 //!
 //! **Peak overlaps.** The largest overlap a contact (or a soft wall contact) reaches while
 //! closed is taken from the continuous output of every accepted cluster step: the overlap
