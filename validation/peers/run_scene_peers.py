@@ -48,7 +48,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
-from run_peers import atol_args, atol_note, beadchain_atol, ensure_venv, measure  # noqa: E402
+from run_peers import atol_args, atol_note, beadchain_atol, ensure_venv, measure, speedup  # noqa: E402
 
 def chain_of(binary, scene, tmp):
     """The resolved chain (CSV columns as arrays) and the scene file beadchain will run."""
@@ -292,7 +292,7 @@ def write(args, out, rows, main_solver):
         if r["status"] != "ok":
             lines.append("| %s | %g | %s | | | |" % (r["solver"], r["rtol"], r["status"]))
         else:
-            lines.append("| %s | %g | %.3f | %.1e | %.1e | %.1e |" % (
+            lines.append("| %s | %g | %.4f | %.1e | %.1e | %.1e |" % (
                 r["solver"], r["rtol"], r["wall"], r["velocity"], r["energy"], r["lead"]))
     hyb = [r for r in rows if r["solver"] == main_solver and r["status"] == "ok"]
     lines += ["", "At equal or better error (%s): the cheapest %s run, any rtol:" % (metric, main_solver), "",
@@ -303,19 +303,19 @@ def write(args, out, rows, main_solver):
             continue
         if r["status"] != "ok":
             same = [h for h in hyb if h["rtol"] == r["rtol"]]
-            bound = "> %.0f× vs the same rtol" % (args.timeout / max(same[0]["wall"], 1e-4)) if same else ""
+            bound = "> %s vs the same rtol" % speedup(args.timeout / max(same[0]["wall"], 1e-4)) if same else ""
             lines.append("| %s | %g | %s (> %g s) | | | | | %s |" % (
                 r["solver"], r["rtol"], r["status"], args.timeout, bound))
             continue
         ok = [h for h in hyb if err_of(args, h) <= err_of(args, r)]
         if not ok:
-            lines.append("| %s | %g | %.3f | %.1e | none as accurate | | | |" % (
+            lines.append("| %s | %g | %.4f | %.1e | none as accurate | | | |" % (
                 r["solver"], r["rtol"], r["wall"], err_of(args, r)))
             continue
         h = min(ok, key=lambda h: h["wall"])
-        lines.append("| %s | %g | %.3f | %.1e | %g | %.3f | %.1e | %.0f× |" % (
+        lines.append("| %s | %g | %.4f | %.1e | %g | %.4f | %.1e | %s |" % (
             r["solver"], r["rtol"], r["wall"], err_of(args, r), h["rtol"], h["wall"], err_of(args, h),
-            r["wall"] / max(h["wall"], 1e-4)))
+            speedup(r["wall"] / max(h["wall"], 1e-4))))
     text = "\n".join(lines) + "\n"
     with open(out + ".md", "w") as f:
         f.write(text)

@@ -55,7 +55,7 @@ def test_energy_metric_rescored_from_an_older_csv(tmp_path):
     rsp.rescore(args)
     md = open(args.out + ".md").read()
     assert "total-energy error" in md
-    assert "| scipy dop853 | 1e-06 | 4.000 | 5.0e-04 | 0.0001 | 0.200 | 3.0e-04 | 20× |" in md, md
+    assert "| scipy dop853 | 1e-06 | 4.0000 | 5.0e-04 | 0.0001 | 0.2000 | 3.0e-04 | 20.0× |" in md, md
 
 
 def test_default_atol_is_recorded_and_read_back(tmp_path):
@@ -75,3 +75,36 @@ def test_default_atol_is_recorded_and_read_back(tmp_path):
     rsp.rescore(again)
     assert again.beadchain_atol == "default"
     assert "beadchain atol = its default rtol/10^4" in open(again.out + ".md").read()
+
+
+def test_speedup_just_below_a_target_is_not_rounded_up(tmp_path):
+    """The tables printed speed-ups with no decimal, so the interface's 9.69x against the issue's
+    10x target read "10×"; they now keep one decimal below 100x (and walls four)."""
+    import run_peers
+    assert run_peers.speedup(9.69) == "9.7×"
+    assert run_peers.speedup(99.9) == "99.9×"
+    assert run_peers.speedup(741.4) == "741×"
+    args = _args(tmp_path, "energy")
+    rows = _rows()
+    rows[2]["wall"] = 0.2 * 9.69  # the 0.2 s run matches the peer's energy error
+    rsp.write(args, args.out, rows, "beadchain hybrid auto")
+    md = open(args.out + ".md").read()
+    assert "| 0.2000 | 3.0e-04 | 9.7× |" in md, md
+
+
+def test_run_peers_tables_are_remade_from_its_csv(tmp_path):
+    """run_peers.py --from-csv re-makes the tables of an earlier invocation without running, with
+    beadchain's atol mode read back from the CSV."""
+    import run_peers
+    src = tmp_path / "r.csv"
+    src.write_text(
+        "solver,beads,until,rtol,atol_rel,status,wall_seconds,energy_error,repeat\n"
+        "beadchain hybrid auto,1000,866.0,1e-06,1e-10,ok,0.015,7e-07,3\n"
+        "scipy lsoda,1000,866.0,1e-06,1e-08,ok,0.6786,0.00018,3\n"
+        "beadchain hybrid auto,1000,866.0,1e-05,1e-09,ok,0.0109,6.1e-06,3\n")
+    args = argparse.Namespace(from_csv=str(src), out=str(tmp_path / "out"), beadchain="hybrid:auto",
+                              exponent=2.5, prefactor=1.0, mass=1.0, velocity=1.0)
+    run_peers.rewrite(args)
+    md = open(args.out + ".md").read()
+    assert "beadchain atol = its default" in md, md
+    assert "| scipy lsoda | 1e-06 | 0.6786 | 1.8e-04 | 1e-05 | 0.0109 | 6.1e-06 | 62.3× |" in md, md
