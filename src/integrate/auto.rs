@@ -108,6 +108,17 @@ impl Auto {
             .get_or_insert_with(|| Box::new(Radau5::new(m, tol, solver)))
     }
 
+    /// The implicit integrator when it is the active one (else DOP853 is): lets the hot
+    /// read-only calls (`dense_at`, `t`, …) reach the concrete type, a static call, instead of
+    /// a second dynamic dispatch through [`Auto::active`].
+    #[inline(always)]
+    fn implicit_active(&self) -> Option<&Radau5> {
+        match (&self.radau, self.mode.implicit) {
+            (Some(r), true) => Some(r),
+            _ => None,
+        }
+    }
+
     fn active(&self) -> &dyn Integrator {
         match (&self.radau, self.mode.implicit) {
             (Some(r), true) => &**r,
@@ -273,11 +284,17 @@ impl Integrator for Auto {
     }
 
     fn t(&self) -> f64 {
-        self.active().t()
+        match self.implicit_active() {
+            Some(r) => r.t(),
+            None => self.dop.t(),
+        }
     }
 
     fn t_prev(&self) -> f64 {
-        self.active().t_prev()
+        match self.implicit_active() {
+            Some(r) => r.t_prev(),
+            None => self.dop.t_prev(),
+        }
     }
 
     fn state(&self) -> &[f64] {
@@ -289,11 +306,17 @@ impl Integrator for Auto {
     }
 
     fn dense_at(&self, t: f64, j: usize) -> f64 {
-        self.active().dense_at(t, j)
+        match self.implicit_active() {
+            Some(r) => r.dense_at(t, j),
+            None => self.dop.dense_at(t, j),
+        }
     }
 
     fn end_states(&self) -> Option<(&[f64], &[f64])> {
-        self.active().end_states()
+        match self.implicit_active() {
+            Some(r) => r.end_states(),
+            None => self.dop.end_states(),
+        }
     }
 
     fn stats(&self) -> &Stats {
