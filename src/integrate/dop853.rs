@@ -31,6 +31,7 @@
 
 mod coefficients;
 mod start;
+mod state;
 
 use super::{IntegrationError, Integrator, IntegratorState, Stats, System, Tolerances};
 use coefficients::{A, D, E3, E5};
@@ -507,6 +508,14 @@ impl Integrator for Dop853 {
         Some((&self.z_old, &self.z))
     }
 
+    /// Resizes the arrays in place. Their old contents are never read: [`Integrator::reset`]
+    /// sets `z`, `z_old`, `f`, stage 0 and the velocity scales, and a step writes every stage
+    /// and scratch entry before reading it; stages 2–15 saved before the first step are written
+    /// as zeros ([`Integrator::save`]), as a new integrator holds them.
+    fn renew(&mut self, m: usize, tol: Tolerances) -> bool {
+        self.renew_arrays(m, tol)
+    }
+
     fn stats(&self) -> &Stats {
         &self.stats
     }
@@ -516,49 +525,11 @@ impl Integrator for Dop853 {
     }
 
     fn save(&self) -> IntegratorState {
-        IntegratorState {
-            t: self.t,
-            t_prev: self.t_prev,
-            h: self.h,
-            h_old: None,
-            err_old: None,
-            have_sol: true,
-            vecs: vec![
-                self.z.clone(),
-                self.z_old.clone(),
-                self.k.clone(),
-                self.f.clone(),
-                vec![self.pw[0]],
-            ],
-            stats: self.stats.clone(),
-            auto: None,
-            dissipated: self.diss,
-            method: super::Method::Dop853,
-        }
+        self.save_state()
     }
 
     fn load(&mut self, s: &IntegratorState) -> Result<(), String> {
-        let lens = [
-            self.z.len(),
-            self.z_old.len(),
-            self.k.len(),
-            self.f.len(),
-            1,
-        ];
-        super::check_state(s, super::Method::Dop853, &lens)?;
-        self.t = s.t;
-        self.t_prev = s.t_prev;
-        self.h = s.h;
-        for (d, v) in [&mut self.z, &mut self.z_old, &mut self.k, &mut self.f]
-            .into_iter()
-            .zip(&s.vecs[..4])
-        {
-            d.copy_from_slice(v);
-        }
-        self.stats = s.stats.clone();
-        self.diss = s.dissipated;
-        self.pw[0] = s.vecs[4][0];
-        Ok(())
+        self.load_state(s)
     }
 }
 

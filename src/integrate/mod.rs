@@ -391,6 +391,13 @@ pub trait Integrator {
     fn dissipated(&self) -> (f64, f64) {
         (0.0, 0.0)
     }
+    /// Makes this integrator the one its kind's `new(m, tol)` builds (same method, solver and
+    /// settings), keeping its allocations; returns `false`, changing nothing, where the kind
+    /// cannot (the caller then builds a new one). After the next [`Integrator::reset`] every
+    /// number it produces is the new integrator's.
+    fn renew(&mut self, _m: usize, _tol: Tolerances) -> bool {
+        false
+    }
     /// The state needed to continue exactly (see [`IntegratorState`]).
     fn save(&self) -> IntegratorState;
     /// Restores a state saved by the same method for the same number of beads; any other

@@ -80,6 +80,7 @@ impl Hybrid<'_> {
         let us: Vec<f64> = (lo..hi).map(|k| cl.u_at(t, k)).collect();
         let mut vs: Vec<f64> = (lo..hi).map(|k| cl.v_at(t, k)).collect();
         vs[a - lo..b - lo].fill(v);
+        self.recycle(cl);
         self.make_cluster(lo, hi, t, &us, &vs);
     }
 

@@ -189,6 +189,9 @@ pub struct Hybrid<'a> {
     bu: Vec<f64>,
     bv: Vec<f64>,
     bz: Vec<f64>,
+    /// Integrators of removed clusters, renewed for the next clusters made
+    /// ([`Integrator::renew`]): a gap event allocates nothing for them.
+    spare: Vec<Box<dyn crate::integrate::Integrator>>,
 }
 
 impl<'a> Hybrid<'a> {
@@ -243,6 +246,7 @@ impl<'a> Hybrid<'a> {
             bu: vec![0.0; n],
             bv: vec![0.0; n],
             bz: vec![0.0; 2 * n],
+            spare: Vec::new(),
         }
     }
 

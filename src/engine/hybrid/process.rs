@@ -9,6 +9,9 @@ use crate::engine::events::EventKind;
 use crate::engine::EngineError;
 use crate::integrate::Tolerances;
 
+/// Integrators of removed clusters kept for reuse ([`Hybrid::recycle`]).
+const SPARE_INTEGRATORS: usize = 64;
+
 impl Hybrid<'_> {
     /// Creates a cluster of beads `lo..hi` at time `t` from global states `u`, `v`.
     pub(super) fn make_cluster(&mut self, lo: usize, hi: usize, t: f64, u: &[f64], v: &[f64]) {
@@ -52,7 +55,17 @@ impl Hybrid<'_> {
                 self.bv[k] = 0.0;
             }
         }
-        let mut integ = make_integrator(self.cfg, m, self.cluster_tol(fv));
+        let tol = self.cluster_tol(fv);
+        let mut integ = match self.spare.pop() {
+            Some(mut i) => {
+                if i.renew(m, tol) {
+                    i
+                } else {
+                    make_integrator(self.cfg, m, tol)
+                }
+            }
+            None => make_integrator(self.cfg, m, tol),
+        };
         let rigid = self.st.stuck[lo..hi - 1].contains(&true);
         let sys = ClusterSys {
             chain,
@@ -118,6 +131,14 @@ impl Hybrid<'_> {
         self.st.implicit_steps += cl.integ.implicit_steps();
         self.st.spare_slots.push(slot);
         cl
+    }
+
+    /// Keeps the integrator of a removed cluster for the next cluster made (at most
+    /// [`SPARE_INTEGRATORS`] are kept).
+    pub(super) fn recycle(&mut self, cl: Cluster) {
+        if self.spare.len() < SPARE_INTEGRATORS {
+            self.spare.push(cl.integ);
+        }
     }
 
     /// Makes bead `i` free with state (u, v) at `t`.
@@ -323,7 +344,8 @@ impl Hybrid<'_> {
         }
         for side in [self.st.owner[c], self.st.owner[c + 1]] {
             if side != FREE && self.clusters[side as usize].is_some() {
-                self.remove_cluster(side);
+                let cl = self.remove_cluster(side);
+                self.recycle(cl);
             }
         }
         self.drop_predictions(lo, hi);
@@ -439,6 +461,7 @@ impl Hybrid<'_> {
                 start = i + 1;
             }
         }
+        self.recycle(cl);
         for c in lo.saturating_sub(1)..hi.min(self.n - 1) {
             self.schedule_free_pair(c);
         }
