@@ -120,9 +120,9 @@ impl Auto {
     }
 
     fn active(&self) -> &dyn Integrator {
-        match (&self.radau, self.mode.implicit) {
-            (Some(r), true) => &**r,
-            _ => &self.dop,
+        match self.implicit_active() {
+            Some(r) => r,
+            None => &self.dop,
         }
     }
 

@@ -275,6 +275,15 @@ def main():
     write_outputs(args, rows)
 
 
+def atol_mode_of(table):
+    """`matched` or `default`: the --beadchain-atol of an invocation, read from its CSV rows
+    (beadchain rows at `atol_rel = rtol/100` were run matched)."""
+    for r in table:
+        if r["solver"].startswith("beadchain") and float(r["atol_rel"]) != float(r["rtol"]) / 100:
+            return "default"
+    return "matched"
+
+
 def rewrite(args):
     """The tables of an earlier invocation's CSV (no run); beadchain's atol mode is read from the
     CSV's `atol_rel` column."""
@@ -287,10 +296,7 @@ def rewrite(args):
             row.update(wall=float(r["wall_seconds"]), energy_error=float(r["energy_error"]))
         rows.append(row)
     args.beads, args.until, args.repeat = int(table[0]["beads"]), float(table[0]["until"]), int(table[0]["repeat"])
-    args.beadchain_atol = "matched"
-    for r in table:
-        if r["solver"].startswith("beadchain") and float(r["atol_rel"]) != float(r["rtol"]) / 100:
-            args.beadchain_atol = "default"
+    args.beadchain_atol = atol_mode_of(table)
     args.main_solver = "beadchain %s %s" % tuple(args.beadchain.split(",")[0].split(":"))
     write_outputs(args, rows)
 

@@ -48,7 +48,8 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
-from run_peers import atol_args, atol_note, beadchain_atol, ensure_venv, measure, speedup  # noqa: E402
+from run_peers import (atol_args, atol_mode_of, atol_note, beadchain_atol, ensure_venv,  # noqa: E402
+                       measure, speedup)
 
 def chain_of(binary, scene, tmp):
     """The resolved chain (CSV columns as arrays) and the scene file beadchain will run."""
@@ -263,11 +264,7 @@ def rescore(args):
                        energy=number(r["energy_error"]), lead=number(r["lead_error"]))
         rows.append(row)
     args.scene, args.repeat = table[0]["scene"], int(table[0]["repeat"])
-    # the CSV records each run's atol: beadchain rows at rtol/100 were run "matched"
-    args.beadchain_atol = "matched"
-    for r in table:
-        if r["solver"].startswith("beadchain") and number(r["atol_rel"]) != float(r["rtol"]) / 100:
-            args.beadchain_atol = "default"
+    args.beadchain_atol = atol_mode_of(table)
     runs = [tuple(x.split(":")) for x in args.beadchain.split(",") if x]
     write(args, out, rows, "beadchain %s %s" % runs[0])
 

@@ -56,16 +56,9 @@ impl Hybrid<'_> {
             }
         }
         let tol = self.cluster_tol(fv);
-        let mut integ = match self.spare.pop() {
-            Some(mut i) => {
-                if i.renew(m, tol) {
-                    i
-                } else {
-                    make_integrator(self.cfg, m, tol)
-                }
-            }
-            None => make_integrator(self.cfg, m, tol),
-        };
+        let mut integ = (self.spare.pop())
+            .and_then(|mut i| i.renew(m, tol).then_some(i))
+            .unwrap_or_else(|| make_integrator(self.cfg, m, tol));
         let rigid = self.st.stuck[lo..hi - 1].contains(&true);
         let sys = ClusterSys {
             chain,
