@@ -108,3 +108,72 @@ def test_run_peers_tables_are_remade_from_its_csv(tmp_path):
     md = open(args.out + ".md").read()
     assert "beadchain atol = its default" in md, md
     assert "| scipy lsoda | 1e-06 | 0.6786 | 1.8e-04 | 1e-05 | 0.0109 | 6.1e-06 | 62.3× |" in md, md
+
+
+def _floor_rows():
+    # the 1000-bead striker at SciPy rtol 1e-12, as measured against dense DOP853: LSODA's error
+    # 2.6e-11 was that reference's own floor
+    row = lambda solver, rtol, wall, e: dict(solver=solver, rtol=rtol, status="ok", wall=wall,  # noqa: E731
+                                             velocity=np.float64(e), energy=np.float64(1e-12),
+                                             lead=np.float64(e))
+    return [row("beadchain hybrid auto", 1e-11, 0.0267, 2.6e-11), row("beadchain hybrid auto", 1e-6, 0.0145, 3.7e-7),
+            row("scipy lsoda", 1e-12, 2.2256, 2.6e-11), row("scipy lsoda", 1e-6, 0.6792, 9.3e-5)]
+
+
+def test_peer_errors_at_the_reference_floor_are_marked(tmp_path):
+    """The striker's and the interface's tables compared every solver at rtol 1e-10 and 1e-12 with
+    a reference (dense DOP853 at rtol 1e-13) that was itself off by 2.6e-11 (6e-10 on the
+    interface): the header now gives the reference's floor (the reference against itself at 10x
+    its rtol), and a peer error below 10x that floor is marked instead of read as resolved."""
+    args = _args(tmp_path, "velocity")
+    args.reference, args.reference_method = "dense", "dop853"
+    args.floor = dict(velocity=2.6e-11, lead=2.6e-11, energy=0.0)
+    rsp.write(args, args.out, _floor_rows(), "beadchain hybrid auto")
+    md = open(args.out + ".md").read()
+    assert "reference beadchain dense DOP853 rtol 1e-13; its floor" in md, md
+    assert "velocity 2.6e-11, lead energy 2.6e-11" in md, md
+    assert "| scipy lsoda | 1e-12 | 2.2256 | 2.6e-11 | 1e-11 | 0.0267 | 2.6e-11 | 83.4× (near the reference floor) |" in md, md
+    assert "| scipy lsoda | 1e-06 | 0.6792 | 9.3e-05 | 1e-06 | 0.0145 | 3.7e-07 | 46.8× |" in md, md
+    # the energy metric needs no reference: nothing is marked under it
+    args.metric = "energy"
+    rsp.write(args, args.out, _floor_rows(), "beadchain hybrid auto")
+    assert "near the reference floor" not in open(args.out + ".md").read()
+
+
+def test_reference_floor_survives_a_rescore(tmp_path):
+    """--from-csv reads the reference and its floor back from the CSV; a CSV written before the
+    floor check says that its floor was not measured."""
+    args = _args(tmp_path, "velocity")
+    args.reference, args.reference_method = "dense", "radau5"
+    args.floor = dict(velocity=5.1e-14, lead=3e-14, energy=0.0)
+    rsp.write(args, args.out, _floor_rows(), "beadchain hybrid auto")
+    again = _args(tmp_path, "velocity")
+    again.from_csv, again.out = args.out + ".csv", str(tmp_path / "again")
+    rsp.rescore(again)
+    md = open(again.out + ".md").read()
+    assert "reference beadchain dense Radau IIA rtol 1e-13; its floor" in md, md
+    assert "velocity 5.1e-14" in md, md
+    old = tmp_path / "old.csv"
+    with open(args.out + ".csv") as f:
+        lines = f.read().splitlines()
+    cut = lambda line: ",".join(line.split(",")[:10])  # noqa: E731  (the columns before the check)
+    old.write_text("\n".join(cut(x) for x in lines) + "\n")
+    older = _args(tmp_path, "velocity")
+    older.from_csv, older.out = str(old), str(tmp_path / "older")
+    rsp.rescore(older)
+    md = open(older.out + ".md").read()
+    assert "reference (not recorded in the CSV); its floor was not measured" in md, md
+
+
+def test_floor_is_the_loose_reference_scored_against_the_tight_one():
+    """floor_of scores the reference at 10x its rtol like any run: velocity and lead-energy
+    differences relative to the tight reference's, and 0 for the energy metric."""
+    ch = dict(mass=[1.0, 1.0, 1.0], exponent=[2.5, 2.5], prefactor=[1.0, 1.0], u0=[0.0, 0.0, 0.0],
+              v0=[1.0, 0.0, 0.0], until=1.0)
+    ref = dict(status="ok", u=[0.0, 0.0, 0.0], v=[0.0, 0.0, 1.0])
+    loose = dict(status="ok", u=[0.0, 0.0, 0.0], v=[0.0, 1e-9, 1.0 - 2e-9])
+    f = rsp.floor_of(ch, ref, loose, 10)
+    # rel tol 1e-6 on values computed from the exact differences above
+    assert abs(f["velocity"] - 2e-9) <= 1e-6 * 2e-9, f
+    assert f["energy"] == 0.0
+    assert abs(f["lead"] - (1.0 - (1.0 - 2e-9) ** 2 - 1e-18)) <= 1e-6 * 4e-9, f
