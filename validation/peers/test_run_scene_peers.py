@@ -113,16 +113,20 @@ def test_run_peers_tables_are_remade_from_its_csv(tmp_path):
 def _floor_rows():
     # the 1000-bead striker at SciPy rtol 1e-12, as measured against dense DOP853: LSODA's error
     # 2.6e-11 was that reference's own floor
-    row = lambda solver, rtol, wall, e: dict(solver=solver, rtol=rtol, status="ok", wall=wall,  # noqa: E731
-                                             velocity=np.float64(e), energy=np.float64(1e-12),
-                                             lead=np.float64(e))
+    row = lambda solver, rtol, wall, e, lead=None: dict(  # noqa: E731
+        solver=solver, rtol=rtol, status="ok", wall=wall, velocity=np.float64(e),
+        energy=np.float64(1e-12), lead=np.float64(e if lead is None else lead))
     return [row("beadchain hybrid auto", 1e-11, 0.0267, 2.6e-11), row("beadchain hybrid auto", 1e-6, 0.0145, 3.7e-7),
-            row("scipy lsoda", 1e-12, 2.2256, 2.6e-11), row("scipy lsoda", 1e-6, 0.6792, 9.3e-5)]
+            row("scipy lsoda", 1e-12, 2.2256, 2.6e-11), row("scipy lsoda", 1e-6, 0.6792, 9.3e-5),
+            # 5x the floor (marked, below 10x) and 20x (resolved)
+            row("scipy dop853", 1e-12, 1.8, 1.3e-10, lead=1e-3), row("scipy dop853", 1e-10, 1.0, 5.2e-10, lead=1e-3),
+            # more accurate than every beadchain run, and at the floor
+            row("scipy vode_bdf_banded", 1e-12, 11.0, 1e-11)]
 
 
 def test_peer_errors_at_the_reference_floor_are_marked(tmp_path):
-    """The striker's and the interface's tables compared every solver at rtol 1e-10 and 1e-12 with
-    a reference (dense DOP853 at rtol 1e-13) that was itself off by 2.6e-11 (6e-10 on the
+    """The striker's and the interface's tables compared every solver at rtol 1e-12 with a
+    reference (dense DOP853 at rtol 1e-13) that was itself off by 2.6e-11 (6e-10 on the
     interface): the header now gives the reference's floor (the reference against itself at 10x
     its rtol), and a peer error below 10x that floor is marked instead of read as resolved."""
     args = _args(tmp_path, "velocity")
@@ -134,25 +138,48 @@ def test_peer_errors_at_the_reference_floor_are_marked(tmp_path):
     assert "velocity 2.6e-11, lead energy 2.6e-11" in md, md
     assert "| scipy lsoda | 1e-12 | 2.2256 | 2.6e-11 | 1e-11 | 0.0267 | 2.6e-11 | 83.4× (near the reference floor) |" in md, md
     assert "| scipy lsoda | 1e-06 | 0.6792 | 9.3e-05 | 1e-06 | 0.0145 | 3.7e-07 | 46.8× |" in md, md
+    assert "| scipy dop853 | 1e-12 | 1.8000 | 1.3e-10 | 1e-11 | 0.0267 | 2.6e-11 | 67.4× (near the reference floor) |" in md, md
+    assert "| scipy dop853 | 1e-10 | 1.0000 | 5.2e-10 | 1e-11 | 0.0267 | 2.6e-11 | 37.5× |" in md, md
+    assert "| scipy vode_bdf_banded | 1e-12 | 11.0000 | 1.0e-11 | none as accurate (near the reference floor) |" in md, md
     # the energy metric needs no reference: nothing is marked under it
     args.metric = "energy"
     rsp.write(args, args.out, _floor_rows(), "beadchain hybrid auto")
     assert "near the reference floor" not in open(args.out + ".md").read()
 
 
-def test_reference_floor_survives_a_rescore(tmp_path):
-    """--from-csv reads the reference and its floor back from the CSV; a CSV written before the
-    floor check says that its floor was not measured."""
-    args = _args(tmp_path, "velocity")
+def test_observables_use_the_lead_energy_floor(tmp_path):
+    """Under --metric observables (max of the energy and lead-energy errors) a row is marked by
+    the lead energy's floor, not the velocity's: a chaotic scene's final velocities differ at
+    order one between any two runs, its leading-wave energy much less."""
+    args = _args(tmp_path, "observables")
     args.reference, args.reference_method = "dense", "radau5"
-    args.floor = dict(velocity=5.1e-14, lead=3e-14, energy=0.0)
+    args.floor = dict(velocity=0.3, lead=1e-6, energy=0.0)
     rsp.write(args, args.out, _floor_rows(), "beadchain hybrid auto")
-    again = _args(tmp_path, "velocity")
+    md = open(args.out + ".md").read()
+    # errors are max(energy, lead): 1e-3 and 9.3e-5 are >= 10x the lead floor 1e-6, resolved
+    # although the velocity floor is 0.3
+    assert "| scipy dop853 | 1e-12 | 1.8000 | 1.0e-03 | 1e-06 | 0.0145 | 3.7e-07 | 124× |" in md, md
+    assert "| scipy lsoda | 1e-06 | 0.6792 | 9.3e-05 | 1e-06 | 0.0145 | 3.7e-07 | 46.8× |" in md, md
+    # 2.6e-11 < 10x 1e-6: marked
+    assert "| scipy lsoda | 1e-12 | 2.2256 | 2.6e-11 | 1e-11 | 0.0267 | 2.6e-11 | 83.4× (near the reference floor) |" in md, md
+
+
+def test_reference_floor_survives_a_rescore(tmp_path):
+    """--from-csv reads the reference, its rtol and its floors back from the CSV; a CSV written
+    before the floor check says that neither was recorded, and rewriting it invents neither."""
+    args = _args(tmp_path, "observables")
+    args.reference, args.reference_method, args.reference_rtol = "dense", "dop853", 1e-12
+    args.floor = dict(velocity=5.1e-14, lead=3e-5, energy=0.0)
+    rsp.write(args, args.out, _floor_rows(), "beadchain hybrid auto")
+    again = _args(tmp_path, "observables")
     again.from_csv, again.out = args.out + ".csv", str(tmp_path / "again")
     rsp.rescore(again)
     md = open(again.out + ".md").read()
-    assert "reference beadchain dense Radau IIA rtol 1e-13; its floor" in md, md
-    assert "velocity 5.1e-14" in md, md
+    assert "reference beadchain dense DOP853 rtol 1e-12; its floor" in md, md
+    assert "velocity 5.1e-14, lead energy 3.0e-05" in md, md
+    # the lead floor read back marks 9.3e-5 (< 10x 3e-5) and not 1e-3
+    assert "| scipy lsoda | 1e-06 | 0.6792 | 9.3e-05 | 1e-06 | 0.0145 | 3.7e-07 | 46.8× (near the reference floor) |" in md, md
+    assert "| scipy dop853 | 1e-12 | 1.8000 | 1.0e-03 | 1e-06 | 0.0145 | 3.7e-07 | 124× |" in md, md
     old = tmp_path / "old.csv"
     with open(args.out + ".csv") as f:
         lines = f.read().splitlines()
@@ -163,17 +190,21 @@ def test_reference_floor_survives_a_rescore(tmp_path):
     rsp.rescore(older)
     md = open(older.out + ".md").read()
     assert "reference (not recorded in the CSV); its floor was not measured" in md, md
+    with open(older.out + ".csv") as f:
+        row = next(csv.DictReader(f))
+    assert row["reference"] == "" and row["reference_rtol"] == "" and row["reference_floor_lead"] == "", row
 
 
 def test_floor_is_the_loose_reference_scored_against_the_tight_one():
-    """floor_of scores the reference at 10x its rtol like any run: velocity and lead-energy
-    differences relative to the tight reference's, and 0 for the energy metric."""
+    """floor_of scores the reference at 10x its rtol like any run, relative to the tight
+    reference's values: velocity and lead-energy differences, and 0 for the energy metric."""
     ch = dict(mass=[1.0, 1.0, 1.0], exponent=[2.5, 2.5], prefactor=[1.0, 1.0], u0=[0.0, 0.0, 0.0],
               v0=[1.0, 0.0, 0.0], until=1.0)
     ref = dict(status="ok", u=[0.0, 0.0, 0.0], v=[0.0, 0.0, 1.0])
-    loose = dict(status="ok", u=[0.0, 0.0, 0.0], v=[0.0, 1e-9, 1.0 - 2e-9])
+    loose = dict(status="ok", u=[0.0, 0.0, 0.0], v=[0.0, 1e-3, 2.0])
     f = rsp.floor_of(ch, ref, loose, 10)
-    # rel tol 1e-6 on values computed from the exact differences above
-    assert abs(f["velocity"] - 2e-9) <= 1e-6 * 2e-9, f
+    # relative to the tight reference's largest velocity (1) and lead energy (0.5): 1.0 and 3.000001;
+    # the other way round they would be 0.5 and 0.75; rel tol 1e-12
+    assert abs(f["velocity"] - 1.0) <= 1e-12, f
+    assert abs(f["lead"] - (0.5 * (1e-6 + 4.0) - 0.5) / 0.5) <= 1e-12 * 3.0, f
     assert f["energy"] == 0.0
-    assert abs(f["lead"] - (1.0 - (1.0 - 2e-9) ** 2 - 1e-18)) <= 1e-6 * 4e-9, f
