@@ -351,9 +351,7 @@ def write(args, out, rows, main_solver):
                       "lead energy %.1e" % (floor["velocity"], floor["lead"]))
     else:
         floor_note = "; its floor was not measured (an invocation before the floor check)"
-    ref_text = reference_name(args)
-    if not getattr(args, "reference_unrecorded", False):
-        ref_text += " rtol %g" % args.reference_rtol
+    ref_text = reference_name(args) + ("" if unrecorded else " rtol %g" % args.reference_rtol)
     lines = ["Scene `%s`; %s; reference %s%s; median of %d; "
              "error metric for the comparison: %s" % (args.scene, atol_note(args), ref_text,
                                                      floor_note, args.repeat, metric), "",
