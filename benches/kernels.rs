@@ -1,4 +1,5 @@
-//! Kernel benchmarks (criterion): force/Jacobian evaluation, one Radau step per cluster size,
+//! Kernel benchmarks (criterion): force/Jacobian evaluation (the two-pass force kernel against
+//! the one-pass loop it replaced), one Radau step per cluster size,
 //! event-queue operations, free-flight gap prediction, and the cost of declared effects
 //! (precompression, field) against the same chain without them.
 //! Run: `cargo bench --bench kernels -- --warm-up-time 1 --measurement-time 2`.
@@ -47,6 +48,11 @@ fn forces(c: &mut Criterion) {
             g.bench_with_input(BenchmarkId::new(format!("accel_n{exp}"), n), &n, |b, _| {
                 b.iter(|| ch.accel(0, black_box(&u), &mut acc))
             });
+            g.bench_with_input(
+                BenchmarkId::new(format!("accel_one_pass_n{exp}"), n),
+                &n,
+                |b, _| b.iter(|| ch.accel_one_pass(0, black_box(&u), &mut acc)),
+            );
             g.bench_with_input(
                 BenchmarkId::new(format!("accel_stiffness_n{exp}"), n),
                 &n,

@@ -19,6 +19,7 @@
 //! range are ignored, except walls, which act when the range contains the chain end.
 
 pub mod damped;
+mod forces;
 pub mod law;
 pub mod restitution;
 
@@ -196,7 +197,20 @@ impl Chain {
     }
 
     /// Accelerations `a = f(u)` of beads `lo..lo+u.len()` (paper eq. 7).
+    /// Two passes (forces, then accelerations; `forces.rs`), compiled for AVX2 where the
+    /// processor has it: bit-identical to the one-pass [`Self::accel_one_pass`].
     pub fn accel(&self, lo: usize, u: &[f64], acc: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: `accel_avx2` requires AVX2, which the processor was just checked to have.
+            return unsafe { self.accel_avx2(lo, u, acc) };
+        }
+        self.accel_dispatch(lo, u, acc)
+    }
+
+    /// The one-pass force loop [`Self::accel`] replaced, kept as the reference its results are
+    /// tested against (bit for bit).
+    pub fn accel_one_pass(&self, lo: usize, u: &[f64], acc: &mut [f64]) {
         match (self.precompression.is_some(), self.field.is_some()) {
             (false, false) => self.kernel::<false, false, false>(lo, u, acc, &mut []),
             (true, false) => self.kernel::<true, false, false>(lo, u, acc, &mut []),
