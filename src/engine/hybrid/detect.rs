@@ -6,6 +6,13 @@
 //! resolution; the first sign change is then refined by the Illinois method (Dowell & Jarratt
 //! 1971), which keeps a bracket and converges superlinearly.
 //!
+//! **Convex gaps.** Without a field and without hard contacts, the only force on the edge bead
+//! of a cluster comes from its inner contact and is compressive (paper eq. 6: zero tensile
+//! strength; the damped laws are clipped at 0 too), so it pushes the edge bead towards the gap;
+//! the bead across the gap is free (no force) or the edge bead of another cluster (pushed
+//! towards the gap likewise). So the boundary gap `g(t)` has `g'' ≥ 0` over the step: it cannot
+//! close and re-open inside one, and [`first_crossing_convex`] needs its end values only.
+//!
 //! [`step_max`] finds the largest value of a function over one step from the sign change of its
 //! derivative (both from the continuous output), refined the same way: the peak overlaps of the
 //! event log.
@@ -42,6 +49,25 @@ pub fn first_crossing(g: impl Fn(f64) -> f64, ta: f64, tb: f64) -> Option<f64> {
         fa = fb;
     }
     None
+}
+
+/// [`first_crossing`] for a gap that is convex in time over the window (`g'' ≥ 0`, module
+/// docs): it has no interior maximum, so `g ≤ 0` at both ends means `g ≤ 0` throughout, and a
+/// sign change is bracketed by the window itself. Two evaluations instead of up to nine, and no
+/// crossing is found where only the continuous output's own error would make one.
+pub fn first_crossing_convex(g: impl Fn(f64) -> f64, ta: f64, tb: f64) -> Option<f64> {
+    if tb < ta {
+        return None;
+    }
+    let ga = g(ta);
+    if ga > 0.0 {
+        return Some(ta);
+    }
+    if tb == ta {
+        return None;
+    }
+    let gb = g(tb);
+    (gb > 0.0).then(|| illinois(&g, ta, ga, tb, gb))
 }
 
 /// Largest value of `d` over `[ta, tb]`, given its derivative `dd`, assuming `d` was already
@@ -143,6 +169,19 @@ mod tests {
         assert!((p - 1.0).abs() < 1e-15, "{p}");
         // increasing over the step: the end value
         assert_eq!(step_max(d, dd, 0.0, 0.2), d(0.2));
+    }
+
+    #[test]
+    fn convex_crossing_is_bracketed_by_the_window() {
+        // convex, negative at 0, positive at 1: the one root 0.6 located to ulps
+        let g = |t: f64| (t - 0.6) * (t + 2.0);
+        let t = first_crossing_convex(g, 0.0, 1.0).expect("crossing");
+        // abs tol: a few ulps of 0.6
+        assert!((t - 0.6).abs() < 1e-15 && g(t) > 0.0, "{t}");
+        // negative at both ends: no crossing (a convex gap has no interior maximum)
+        assert_eq!(first_crossing_convex(|t: f64| t * t - 2.0, -1.0, 1.0), None);
+        // open at the start: the start
+        assert_eq!(first_crossing_convex(|t: f64| t + 1.0, 0.0, 1.0), Some(0.0));
     }
 
     #[test]

@@ -392,6 +392,17 @@ impl<'a> Hybrid<'a> {
     }
 
     /// One step of a cluster, then event detection on its continuous output.
+    /// First closing of a cluster's boundary gap `g` over `[t0, tb]`: from the end values alone
+    /// where the gap is convex in time (no field, no hard contacts: [`detect`] module docs),
+    /// else by sampling.
+    fn boundary_crossing(&self, g: impl Fn(f64) -> f64, t0: f64, tb: f64) -> Option<f64> {
+        if self.chain.field.is_none() && !self.chain.has_hard() {
+            detect::first_crossing_convex(g, t0, tb)
+        } else {
+            detect::first_crossing(g, t0, tb)
+        }
+    }
+
     fn step_cluster(&mut self, slot: u32) -> Result<(), EngineError> {
         let until = self.cfg.until;
         let chain = self.chain;
@@ -425,7 +436,7 @@ impl<'a> Hybrid<'a> {
             let pre = self.pre(c);
             let theta = self.closing_offset(c, t0);
             let g = |t: f64| pre + self.pos(c, t).0 - cl.u_at(t, lo) - theta;
-            if let Some(t) = detect::first_crossing(g, t0, tb) {
+            if let Some(t) = self.boundary_crossing(g, t0, tb) {
                 earliest = Some((t, c));
             }
         }
@@ -435,7 +446,7 @@ impl<'a> Hybrid<'a> {
             let pre = self.pre(c);
             let theta = self.closing_offset(c, t0);
             let g = |t: f64| pre + cl.u_at(t, c) - self.pos(hi, t).0 - theta;
-            if let Some(t) = detect::first_crossing(g, t0, tb) {
+            if let Some(t) = self.boundary_crossing(g, t0, tb) {
                 if earliest.is_none_or(|(te, _)| t < te) {
                     earliest = Some((t, c));
                 }
