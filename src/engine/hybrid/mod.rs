@@ -14,7 +14,9 @@
 //! When a cluster steps over `[t₀, t₁]` it looks for its boundary gaps closing over the part of
 //! the step where the neighbour's trajectory is known (a free bead: always; a cluster: up to that
 //! cluster's current time). Because clusters step lagging-first, the neighbour's last step always
-//! covers `t₀`, and what one side cannot check yet the other side checks when it steps. A found
+//! covers `t₀`, and what one side cannot check yet the other side checks when it steps. Without a
+//! field and hard contacts a boundary gap is convex in time, so its end values decide
+//! ([`detect`]); otherwise it is sampled on the continuous output. A found
 //! closing *parks* the cluster at the closing time; it is merged when the queue reaches that time,
 //! when every other cluster's last step covers it. Openings are located on the continuous output
 //! too and the cluster's step is redone to land on them ([`opening`]).
