@@ -161,3 +161,33 @@ fn wave_fronts_closing_slowly_are_not_counted_as_slow() {
         assert_eq!(o.slow_closings, 0, "rtol {rtol:e}");
     }
 }
+
+/// Boundary closings are found from the gap's end values where the gap is convex in time (no
+/// field, no hard contacts: `src/engine/hybrid/detect.rs`), by sampling otherwise. A declared
+/// field of zeros changes no force but selects the sampling: both must find the same closings
+/// and openings and end in the same state (up to the located times' last bits), on the striker
+/// chain, the interface preset (reflection, multipulse train) and the head-on collision.
+#[test]
+fn convex_boundary_detection_finds_the_events_sampling_finds() {
+    let mut scenes = vec![striker(200)];
+    for name in ["interface_3.0_2.5", "two_strikers"] {
+        scenes.push(beadchain::scene::preset(name).expect("preset"));
+    }
+    for s in scenes {
+        let mut sampled = s.clone();
+        sampled.chain.field = Some(vec![0.0; s.chain.len()]);
+        for rtol in [1e-6, 1e-10] {
+            let convex = run(&s, Engine::Hybrid, Method::Auto, rtol, rtol * 1e-4);
+            let sampling = run(&sampled, Engine::Hybrid, Method::Auto, rtol, rtol * 1e-4);
+            assert_eq!(
+                convex.events_by_kind, sampling.events_by_kind,
+                "{} at rtol {rtol:e}",
+                s.name
+            );
+            let vmax = sampling.v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            let d = max_abs_diff(&convex.v, &sampling.v);
+            // rel tol 1e-9 of the largest velocity (the runs' own errors are >= 1e-11 there)
+            assert!(d <= 1e-9 * vmax, "{} at rtol {rtol:e}: {d:e}", s.name);
+        }
+    }
+}
