@@ -23,6 +23,19 @@ pub const SAMPLES: usize = 8;
 /// First `t ∈ [ta, tb]` where `g` becomes positive, given as the right end of a bracket refined
 /// to a few ulps. `None` if `g ≤ 0` at every sample.
 pub fn first_crossing(g: impl Fn(f64) -> f64, ta: f64, tb: f64) -> Option<f64> {
+    sampled_crossing(g, ta, tb, SAMPLES)
+}
+
+/// [`first_crossing`] for a gap that is convex in time over the window (`g'' ≥ 0`, module
+/// docs): it has no interior maximum, so `g ≤ 0` at both ends means `g ≤ 0` throughout, and a
+/// sign change is bracketed by the window itself. Two evaluations instead of up to nine, and no
+/// crossing is found where only the continuous output's own error would make one.
+pub fn first_crossing_convex(g: impl Fn(f64) -> f64, ta: f64, tb: f64) -> Option<f64> {
+    sampled_crossing(g, ta, tb, 1)
+}
+
+/// The first sign change of `g` over `samples` equal parts of `[ta, tb]`, refined by Illinois.
+fn sampled_crossing(g: impl Fn(f64) -> f64, ta: f64, tb: f64, samples: usize) -> Option<f64> {
     if tb < ta {
         return None;
     }
@@ -35,11 +48,11 @@ pub fn first_crossing(g: impl Fn(f64) -> f64, ta: f64, tb: f64) -> Option<f64> {
     }
     let mut a = ta;
     let mut fa = ga;
-    for k in 1..=SAMPLES {
-        let b = if k == SAMPLES {
+    for k in 1..=samples {
+        let b = if k == samples {
             tb
         } else {
-            ta + (tb - ta) * (k as f64 / SAMPLES as f64)
+            ta + (tb - ta) * (k as f64 / samples as f64)
         };
         let fb = g(b);
         if fb > 0.0 {
@@ -49,25 +62,6 @@ pub fn first_crossing(g: impl Fn(f64) -> f64, ta: f64, tb: f64) -> Option<f64> {
         fa = fb;
     }
     None
-}
-
-/// [`first_crossing`] for a gap that is convex in time over the window (`g'' ≥ 0`, module
-/// docs): it has no interior maximum, so `g ≤ 0` at both ends means `g ≤ 0` throughout, and a
-/// sign change is bracketed by the window itself. Two evaluations instead of up to nine, and no
-/// crossing is found where only the continuous output's own error would make one.
-pub fn first_crossing_convex(g: impl Fn(f64) -> f64, ta: f64, tb: f64) -> Option<f64> {
-    if tb < ta {
-        return None;
-    }
-    let ga = g(ta);
-    if ga > 0.0 {
-        return Some(ta);
-    }
-    if tb == ta {
-        return None;
-    }
-    let gb = g(tb);
-    (gb > 0.0).then(|| illinois(&g, ta, ga, tb, gb))
 }
 
 /// Largest value of `d` over `[ta, tb]`, given its derivative `dd`, assuming `d` was already
