@@ -246,3 +246,49 @@ fn avx2_and_baseline_steps_are_bit_identical() {
         assert_eq!(chain.is_dissipative(), a.dissipated().1 > 0.0);
     }
 }
+
+/// The stage sums start as `0.0 + c_0 K_0` and copy the velocity half while writing it, instead
+/// of zero-filling and copying after: bit for bit the same (signed zeros included), for every row
+/// of the method's coefficients (main, dense-output and error rows).
+#[test]
+fn stage_sums_are_bit_identical_to_fill_then_accumulate() {
+    let (m, n) = (3, 6);
+    // stage values with zeros of both signs, tiny and large entries
+    let k: Vec<f64> = (0..N_STAGES * n)
+        .map(|i| match i % 7 {
+            0 => 0.0,
+            1 => -0.0,
+            2 => 1e-300 * (i as f64),
+            3 => -(i as f64).sqrt(),
+            _ => 1.0 / (i as f64 + 0.5),
+        })
+        .collect();
+    let z: Vec<f64> = (0..n)
+        .map(|i| if i % 2 == 0 { -0.0 } else { 0.25 * i as f64 })
+        .collect();
+    let rows = A
+        .iter()
+        .map(|r| &r[..])
+        .chain(D.iter().map(|r| &r[..]))
+        .chain([&E5[..], &E3[..]]);
+    for c in rows {
+        let mut naive = vec![0.0; n];
+        for (j, &cj) in c.iter().enumerate() {
+            if cj != 0.0 {
+                for (x, kj) in naive.iter_mut().zip(&k[j * n..(j + 1) * n]) {
+                    *x += cj * kj;
+                }
+            }
+        }
+        let mut sum = vec![f64::NAN; n];
+        stage_sum(&mut sum, c, &k);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&sum), bits(&naive));
+        let h = 0.3;
+        let naive_y: Vec<f64> = z.iter().zip(&naive).map(|(zi, yi)| zi + h * yi).collect();
+        let (mut y, mut ku) = (vec![f64::NAN; n], vec![f64::NAN; m]);
+        combine(&mut y, &mut ku, &z, h, c, &k);
+        assert_eq!(bits(&y), bits(&naive_y));
+        assert_eq!(bits(&ku), bits(&naive_y[m..]));
+    }
+}
