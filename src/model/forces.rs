@@ -6,8 +6,8 @@
 //! time (one scalar `sqrt` for `n = 2.5`). Here:
 //!
 //! 1. **Forces.** `F_c = n a δ₊^{n−1}` (eq. 6) into `acc[c]`, run by run of contacts with the
-//!    same exponent. A run (of at least [`MIN_RUN`]) whose exponent is a common half-integer (2, 2.5, 3, 3.5, 4; see
-//!    [`super::pow_nm2`]) is a branch-free loop over `δ₊ = max(δ, 0)`, which vectorises (packed
+//!    same exponent. A run (of at least [`MIN_RUN`]) whose exponent is a common half-integer
+//!    (2, 2.5, 3, 3.5, 4; see [`super::pow_nm2`]) is a branch-free loop over `δ₊ = max(δ, 0)`, which vectorises (packed
 //!    `sqrt` and multiplications; on x86-64 with AVX2 the kernel is compiled for AVX2 as well).
 //!    Other exponents, and short runs (alternating exponents), go one contact at a time through
 //!    [`contact_force`] (`powf` per closed contact), as before.
@@ -18,7 +18,7 @@
 //! every instruction set, so the accelerations are bit-identical to it (`tests.rs` holds the
 //! two equal on every exponent class, with and without precompression and field).
 
-use super::{contact_force, contact_force_stiffness, Chain};
+use super::{contact_force, Chain};
 
 /// Is `n` one of the half-integer exponents with a branch-free force loop (n = 2, 2.5, … 4, i.e.
 /// `2(n − 2)` an integer in 0 … 4, as in [`super::pow_nm2`])?
@@ -131,24 +131,6 @@ impl Chain {
         self.wall_forces(lo, u, acc);
         for (ai, mi) in acc.iter_mut().zip(&self.mass[lo..lo + m]) {
             *ai /= mi;
-        }
-    }
-
-    /// Wall forces on the end beads of the range, when it holds a chain end.
-    #[inline(always)]
-    fn wall_forces(&self, lo: usize, u: &[f64], acc: &mut [f64]) {
-        let m = u.len();
-        if lo == 0 {
-            if let Some(w) = &self.left_wall {
-                acc[0] +=
-                    contact_force_stiffness(w.exponent, w.prefactor, w.precompression - u[0]).0;
-            }
-        }
-        if lo + m == self.len() {
-            if let Some(w) = self.right_wall.as_ref().filter(|w| w.restitution.is_none()) {
-                acc[m - 1] -=
-                    contact_force_stiffness(w.exponent, w.prefactor, w.precompression + u[m - 1]).0;
-            }
         }
     }
 

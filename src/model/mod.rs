@@ -288,18 +288,28 @@ impl Chain {
             self.regularise_stiffness::<PRE>(lo, u, JACOBIAN_FLOOR * d_max, k);
         }
         // Walls: O(1) work outside the loop, only when the range holds the chain end.
+        let (k_left, k_right) = self.wall_forces(lo, u, acc);
         if STIFF {
-            k[m - 1] = 0.0;
-            k[m] = 0.0;
+            k[m - 1] = k_left;
+            k[m] = k_right;
         }
+        for (ai, mi) in acc.iter_mut().zip(&self.mass[lo..lo + m]) {
+            *ai /= mi;
+        }
+    }
+
+    /// Adds the wall forces on the end beads of the range `lo..lo+u.len()` (when it holds a chain
+    /// end) to `acc`; returns the left and right wall stiffnesses (0 where no wall acts).
+    #[inline(always)]
+    fn wall_forces(&self, lo: usize, u: &[f64], acc: &mut [f64]) -> (f64, f64) {
+        let m = u.len();
+        let (mut k_left, mut k_right) = (0.0, 0.0);
         if lo == 0 {
             if let Some(w) = &self.left_wall {
                 let (f, s) =
                     contact_force_stiffness(w.exponent, w.prefactor, w.precompression - u[0]);
                 acc[0] += f;
-                if STIFF {
-                    k[m - 1] = s;
-                }
+                k_left = s;
             }
         }
         if lo + m == self.len() {
@@ -307,14 +317,10 @@ impl Chain {
                 let (f, s) =
                     contact_force_stiffness(w.exponent, w.prefactor, w.precompression + u[m - 1]);
                 acc[m - 1] -= f;
-                if STIFF {
-                    k[m] = s;
-                }
+                k_right = s;
             }
         }
-        for (ai, mi) in acc.iter_mut().zip(&self.mass[lo..lo + m]) {
-            *ai /= mi;
-        }
+        (k_left, k_right)
     }
 
     /// The regularised Jacobian: every contact with `n < 2` and overlap `0 < δ < floor` gets the
