@@ -12,7 +12,8 @@ use beadchain::integrate::Method;
 use beadchain::scene::{preset, Engine, Scene};
 use common::vel_error;
 
-/// Errors below this (relative to the largest reference velocity) are at the reference's floor.
+/// Errors below this (relative to the largest reference velocity) are at the reference's floor,
+/// or below the reference's measured floor where that is higher (see [`assert_monotone`]).
 const FLOOR: f64 = 1e-12;
 
 fn run(s: &Scene, engine: Engine, method: Method, rtol: f64, atol: Option<f64>) -> RunOutcome {
@@ -26,8 +27,15 @@ fn run(s: &Scene, engine: Engine, method: Method, rtol: f64, atol: Option<f64>) 
     engine::run(&s, &cfg, &mut Recorder::default()).expect("run finishes")
 }
 
+/// The reference's own floor is measured, not assumed: its difference from the same engine at
+/// rtol 3e-14. On `interface_3.0_2.5` contacts behind the reflected wave close at relative
+/// speeds of 1e-17 (event times set by drift at the rounding level), and the two references
+/// differ by 7.6e-11 (bead 132), above [`FLOOR`]: errors below that are not resolved.
 fn assert_monotone(name: &str, s: &Scene) {
     let reference = run(s, Engine::Dense, Method::Dop853, 1e-13, Some(1e-16));
+    let tighter = run(s, Engine::Dense, Method::Dop853, 3e-14, Some(1e-16));
+    let floor = FLOOR.max(vel_error(&tighter, &reference));
+    println!("{name}: reference floor {floor:.3e}");
     let errs: Vec<f64> = (4..=12)
         .map(|k| {
             let rtol = 10f64.powi(-k);
@@ -42,7 +50,7 @@ fn assert_monotone(name: &str, s: &Scene) {
     for (k, w) in errs.windows(2).enumerate() {
         // relative errors; the absolute floor is FLOOR (the reference's own accuracy)
         assert!(
-            w[1] < w[0] || w[0].max(w[1]) <= FLOOR,
+            w[1] < w[0] || w[0].max(w[1]) <= floor,
             "{name}: error rises from rtol 1e-{} to 1e-{}: {errs:?}",
             k + 4,
             k + 5

@@ -332,6 +332,13 @@ impl Integrator for Auto {
         }
     }
 
+    fn rate(&self) -> Option<&[f64]> {
+        match self.implicit_active() {
+            Some(_) => None,
+            None => self.dop.rate(),
+        }
+    }
+
     fn stats(&self) -> &Stats {
         &self.stats
     }

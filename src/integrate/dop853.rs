@@ -548,6 +548,10 @@ impl Integrator for Dop853 {
         Some((&self.z_old, &self.z))
     }
 
+    fn rate(&self) -> Option<&[f64]> {
+        Some(&self.k[..2 * self.m])
+    }
+
     /// Resizes the arrays in place. Their old contents are never read: [`Integrator::reset`]
     /// sets `z`, `z_old`, `f`, stage 0 and the velocity scales, and a step writes every stage
     /// and scratch entry before reading it; stages 2–15 saved before the first step are written

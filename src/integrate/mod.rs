@@ -377,6 +377,11 @@ pub trait Integrator {
     fn end_states(&self) -> Option<(&[f64], &[f64])> {
         None
     }
+    /// `f(z)` at the current time (velocities, then accelerations; `2m`) where the method holds
+    /// it without extra work (DOP853: its first stage, FSAL); `None` otherwise.
+    fn rate(&self) -> Option<&[f64]> {
+        None
+    }
     /// Counters so far.
     fn stats(&self) -> &Stats;
     /// Accepted steps taken by an implicit method so far (all of them for Radau IIA, none for

@@ -364,7 +364,7 @@ impl<'a> Hybrid<'a> {
                     g: self.g[lo],
                 };
             } else {
-                self.make_cluster(lo, hi, t0, &u0[lo..hi], &v0[lo..hi]);
+                self.make_cluster(lo, hi, t0, (&u0[lo..hi], &v0[lo..hi]), None);
             }
             lo = hi;
         }
@@ -408,6 +408,10 @@ impl<'a> Hybrid<'a> {
     fn step_cluster(&mut self, slot: u32) -> Result<(), EngineError> {
         let until = self.cfg.until;
         let chain = self.chain;
+        let bound = {
+            let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
+            self.opening_bound(cl, until)
+        };
         let (lo, hi, t0, t1) = {
             let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
             let sys = cluster::ClusterSys {
@@ -418,7 +422,7 @@ impl<'a> Hybrid<'a> {
                 rigid: cl.rigid.then(|| &self.st.stuck[cl.lo..cl.hi - 1]),
             };
             let t0 = cl.t_now;
-            let t1 = cl.integ.step(&sys, until)?;
+            let t1 = cl.integ.step(&sys, bound)?;
             cl.t_now = t1;
             (cl.lo, cl.hi, t0, t1)
         };

@@ -16,7 +16,16 @@
 //! The cluster therefore never integrates across `δ = 0`: every one of its steps sees a smooth
 //! right-hand side. The split rule itself is unchanged (`δ < θ` and `δ̇ < 0`, module docs of
 //! [`super`]) and is applied to the redone step's state at `t*`; only its time is located
-//! instead of taken at the step end.
+//! instead of taken at the step end. A step that ends on the near side of the kink
+//! (`0 ≤ δ < θ/2` at its end) never integrated across it, so it is split at its end without
+//! a redone step.
+//!
+//! Most openings are not located at all but **landed on** ([`Hybrid::opening_bound`]): before
+//! each step a separating contact's overlap is extrapolated from the state and `f(z)`, and the
+//! step is shortened to end where it reaches `θ/2`. Without that, the steps that reach past the
+//! kink are rejected (often several times) before the located opening can act: DOP853 at rtol
+//! 1e-6 on the disorder chain rejected 202 096 steps, 169 468 of them across an opening; with
+//! the bound it rejects 65 000.
 //!
 //! The landing is **deferred** until the queue reaches `t*`, like a closing: redoing the step
 //! may take several sub-steps, and then the continuous output covers only the last of them.
@@ -35,6 +44,11 @@ use crate::engine::EngineError;
 /// Smallest located opening time after the step start, as a fraction of the step.
 const MIN_FRACTION: f64 = 1e-3;
 
+/// Overlap a step shortened onto a predicted opening aims at, as a fraction of `θ`: the `θ/2` a
+/// located opening splits at, half-way between the split threshold and the kink (a landing
+/// anywhere in `[0, θ)` splits by the step-end rule).
+const LANDING: f64 = 0.5;
+
 impl Hybrid<'_> {
     /// Earliest located opening time `t* ∈ (t0, t1)` of a contact of `cl` over its last step
     /// `[t0, t1]` (see module docs), or `None` when no contact opens strictly inside the step.
@@ -49,8 +63,12 @@ impl Hybrid<'_> {
         for k in 0..m - 1 {
             let c = cl.lo + k;
             let pre = self.pre(c);
-            if pre + z[k] - z[k + 1] >= theta || z[m + k] - z[m + k + 1] >= 0.0 {
+            let d1 = pre + z[k] - z[k + 1];
+            if d1 >= theta || z[m + k] - z[m + k + 1] >= 0.0 {
                 continue;
+            }
+            if d1 >= 0.0 {
+                continue; // the step stopped short of the kink: the step-end rule splits at t1
             }
             let delta = |t: f64| pre + cl.w_at(t, c) - cl.w_at(t, c + 1);
             if delta(t0) < theta {
@@ -68,6 +86,59 @@ impl Hybrid<'_> {
             }
         }
         first
+    }
+
+    /// Latest end (at most `until`) of the next step of `cl` that does not carry a contact past
+    /// its predicted opening (module docs). Where a separating contact's quadratic
+    /// `δ + δ̇τ + δ̈τ²/2` (from the state and the `f(z)` the method holds, [`rate`]) reaches
+    /// `θ/2` within the proposed step `h`, the step is shortened to end there (in two equal
+    /// steps when it is reached within `2h`, so that no sliver of a step is left), and the
+    /// step-end rule splits the cluster after a step on a smooth right-hand side. It is only a
+    /// step bound: the prediction decides no event, and a poor one costs a step (an end above
+    /// `θ` steps again; one past the kink is located as before), never accuracy. Methods that
+    /// hold no `f(z)` (Radau IIA) are not bounded.
+    ///
+    /// [`rate`]: crate::integrate::Integrator::rate
+    pub(super) fn opening_bound(&self, cl: &Cluster, until: f64) -> f64 {
+        let m = cl.m();
+        if m < 2 || cl.pinned[0] || cl.pinned[1] {
+            return until;
+        }
+        let Some(f) = cl.integ.rate() else {
+            return until;
+        };
+        let z = cl.integ.state();
+        let h = cl.integ.step_size();
+        let target = LANDING * self.theta;
+        let mut tau = f64::INFINITY;
+        for k in 0..m - 1 {
+            let c = cl.lo + k;
+            let d = self.pre(c) + z[k] - z[k + 1];
+            let dd = z[m + k] - z[m + k + 1];
+            // not separating, or (a cheap filter) not reaching θ within 2h on its own speed
+            // while not accelerating apart
+            let far = d + 2.0 * h * dd > self.theta && f[m + k] >= f[m + k + 1];
+            if d < self.theta || dd >= 0.0 || far {
+                continue;
+            }
+            if self.st.stuck[c] || self.chain.hard_restitution(c).is_some() {
+                continue;
+            }
+            let ddd = f[m + k] - f[m + k + 1];
+            let gap = d - target;
+            let disc = dd * dd - 2.0 * ddd * gap;
+            if disc >= 0.0 {
+                tau = tau.min(2.0 * gap / (disc.sqrt() - dd));
+            }
+        }
+        let t = cl.integ.t();
+        if tau < h {
+            until.min(t + tau)
+        } else if tau < 2.0 * h {
+            until.min(t + 0.5 * tau)
+        } else {
+            until
+        }
     }
 
     /// Records a located opening at `t` in the step just taken: the cluster waits in the queue
