@@ -95,8 +95,9 @@ impl Hybrid<'_> {
     /// steps when it is reached within `2h`, so that no sliver of a step is left), and the
     /// step-end rule splits the cluster after a step on a smooth right-hand side. It is only a
     /// step bound: the prediction decides no event, and a poor one costs a step (an end above
-    /// `θ` steps again; one past the kink is located as before), never accuracy. Methods that
-    /// hold no `f(z)` (Radau IIA) are not bounded.
+    /// `θ` steps again; one past the kink is located as before). A bound shorter than
+    /// `MIN_FRACTION` of the proposed step is not imposed. Methods that hold no `f(z)` (Radau
+    /// IIA) are not bounded.
     ///
     /// [`rate`]: crate::integrate::Integrator::rate
     pub(super) fn opening_bound(&self, cl: &Cluster, until: f64) -> f64 {
@@ -132,13 +133,19 @@ impl Hybrid<'_> {
             }
         }
         let t = cl.integ.t();
-        if tau < h {
-            until.min(t + tau)
+        let end = if tau < h {
+            t + tau
         } else if tau < 2.0 * h {
-            until.min(t + 0.5 * tau)
+            t + 0.5 * tau
         } else {
-            until
+            return until;
+        };
+        // A sliver of a step (or one that rounds to no step at all, which would make no
+        // progress) is not imposed: that opening is left to the located-opening rule.
+        if end - t < MIN_FRACTION * h || end <= t {
+            return until;
         }
+        until.min(end)
     }
 
     /// Records a located opening at `t` in the step just taken: the cluster waits in the queue
