@@ -18,8 +18,9 @@
 //! field and hard contacts a boundary gap is convex in time, so its end values decide
 //! ([`detect`]); otherwise it is sampled on the continuous output. A found
 //! closing *parks* the cluster at the closing time; it is merged when the queue reaches that time,
-//! when every other cluster's last step covers it. Openings are located on the continuous output
-//! too and the cluster's step is redone to land on them ([`opening`]).
+//! when every other cluster's last step covers it. Explicit steps are shortened to end on
+//! predicted openings; an opening a step still reaches past is located on the continuous
+//! output too and the cluster's step is redone to land on it ([`opening`]).
 //!
 //! ## Thresholds (hysteresis), documented rule
 //! Let `θ = ε · L` (L: the run's characteristic length, see [`crate::model::Chain::scales`]) with
