@@ -59,3 +59,104 @@ fn library_default_engine_is_hybrid() {
     let s = scene::preset("striker").expect("preset");
     assert_eq!(RunConfig::from_scene(&s).engine, scene::Engine::Hybrid);
 }
+
+/// Radau IIA's predictive step-size controller (Gustafsson, HNW II, IV.8) multiplied the next
+/// step by `(err_old/err)^{1/4}`: after a step whose error estimate was exactly zero (beads in
+/// free flight, integrated exactly), an accepted step with a non-zero error (the collision's
+/// onset) proposed a next step of zero, and the run failed with "step size too small" (seen in
+/// hybrid Radau IIA on an alternating n = 1.5 / 2.5 chain). Over gap widths that put the onset
+/// anywhere in the steps, every run must integrate through the collision.
+#[test]
+fn radau_step_after_a_zero_error_step_is_not_zero() {
+    let failed: Vec<(f64, String)> = (0..400)
+        .map(|k| 0.3 + 0.001 * k as f64)
+        .filter_map(|gap| radau_through_collision(gap).err().map(|e| (gap, e)))
+        .collect();
+    assert!(
+        failed.is_empty(),
+        "{} of 400 failed: {:?}",
+        failed.len(),
+        &failed[..failed.len().min(3)]
+    );
+}
+
+/// Radau IIA (rtol 1e-8) on bead 0 at speed 1 and bead 1 at rest `gap` ahead, to t = 20: free
+/// flight until t = gap, then the collision. `Err` says how it failed.
+fn radau_through_collision(gap: f64) -> Result<(), String> {
+    use beadchain::integrate::radau5::Radau5;
+    use beadchain::integrate::{ChainRange, Integrator, Tolerances};
+    use beadchain::linalg::SolverKind;
+    use beadchain::model::Chain;
+    let chain = Chain {
+        mass: vec![1.0; 2],
+        exponent: vec![2.5],
+        prefactor: vec![0.4],
+        precompression: None,
+        field: None,
+        left_wall: None,
+        right_wall: None,
+        hard: None,
+        damping: None,
+    };
+    let sys = ChainRange::whole(&chain);
+    let (u, v) = (vec![-gap, 0.0], vec![1.0, 0.0]);
+    let tol = Tolerances {
+        rtol: 1e-8,
+        atol: 1e-12,
+        scales: chain.scales(&[0.0, 0.0], &v),
+        v_frame: 0.0,
+    };
+    let mut ig = Radau5::new(2, tol, SolverKind::Direct);
+    ig.reset(&sys, 0.0, &u, &v);
+    let t_end = 20.0;
+    // a clean run takes ~400 steps; 10^5 means the step was cut to nothing
+    for _ in 0..100_000 {
+        if ig.t() >= t_end {
+            break;
+        }
+        ig.step(&sys, t_end).map_err(|e| e.to_string())?;
+    }
+    if ig.t() < t_end {
+        return Err(format!(
+            "stalled at t = {}, step {:e}",
+            ig.t(),
+            ig.step_size()
+        ));
+    }
+    // equal masses exchange velocities (rtol 1e-8; abs 1e-6)
+    let z = ig.state();
+    if z[2].abs() > 1e-6 || (z[3] - 1.0).abs() > 1e-6 {
+        return Err(format!("final velocities {:?}", &z[2..]));
+    }
+    Ok(())
+}
+
+/// The same defect through the CLI's engine: dense Radau IIA on two beads that start apart
+/// (gap 0.301) stalled in the free flight with steps of a few ulps (the old binary ran for
+/// more than 20 s without output); gap 0.312 failed with "step size too small". Both must
+/// finish, and within a step budget a clean run stays far below (398 steps).
+#[test]
+fn dense_radau_on_beads_starting_apart_does_not_stall() {
+    use beadchain::integrate::Method;
+    for gap in ["0.301", "0.312"] {
+        let text = format!(
+            "[chain]\nbeads = 2\nmass = 1.0\nexponent = 2.5\nprefactor = 0.4\n[initial]\n\
+             displacement = [-{gap}, 0.0]\nvelocity = [1.0, 0.0]\n[run]\nuntil = 20.0\n"
+        );
+        let s = scene::parse_str(&text, std::path::Path::new("."), "gap.toml").expect("parses");
+        let mut cfg = RunConfig::from_scene(&s);
+        cfg.engine = scene::Engine::Dense;
+        cfg.method = Method::Radau5;
+        cfg.rtol = 1e-8;
+        cfg.atol = 1e-12;
+        cfg.max_steps = Some(10_000);
+        let o = engine::run(&s, &cfg, &mut Recorder::default())
+            .unwrap_or_else(|e| panic!("gap {gap}: {e}"));
+        // equal masses exchange velocities: rel 1e-6 at rtol 1e-8
+        assert!(
+            o.relative_energy_error() < 1e-6,
+            "gap {gap}: {:e}",
+            o.relative_energy_error()
+        );
+    }
+}

@@ -300,14 +300,22 @@ impl Radau5 {
     }
 }
 
+/// Smallest previous error the predictive controller extrapolates from (Hairer's RADAU5 stores
+/// `ERRACC = max(1e-2, err)`): below it the previous error says nothing about the trend, and
+/// one of zero (a step in free flight, integrated exactly) made the next step zero.
+const MIN_ERR_OLD: f64 = 1e-2;
+
+/// Step-size factor from the error `err` of a step of size `h` and, when known, the previous
+/// accepted step's size and error (Gustafsson's predictive controller, HNW II, IV.8, as in
+/// SciPy's `Radau` with RADAU5's floor [`MIN_ERR_OLD`] on the previous error).
 fn predict_factor(h: f64, h_old: Option<f64>, err: f64, err_old: Option<f64>) -> f64 {
-    let multiplier = match (h_old, err_old) {
-        (Some(ho), Some(eo)) if err > 0.0 => h / ho * (eo / err).powf(0.25),
-        _ => 1.0,
-    };
     if err == 0.0 {
         return MAX_FACTOR;
     }
+    let multiplier = match (h_old, err_old) {
+        (Some(ho), Some(eo)) => h / ho * (eo.max(MIN_ERR_OLD) / err).powf(0.25),
+        _ => 1.0,
+    };
     multiplier.min(1.0) * err.powf(-0.25)
 }
 
@@ -406,7 +414,9 @@ impl Integrator for Radau5 {
             }
             // accepted
             let factor = predict_factor(h_abs, h_abs_old, err_norm, err_old);
-            let mut factor = MAX_FACTOR.min(safety * factor);
+            // bounded below as well, as RADAU5's `FACL`: an accepted step never cuts the next
+            // one by more than a rejected step would
+            let mut factor = MAX_FACTOR.min(safety * factor).max(MIN_FACTOR);
             if rejected {
                 factor = factor.min(1.0);
             }

@@ -125,7 +125,8 @@ impl Hybrid<'_> {
     ///   rtol 1e-8 rejected 344 000 steps instead of 222 000 and ran 8 % longer);
     /// - where an exponent is below 2 (the force's derivative is unbounded at `δ → 0`):
     ///   alternating 1.5/2.5 at rtol 1e-8 took 2477 steps instead of 1495 with DOP853, and
-    ///   Radau IIA failed (step size too small);
+    ///   8979 instead of 7711 with Radau IIA (which first failed there, "step size too small",
+    ///   from a controller defect since fixed: `radau_step_after_a_zero_error_step_is_not_zero`);
     /// - from Radau IIA: no measurable gain (interface, striker, periodic decay: < 1 % steps).
     pub(super) fn inherited_step(&self, slot: u32) -> Option<f64> {
         let cl = self.clusters[slot as usize].as_ref()?;
