@@ -96,6 +96,7 @@ fn radau_step(c: &mut Criterion) {
                 mass: 0.0,
             },
             v_frame: 0.0,
+            u_origin: 0.0,
         };
         let mut r = Radau5::new(m, tol, SolverKind::Auto);
         r.reset(&sys, 0.0, &u, &v);

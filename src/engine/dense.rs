@@ -84,6 +84,7 @@ impl<'a> DenseEngine<'a> {
             atol: cfg.atol,
             scales: chain.scales(&scene.u0, &scene.v0),
             v_frame: 0.0,
+            u_origin: 0.0,
         };
         let mut e = Self {
             scene,
@@ -248,6 +249,7 @@ impl Engine for DenseEngine<'_> {
             atol: self.cfg.atol,
             scales: self.scene.chain.scales(&s.u, v),
             v_frame: 0.0,
+            u_origin: 0.0,
         };
         self.integ = make_integrator(self.cfg, n, tol);
         let sys = self.sys();

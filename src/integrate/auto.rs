@@ -400,6 +400,7 @@ mod tests {
             atol: 1e-10,
             scales: chain.scales(&u, &v),
             v_frame: 0.0,
+            u_origin: 0.0,
         };
         let sys = ChainRange::whole(&chain);
         let mut a = Auto::new(6, tol, SolverKind::Auto, false);
@@ -434,6 +435,7 @@ mod tests {
             atol: 1e-12,
             scales: chain.scales(u, v),
             v_frame: 0.0,
+            u_origin: 0.0,
         };
         let (chain6, chain4) = (uniform_chain(6), uniform_chain(4));
         let (u6, v6) = striker(6, 1.0);

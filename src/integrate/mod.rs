@@ -185,13 +185,24 @@ pub struct Tolerances {
     /// co-moving frame; 0 otherwise): the relative part of a velocity weight is taken on the
     /// velocity in the lab frame, `rtol·|v + v_frame|`.
     pub v_frame: f64,
+    /// Displacement at which the relative part of a displacement weight vanishes,
+    /// `rtol·|u − u_origin|`: 0 for a co-moving cluster (its displacements are measured from its
+    /// centre of mass) and the whole chain; for a hybrid cluster held in the lab frame by a
+    /// wall, the wall's zero-overlap position, so that the error allowed in a bead's position
+    /// is relative to its distance from the wall that its force depends on, not to how far it
+    /// travelled to get there.
+    pub u_origin: f64,
 }
 
 impl Tolerances {
     /// Error weight of a displacement component.
     #[inline(always)]
     pub fn weight_u(&self, u_old: f64, u_new: f64) -> f64 {
-        self.atol * self.scales.length + self.rtol * u_old.abs().max(u_new.abs())
+        self.atol * self.scales.length
+            + self.rtol
+                * (u_old - self.u_origin)
+                    .abs()
+                    .max((u_new - self.u_origin).abs())
     }
     /// Error weight of a velocity component of a bead whose velocity scale is `vs` (from
     /// [`Tolerances::velocity_scales`]).

@@ -19,8 +19,11 @@
 //! ([`detect`]); otherwise it is sampled on the continuous output. A found
 //! closing *parks* the cluster at the closing time; it is merged when the queue reaches that time,
 //! when every other cluster's last step covers it. Explicit steps are shortened to end on
-//! predicted openings; an opening a step still reaches past is located on the continuous
-//! output too and the cluster's step is redone to land on it ([`opening`]).
+//! predicted openings (a lone bead's soft-wall contact too); an opening a step still reaches past
+//! is located on the continuous output too and the cluster's step is redone to land on it
+//! ([`opening`]). Explicit steps also end just past a closing with a free bead predicted from
+//! the continuous output continued past its step, where the state is read without a redone step
+//! ([`closing`]).
 //!
 //! ## Thresholds (hysteresis), documented rule
 //! Let `θ = ε · L` (L: the run's characteristic length, see [`crate::model::Chain::scales`]) with
@@ -38,6 +41,7 @@
 //! `δ̇ = 0`) are never merged or split. Simultaneous events are processed in the order (time,
 //! class, lowest bead index), which is deterministic.
 
+mod closing;
 pub mod cluster;
 pub mod detect;
 mod eventlog;
@@ -207,6 +211,7 @@ impl<'a> Hybrid<'a> {
             atol: cfg.atol,
             scales,
             v_frame: 0.0,
+            u_origin: 0.0,
         };
         let g = match &chain.field {
             Some(w) => w.iter().zip(&chain.mass).map(|(w, m)| w / m).collect(),
@@ -411,7 +416,8 @@ impl<'a> Hybrid<'a> {
         let chain = self.chain;
         let bound = {
             let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
-            self.opening_bound(cl, until)
+            let bound = self.opening_bound(cl, until);
+            self.closing_bound(cl, bound)
         };
         let (lo, hi, t0, t1) = {
             let cl = self.clusters[slot as usize].as_mut().expect("live cluster");

@@ -20,6 +20,11 @@
 //! (`0 ≤ δ < θ/2` at its end) never integrated across it, so it is split at its end without
 //! a redone step.
 //!
+//! A lone bead against a soft wall has the same kink in its wall force: its wall contact's
+//! opening is landed on and located the same way ([`Hybrid::first_wall_opening`]), and the
+//! step-end rule (the wall no longer holds it) frees the bead. A wall contact of a bead that
+//! also touches a neighbour is not an event (the cluster keeps the bead) and is integrated as is.
+//!
 //! Most openings are not located at all but **landed on** ([`Hybrid::opening_bound`]): before
 //! each step a separating contact's overlap is extrapolated from the state and `f(z)`, and the
 //! step is shortened to end where it reaches `θ/2`. Without that, the steps that reach past the
@@ -53,8 +58,11 @@ impl Hybrid<'_> {
     /// Earliest located opening time `t* ∈ (t0, t1)` of a contact of `cl` over its last step
     /// `[t0, t1]` (see module docs), or `None` when no contact opens strictly inside the step.
     pub(super) fn first_opening(&self, cl: &Cluster, t0: f64, t1: f64) -> Option<f64> {
-        if cl.m() < 2 || cl.pinned[0] || cl.pinned[1] || t1 <= t0 {
+        if cl.pinned[0] || cl.pinned[1] || t1 <= t0 {
             return None;
+        }
+        if cl.m() == 1 {
+            return self.first_wall_opening(cl, t0, t1);
         }
         let z = cl.integ.state();
         let m = cl.m();
@@ -102,7 +110,7 @@ impl Hybrid<'_> {
     /// [`rate`]: crate::integrate::Integrator::rate
     pub(super) fn opening_bound(&self, cl: &Cluster, until: f64) -> f64 {
         let m = cl.m();
-        if m < 2 || cl.pinned[0] || cl.pinned[1] {
+        if cl.pinned[0] || cl.pinned[1] {
             return until;
         }
         let Some(f) = cl.integ.rate() else {
@@ -112,6 +120,13 @@ impl Hybrid<'_> {
         let h = cl.integ.step_size();
         let target = LANDING * self.theta;
         let mut tau = f64::INFINITY;
+        for side in [0u8, 1] {
+            if let Some((d, dd, ddd)) = self.wall_overlap(cl, side, f) {
+                if d >= self.theta && dd < 0.0 {
+                    tau = tau.min(reaches(d - target, dd, ddd));
+                }
+            }
+        }
         for k in 0..m - 1 {
             let c = cl.lo + k;
             let d = self.pre(c) + z[k] - z[k + 1];
@@ -126,11 +141,7 @@ impl Hybrid<'_> {
                 continue;
             }
             let ddd = f[m + k] - f[m + k + 1];
-            let gap = d - target;
-            let disc = dd * dd - 2.0 * ddd * gap;
-            if disc >= 0.0 {
-                tau = tau.min(2.0 * gap / (disc.sqrt() - dd));
-            }
+            tau = tau.min(reaches(d - target, dd, ddd));
         }
         let t = cl.integ.t();
         let end = if tau < h {
@@ -146,6 +157,53 @@ impl Hybrid<'_> {
             return until;
         }
         until.min(end)
+    }
+
+    /// The overlap `(δ, δ̇, δ̈)` of a lone bead (`cl` of one bead) with the soft wall at `side`
+    /// (0 left, 1 right) that it is the end bead for, from its state and the acceleration `f`
+    /// holds (`f(z)`, [`rate`]); `None` where there is no such wall.
+    ///
+    /// [`rate`]: crate::integrate::Integrator::rate
+    fn wall_overlap(&self, cl: &Cluster, side: u8, f: &[f64]) -> Option<(f64, f64, f64)> {
+        let end = if side == 0 { 0 } else { self.n - 1 };
+        if cl.m() != 1 || cl.lo != end {
+            return None;
+        }
+        let w = self.soft_wall(side)?;
+        let z = cl.integ.state();
+        let (u, v) = (cl.frame_at(cl.integ.t()) + z[0], cl.frame_v + z[1]);
+        let s = if side == 0 { -1.0 } else { 1.0 };
+        Some((w.precompression + s * u, s * v, s * f[1]))
+    }
+
+    /// [`Self::first_opening`] for a lone bead against a soft wall: the wall contact's force has
+    /// the same kink at `δ = 0` as a bead–bead contact's (paper eq. 6), so a step that ends past
+    /// it while the bead leaves is located and landed on the same way (the step-end rule, a
+    /// wall that no longer holds the bead, then frees it).
+    fn first_wall_opening(&self, cl: &Cluster, t0: f64, t1: f64) -> Option<f64> {
+        let theta = self.theta;
+        let mut first: Option<f64> = None;
+        for side in [0u8, 1] {
+            let end = if side == 0 { 0 } else { self.n - 1 };
+            let Some(w) = self.soft_wall(side).filter(|_| cl.lo == end) else {
+                continue;
+            };
+            let s = if side == 0 { -1.0 } else { 1.0 };
+            let delta = |t: f64| w.precompression + s * cl.u_at(t, end);
+            // past the kink at the step end, leaving, and above θ at the step start
+            if delta(t1) >= 0.0 || s * cl.v_at(t1, end) >= 0.0 || delta(t0) < theta {
+                continue;
+            }
+            let g = |t: f64| 0.5 * theta - delta(t);
+            let Some(t) = super::detect::first_crossing(g, t0, first.unwrap_or(t1)) else {
+                continue;
+            };
+            let sliver = t - t0 <= MIN_FRACTION * (t1 - t0);
+            if !sliver && t < t1 && s * cl.v_at(t, end) < 0.0 {
+                first = Some(t);
+            }
+        }
+        first
     }
 
     /// Records a located opening at `t` in the step just taken: the cluster waits in the queue
@@ -177,5 +235,16 @@ impl Hybrid<'_> {
         self.queue
             .push(Key::Cluster(slot), prio(t, class, lo, Key::Cluster(slot)));
         Ok(())
+    }
+}
+
+/// Time for an overlap `gap` above its target, moving as `gap + δ̇τ + δ̈τ²/2`, to reach the
+/// target (its first root), or infinity where the quadratic never does.
+fn reaches(gap: f64, dd: f64, ddd: f64) -> f64 {
+    let disc = dd * dd - 2.0 * ddd * gap;
+    if disc >= 0.0 {
+        2.0 * gap / (disc.sqrt() - dd)
+    } else {
+        f64::INFINITY
     }
 }

@@ -69,7 +69,7 @@ impl Hybrid<'_> {
             .map(|(k, c)| {
                 let Some(c) = c else { return Ok(None) };
                 let m = (c.hi - c.lo) as usize;
-                let tol = self.cluster_tol(c.frame.1);
+                let tol = self.cluster_tol(c.lo as usize, c.hi as usize, c.frame.1);
                 let mut integ = make_integrator(self.cfg, m, tol);
                 integ
                     .load(&c.integ)

@@ -78,6 +78,7 @@ fn unit_tol(rtol: f64, atol: f64) -> Tolerances {
             mass: 0.0,
         },
         v_frame: 0.0,
+        u_origin: 0.0,
     }
 }
 
