@@ -53,12 +53,43 @@ impl Hybrid<'_> {
         }
         let h = cl.integ.step_size();
         let horizon = until.min(t + (2.0 * h).min(HORIZON * (t - tp)));
+        let tau = self.closing_lead(cl, cl.lo, cl.hi, horizon);
+        let end = landing(t, tau, h);
+        if end - t < MIN_FRACTION * h || end <= t {
+            return until;
+        }
+        until.min(end)
+    }
+
+    /// The first step of the piece `lo..hi` of the cluster `parent` that splits at its current
+    /// time: the inherited step `h` ([`Hybrid::inherited_step`]), shortened to land just past
+    /// a closing of the piece's outer boundaries predicted from the parent's continuous output
+    /// (a new piece has no step of its own to continue; on the striker the closing ahead of
+    /// the wave often comes right after the split behind it).
+    pub(super) fn piece_step(&self, parent: &Cluster, lo: usize, hi: usize, h: f64) -> f64 {
+        let (t, tp) = (parent.integ.t(), parent.integ.t_prev());
+        if parent.integ.rate().is_none() || tp >= t {
+            return h;
+        }
+        let horizon = t + (2.0 * h).min(HORIZON * (t - tp));
+        let tau = self.closing_lead(parent, lo, hi, horizon);
+        let end = landing(t, tau, h);
+        if !end.is_finite() || end - t < MIN_FRACTION * h || end <= t {
+            return h;
+        }
+        end - t
+    }
+
+    /// Lead time from `out`'s current time to the first predicted closing of the outer
+    /// boundaries of beads `lo..hi` (whose trajectories are `out`'s continuous output continued
+    /// past its step) with free beads, up to `horizon`; infinity when none is predicted.
+    fn closing_lead(&self, out: &Cluster, lo: usize, hi: usize, horizon: f64) -> f64 {
+        let t = out.integ.t();
         let mut tau = f64::INFINITY;
-        let (lo, hi) = (cl.lo, cl.hi);
         if lo > 0 && self.predictable(lo - 1, lo - 1) {
             let c = lo - 1;
             let (pre, theta) = (self.pre(c), self.theta);
-            let g = |s: f64| pre + self.pos(c, s).0 - cl.u_at(s, lo) - theta;
+            let g = |s: f64| pre + self.pos(c, s).0 - out.u_at(s, lo) - theta;
             if let Some(tc) = self.boundary_crossing(g, t, horizon) {
                 tau = tau.min(tc - t);
             }
@@ -66,22 +97,12 @@ impl Hybrid<'_> {
         if hi < self.n && self.predictable(hi - 1, hi) {
             let c = hi - 1;
             let (pre, theta) = (self.pre(c), self.theta);
-            let g = |s: f64| pre + cl.u_at(s, c) - self.pos(hi, s).0 - theta;
+            let g = |s: f64| pre + out.u_at(s, c) - self.pos(hi, s).0 - theta;
             if let Some(tc) = self.boundary_crossing(g, t, horizon) {
                 tau = tau.min(tc - t);
             }
         }
-        let end = if tau < h {
-            t + tau * (1.0 + PAST)
-        } else if tau < 2.0 * h {
-            t + 0.5 * tau
-        } else {
-            return until;
-        };
-        if end - t < MIN_FRACTION * h || end <= t {
-            return until;
-        }
-        until.min(end)
+        tau
     }
 
     /// Is the closing of contact `c` with the free bead `i` predicted (module docs)?
@@ -96,5 +117,17 @@ impl Hybrid<'_> {
         let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
         let (t1, t0) = (cl.integ.t(), cl.integ.t_prev());
         cl.integ.rate().is_some() && t1 > t0 && t1 - t <= NEAR_END * (t1 - t0)
+    }
+}
+
+/// End of a step from `t` with proposal `h` that lands on a closing predicted `tau` ahead:
+/// [`PAST`] of `tau` beyond it where `tau < h`, half way where `tau < 2h`, else infinity.
+fn landing(t: f64, tau: f64, h: f64) -> f64 {
+    if tau < h {
+        t + tau * (1.0 + PAST)
+    } else if tau < 2.0 * h {
+        t + 0.5 * tau
+    } else {
+        f64::INFINITY
     }
 }

@@ -499,6 +499,7 @@ impl Hybrid<'_> {
                 } else if i > start && (start..i).all(|k| self.st.stuck[k]) {
                     self.free_rigid_piece(start, i + 1, t, &u[a..b], &v[a..b]);
                 } else {
+                    let h = h.map(|h| self.piece_step(&cl, start, i + 1, h));
                     self.make_cluster(start, i + 1, t, (&u[a..b], &v[a..b]), h);
                 }
                 start = i + 1;
