@@ -1,5 +1,7 @@
 //! Regression tests named after the bugs they pin.
 
+mod common;
+
 use beadchain::engine::{self, Recorder, RunConfig};
 use beadchain::scene;
 
@@ -86,18 +88,7 @@ fn radau_through_collision(gap: f64) -> Result<(), String> {
     use beadchain::integrate::radau5::Radau5;
     use beadchain::integrate::{ChainRange, Integrator, Tolerances};
     use beadchain::linalg::SolverKind;
-    use beadchain::model::Chain;
-    let chain = Chain {
-        mass: vec![1.0; 2],
-        exponent: vec![2.5],
-        prefactor: vec![0.4],
-        precompression: None,
-        field: None,
-        left_wall: None,
-        right_wall: None,
-        hard: None,
-        damping: None,
-    };
+    let chain = common::striker(2, 2.5, 0.4, 1.0, 20.0).chain;
     let sys = ChainRange::whole(&chain);
     let (u, v) = (vec![-gap, 0.0], vec![1.0, 0.0]);
     let tol = Tolerances {
