@@ -47,18 +47,9 @@ impl Hybrid<'_> {
     /// proposed step `h`, the step ends [`PAST`] of its lead time beyond it; within `2h`, half
     /// way there. A bound shorter than `MIN_FRACTION` of `h` is not imposed.
     pub(super) fn closing_bound(&self, cl: &Cluster, until: f64) -> f64 {
-        let (t, tp) = (cl.integ.t(), cl.integ.t_prev());
-        if cl.integ.rate().is_none() || tp >= t {
-            return until;
-        }
         let h = cl.integ.step_size();
-        let horizon = until.min(t + (2.0 * h).min(HORIZON * (t - tp)));
-        let tau = self.closing_lead(cl, cl.lo, cl.hi, horizon);
-        let end = landing(t, tau, h);
-        if end - t < MIN_FRACTION * h || end <= t {
-            return until;
-        }
-        until.min(end)
+        self.landing_end(cl, cl.lo, cl.hi, h, until)
+            .map_or(until, |end| until.min(end))
     }
 
     /// The first step of the piece `lo..hi` of the cluster `parent` that splits at its current
@@ -67,17 +58,31 @@ impl Hybrid<'_> {
     /// (a new piece has no step of its own to continue; on the striker the closing ahead of
     /// the wave often comes right after the split behind it).
     pub(super) fn piece_step(&self, parent: &Cluster, lo: usize, hi: usize, h: f64) -> f64 {
-        let (t, tp) = (parent.integ.t(), parent.integ.t_prev());
-        if parent.integ.rate().is_none() || tp >= t {
-            return h;
+        let t = parent.integ.t();
+        self.landing_end(parent, lo, hi, h, f64::INFINITY)
+            .map_or(h, |end| end - t)
+    }
+
+    /// End of a step of proposal `h` from `out`'s current time `t` that lands on the first
+    /// predicted closing of the outer boundaries of beads `lo..hi` (module docs), searched up to
+    /// `until` and [`HORIZON`] steps of `out` ahead: `None` where `out` has no DOP853 step to
+    /// continue, no closing is predicted within `2h`, or the landing would be shorter than
+    /// `MIN_FRACTION` of `h`.
+    fn landing_end(&self, out: &Cluster, lo: usize, hi: usize, h: f64, until: f64) -> Option<f64> {
+        let (t, tp) = (out.integ.t(), out.integ.t_prev());
+        if out.integ.rate().is_none() || tp >= t {
+            return None;
         }
-        let horizon = t + (2.0 * h).min(HORIZON * (t - tp));
-        let tau = self.closing_lead(parent, lo, hi, horizon);
-        let end = landing(t, tau, h);
-        if !end.is_finite() || end - t < MIN_FRACTION * h || end <= t {
-            return h;
-        }
-        end - t
+        let horizon = until.min(t + (2.0 * h).min(HORIZON * (t - tp)));
+        let tau = self.closing_lead(out, lo, hi, horizon);
+        let end = if tau < h {
+            t + tau * (1.0 + PAST)
+        } else if tau < 2.0 * h {
+            t + 0.5 * tau
+        } else {
+            return None;
+        };
+        (end - t >= MIN_FRACTION * h && end > t).then_some(end)
     }
 
     /// Lead time from `out`'s current time to the first predicted closing of the outer
@@ -117,17 +122,5 @@ impl Hybrid<'_> {
         let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
         let (t1, t0) = (cl.integ.t(), cl.integ.t_prev());
         cl.integ.rate().is_some() && t1 > t0 && t1 - t <= NEAR_END * (t1 - t0)
-    }
-}
-
-/// End of a step from `t` with proposal `h` that lands on a closing predicted `tau` ahead:
-/// [`PAST`] of `tau` beyond it where `tau < h`, half way where `tau < 2h`, else infinity.
-fn landing(t: f64, tau: f64, h: f64) -> f64 {
-    if tau < h {
-        t + tau * (1.0 + PAST)
-    } else if tau < 2.0 * h {
-        t + 0.5 * tau
-    } else {
-        f64::INFINITY
     }
 }

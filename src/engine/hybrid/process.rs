@@ -146,10 +146,9 @@ impl Hybrid<'_> {
     /// `2·rtol` in position, far more than its overlap's share, and a single bounce lost up to
     /// 300·rtol of the energy (`tests/regressions.rs`).
     pub(super) fn cluster_tol(&self, lo: usize, hi: usize, frame_v: f64) -> Tolerances {
-        let (left, right) = (&self.chain.left_wall, &self.chain.right_wall);
-        let u_origin = match (lo == 0, hi == self.n) {
-            (true, _) if left.is_some() => left.as_ref().map_or(0.0, |w| w.precompression),
-            (_, true) if right.is_some() => right.as_ref().map_or(0.0, |w| -w.precompression),
+        let u_origin = match (&self.chain.left_wall, &self.chain.right_wall) {
+            (Some(w), _) if lo == 0 => w.precompression,
+            (_, Some(w)) if hi == self.n => -w.precompression,
             _ => 0.0,
         };
         Tolerances {
