@@ -245,3 +245,80 @@ fn resumed_run_reports_the_same_slow_closings() {
     assert_eq!(out.slow_closings, reference.slow_closings);
     assert_eq!(out.events_by_kind, reference.events_by_kind);
 }
+
+/// Checkpoints at every poll and notes the polls whose state holds a soft-wall crossing not yet
+/// logged (queue entry kind 4).
+#[derive(Default)]
+struct WallScan {
+    polls: u64,
+    pending_at: Vec<u64>,
+}
+
+impl Observer for WallScan {
+    fn frame(&mut self, _t: f64, _u: &[f64], _v: &[f64]) -> Result<(), EngineError> {
+        Ok(())
+    }
+    fn control(&mut self, _t: f64) -> Control {
+        self.polls += 1;
+        Control::Checkpoint
+    }
+    fn checkpoint(&mut self, state: &EngineState) -> Result<(), EngineError> {
+        if let EngineState::Hybrid(h) = state {
+            if h.queue.iter().any(|e| e.kind == 4) {
+                self.pending_at.push(self.polls);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A soft-wall crossing found on a cluster's step waits in the queue until the engine's clock
+/// reaches it (`wall_close`/`wall_open` of an end bead that touches its neighbour): a checkpoint
+/// taken while one waits stores it, and the resumed run logs it as the run never interrupted
+/// does. Two beads in a box of soft walls, stopped at polls where such a crossing waits.
+#[test]
+fn resume_keeps_soft_wall_crossings_not_yet_logged() {
+    let mut s = striker(2, 2.5, 1.0, 0.0, 200.0);
+    let wall = beadchain::model::Wall {
+        exponent: 2.5,
+        prefactor: 1.0,
+        precompression: -2.0,
+        restitution: None,
+    };
+    s.chain.left_wall = Some(wall.clone());
+    s.chain.right_wall = Some(wall);
+    s.u0 = vec![-1.0, 1.0];
+    s.v0 = vec![-1.0, 0.37];
+    let mut cfg = config(Engine::Hybrid, Method::Auto, 1e-7, 1e-11, 200.0);
+    cfg.every = Some(2.0);
+    let mut full = probe(u64::MAX, false);
+    let reference = engine::run(&s, &cfg, &mut full).expect("runs");
+    let mut scan = WallScan::default();
+    engine::run(&s, &cfg, &mut scan).expect("runs");
+    let found = &scan.pending_at;
+    assert!(
+        found.len() > 10,
+        "polls with a pending wall crossing: {found:?}"
+    );
+    for at in [found[0], found[found.len() / 2], found[found.len() - 1]] {
+        let mut first = probe(at, true);
+        engine::run(&s, &cfg, &mut first).expect_err("stopped");
+        let (state, n_frames) = first.saved.take().expect("checkpoint");
+        let mut second = probe(u64::MAX, false);
+        let out = engine::resume(&s, &cfg, &state, &mut second).expect("resumes");
+        let mut frames = first.frames[..n_frames].to_vec();
+        frames.extend(second.frames);
+        assert_eq!(bits(&frames), bits(&full.frames), "stopped at poll {at}");
+        assert_eq!(out.events_by_kind, reference.events_by_kind, "poll {at}");
+        let mut events = first.events[..first.events_at_save].to_vec();
+        events.extend(second.events);
+        assert_eq!(events.len(), full.events.len(), "poll {at}");
+        assert!(
+            events
+                .iter()
+                .zip(&full.events)
+                .all(|(a, b)| event_bits(a) == event_bits(b)),
+            "poll {at}"
+        );
+    }
+}

@@ -436,3 +436,57 @@ fn resumed_event_stream_is_byte_identical() {
         );
     }
 }
+
+/// Regression: the soft-wall contact of an end bead that also touched its neighbour was not an
+/// event. Only a lone bead's wall contacts were logged (a free bead reaching the wall, a lone
+/// bead leaving it), so a wall contact that opened or closed while its bead was in a cluster
+/// left the log's `wall_close`/`wall_open` unpaired. Measured with this test before the fix
+/// (two beads in a box of soft walls 2 units out, t = 1000): at rtol 1e-6 (auto) 176 closings
+/// against 178 openings, and on each wall two closings or two openings in a row. Now every
+/// crossing of `θ` by a soft wall's overlap is logged when the queue reaches it: on each wall
+/// the events alternate, closing first.
+#[test]
+fn soft_wall_events_pair_up_when_the_end_bead_touches_its_neighbour() {
+    let mut s = striker(2, 2.5, 1.0, 0.0, 1000.0);
+    s.chain.left_wall = Some(soft_wall(-2.0, 1.0));
+    s.chain.right_wall = Some(soft_wall(-2.0, 1.0));
+    s.u0 = vec![-1.0, 1.0];
+    s.v0 = vec![-1.0, 0.37];
+    for (method, rtol) in [
+        (Method::Auto, 1e-6),
+        (Method::Auto, 1e-9),
+        (Method::Radau5, 1e-7),
+    ] {
+        let cfg = config(Engine::Hybrid, method, rtol, rtol * 1e-4, s.run.until);
+        let (out, rec) = run(&s, &cfg);
+        for (side, bead) in [(0, 0u64), (1, 1)] {
+            let kinds: Vec<EventKind> = rec
+                .events
+                .iter()
+                .filter(|e| {
+                    e.contact == bead
+                        && matches!(e.kind, EventKind::WallClose | EventKind::WallOpen)
+                })
+                .map(|e| e.kind)
+                .collect();
+            assert!(
+                kinds.len() > 40,
+                "{method:?} {rtol:e} wall {side}: {kinds:?}"
+            );
+            for (k, kind) in kinds.iter().enumerate() {
+                let want = if k % 2 == 0 {
+                    EventKind::WallClose
+                } else {
+                    EventKind::WallOpen
+                };
+                assert_eq!(
+                    *kind,
+                    want,
+                    "{method:?} {rtol:e} wall {side}, event {k} of {}: {:?}",
+                    kinds.len(),
+                    out.events_by_kind
+                );
+            }
+        }
+    }
+}

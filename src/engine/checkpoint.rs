@@ -90,7 +90,7 @@ pub struct ClusterState {
 /// A queue entry: key (kind, index) and priority (time, class, tie-break).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct QueueEntry {
-    /// 0 frame, 1 cluster, 2 free pair, 3 wall.
+    /// 0 frame, 1 cluster, 2 free pair, 3 wall, 4 soft-wall crossing not yet logged.
     pub kind: u8,
     /// Slot / contact / side.
     pub index: u64,
@@ -161,6 +161,9 @@ pub struct HybridData {
     /// Energy dissipated by cluster integrations that have ended (removed clusters, and the
     /// segments before an integrator restart), plus the losses of hard collisions.
     pub dissipated: f64,
+    /// Per soft wall (left, right): its contact is logged as closed (the last `wall_close`
+    /// not yet followed by a `wall_open`; `crate::engine::hybrid` walllog module).
+    pub wall_in: [bool; 2],
 }
 
 impl HybridState {

@@ -19,8 +19,9 @@ pub const CKPT_MAGIC: [u8; 8] = *b"BEADCKPT";
 /// mark the event blocks already written, the clusters' integrators their method-switching
 /// state, the hybrid state the resting hard contacts; 3: the scene as a named record, the
 /// snapshot it continues of format 4; 4: the hybrid state counts closings at tolerance-level
-/// speeds).
-pub const CKPT_VERSION: u32 = 4;
+/// speeds; 5: the hybrid state records which soft walls are logged closed, and its queue holds
+/// soft-wall crossings not yet logged).
+pub const CKPT_VERSION: u32 = 5;
 
 /// Everything a resumed run needs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -10,7 +10,10 @@
 //! [parent module](super)). An opening — of a contact between beads or of a lone bead from its
 //! soft wall — is acted on at the end of the cluster step in which it happened, but logged at the
 //! moment the overlap crossed `θ` downwards, located on the step's continuous output with the
-//! same sampling + Illinois search as closings ([`super::detect::first_crossing`]).
+//! same sampling + Illinois search as closings ([`super::detect::first_crossing`]). The
+//! soft-wall contact of an end bead inside a cluster of several beads changes no cluster; its
+//! crossings of `θ` are logged when the queue reaches them ([`super::walllog`]), so on each wall
+//! `wall_close` and `wall_open` alternate.
 //!
 //! **Slow closings.** A closing whose relative speed is within
 //! [`crate::engine::SLOW_CLOSING_FACTOR`] of the closing beads' absolute velocity tolerance
@@ -32,8 +35,7 @@
 //! peak is as accurate as the continuous output itself. For a two-body collision with the
 //! power law `a δⁿ` (paper eq. 6) it equals the energy bound `a δ_maxⁿ = ½ μ w²`.
 
-use super::cluster::Cluster;
-use super::detect::{first_crossing, step_max, step_max_from};
+use super::detect::{step_max, step_max_from};
 use super::Hybrid;
 use crate::engine::events::{EventKind, EventRecord};
 use crate::engine::{EngineError, Observer};
@@ -105,29 +107,6 @@ impl Hybrid<'_> {
                 self.st.peak[k] = p;
             }
         }
-    }
-
-    /// When and from which side the lone bead `i` of `cl` left its soft wall during the last
-    /// step (ending at `t`): the downward crossing of `θ` by the wall overlap; `t` if none is
-    /// found.
-    pub(super) fn wall_open_at(&self, cl: &Cluster, i: usize, t: f64) -> (f64, u8) {
-        let ta = cl.integ.t_prev();
-        let mut best: Option<(f64, u8)> = None;
-        for side in [0u8, 1] {
-            let end = if side == 0 { 0 } else { self.n - 1 };
-            let Some(w) = self.soft_wall(side).filter(|_| end == i) else {
-                continue;
-            };
-            let s = if side == 0 { -1.0 } else { 1.0 };
-            let theta = self.theta;
-            let g = |x: f64| theta - (w.precompression + s * cl.u_at(x, i));
-            if let Some(to) = first_crossing(g, ta, t) {
-                if best.is_none_or(|(tb, _)| to < tb) {
-                    best = Some((to, side));
-                }
-            }
-        }
-        best.unwrap_or((t, if i == 0 { 0 } else { 1 }))
     }
 
     /// Appends an event to the buffer and counts it.

@@ -52,6 +52,7 @@ mod process;
 mod state;
 mod stepping;
 mod stick;
+mod walllog;
 
 pub use stepping::HybridEngine;
 
@@ -80,6 +81,9 @@ enum Key {
     FreeFree(u32),
     /// Predicted closing of a free end bead onto a wall (0 = left, 1 = right).
     Wall(u8),
+    /// A crossing of `θ` by a soft wall's overlap with the end bead of a cluster, logged when
+    /// the queue reaches it ([`walllog`]).
+    WallLog(u8),
 }
 
 /// A key hashes as its unique [`Key::id`] alone (one `u64` through [`KeyHasher`]).
@@ -121,9 +125,9 @@ impl Key {
             Key::Frame => 0,
             Key::Cluster(s) => s as u64,
             Key::FreeFree(c) => c as u64,
-            Key::Wall(w) => w as u64,
+            Key::Wall(w) | Key::WallLog(w) => w as u64,
         };
-        index << 2 | self.tag()
+        index << 3 | self.tag()
     }
 
     fn tag(self) -> u64 {
@@ -132,6 +136,7 @@ impl Key {
             Key::Cluster(_) => 1,
             Key::FreeFree(_) => 2,
             Key::Wall(_) => 3,
+            Key::WallLog(_) => 4,
         }
     }
 }
@@ -145,7 +150,7 @@ fn prio(t: f64, class: u8, index: usize, key: Key) -> Prio {
     Reverse((
         OrderedFloat(t),
         class,
-        (index as u64) << 2 | key.tag(),
+        (index as u64) << 3 | key.tag(),
         key.id(),
     ))
 }
@@ -244,6 +249,7 @@ impl<'a> Hybrid<'a> {
                 stuck: vec![false; n.saturating_sub(1)],
                 next_frame: 0,
                 dissipated: 0.0,
+                wall_in: [false; 2],
             },
             clusters: Vec::new(),
             queue: Queue::default(),
@@ -349,6 +355,10 @@ impl<'a> Hybrid<'a> {
     /// contacts that are closed or closing); the next frame is `self.st.next_frame`.
     fn init(&mut self, t0: f64, u0: &[f64], v0: &[f64]) {
         let n = self.n;
+        self.st.wall_in = [
+            self.wall_closed_at(0, u0[0]),
+            self.wall_closed_at(1, u0[n - 1]),
+        ];
         let mut lo = 0;
         while lo < n {
             let mut hi = lo + 1;
@@ -505,6 +515,7 @@ impl<'a> Hybrid<'a> {
         if let Some((tw, side)) = wall_hit {
             if earliest.is_none_or(|(te, _)| tw < te) {
                 self.update_peaks(slot, tw);
+                self.watch_walls(slot, tw);
                 let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
                 cl.pending = Some(cluster::Pending::HardWall { side, t: tw });
                 cl.t_now = tw;
@@ -520,7 +531,9 @@ impl<'a> Hybrid<'a> {
             }
         }
         let split = earliest.is_none() && self.needs_split(cl);
-        self.update_peaks(slot, earliest.map_or(t1, |(t, _)| t));
+        let tb = earliest.map_or(t1, |(t, _)| t);
+        self.update_peaks(slot, tb);
+        self.watch_walls(slot, tb);
         let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
         if let Some((t, c)) = earliest {
             cl.pending = Some(cluster::Pending::Close {

@@ -211,6 +211,7 @@ impl Hybrid<'_> {
     /// over the whole of `[t0, t]`.
     pub(super) fn defer_open(&mut self, slot: u32, t: f64) {
         self.update_peaks(slot, t);
+        self.watch_walls(slot, t);
         let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
         cl.pending = Some(Pending::Open { t });
         cl.t_now = t;

@@ -167,6 +167,13 @@ impl Hybrid<'_> {
             self.st.dissipated += crate::integrate::dissipated_at(&*cl.integ, &sys, t);
         }
         self.queue.remove(&Key::Cluster(slot));
+        // a wall crossing its step found goes with it (the next owner searches again)
+        if cl.lo == 0 {
+            self.queue.remove(&Key::WallLog(0));
+        }
+        if cl.hi == self.n {
+            self.queue.remove(&Key::WallLog(1));
+        }
         self.st.stats.add(cl.integ.stats());
         self.st.implicit_steps += cl.integ.implicit_steps();
         self.st.spare_slots.push(slot);
@@ -443,6 +450,7 @@ impl Hybrid<'_> {
         self.drop_predictions(i, i + 1);
         self.st.peak[self.n - 1 + side as usize] = 0.0;
         self.log(t, i, EventKind::WallClose, v, 0.0);
+        self.st.wall_in[side as usize] = true;
         self.count_slow_closing(v, &[i]);
         self.make_cluster(i, i + 1, t, (&[u], &[v]), None);
     }
@@ -487,13 +495,7 @@ impl Hybrid<'_> {
             if opens || last {
                 let (a, b) = (start - lo, i + 1 - lo);
                 if i + 1 - start == 1 && !self.wall_holds(start, u[a], v[a]) {
-                    if m == 1 {
-                        let (t_open, side) = self.wall_open_at(&cl, start, t);
-                        let k = self.n - 1 + side as usize;
-                        let rel = cl.v_at(t_open, start);
-                        self.log(t_open, start, EventKind::WallOpen, rel, self.st.peak[k]);
-                        self.st.peak[k] = 0.0;
-                    }
+                    self.leave_soft_walls(&cl, start, t);
                     self.set_free(start, t, u[a], v[a]);
                 } else if i > start && (start..i).all(|k| self.st.stuck[k]) {
                     self.free_rigid_piece(start, i + 1, t, &u[a..b], &v[a..b]);

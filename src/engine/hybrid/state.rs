@@ -34,6 +34,7 @@ impl Hybrid<'_> {
                     Key::Cluster(s) => (1, s as u64),
                     Key::FreeFree(c) => (2, c as u64),
                     Key::Wall(w) => (3, w as u64),
+                    Key::WallLog(w) => (4, w as u64),
                 };
                 QueueEntry {
                     kind,
@@ -95,7 +96,8 @@ impl Hybrid<'_> {
                 0 => Key::Frame,
                 1 => Key::Cluster(e.index as u32),
                 2 => Key::FreeFree(e.index as u32),
-                _ => Key::Wall(e.index as u8),
+                3 => Key::Wall(e.index as u8),
+                _ => Key::WallLog(e.index as u8),
             };
             self.queue.push(
                 key,

@@ -92,6 +92,7 @@ impl Hybrid<'_> {
                     }
                 }
                 Key::FreeFree(c) => self.process_free_close(c as usize, t)?,
+                Key::WallLog(side) => self.process_wall_log(side, t),
                 Key::Wall(side) => {
                     if self.hard_wall(side).is_some() {
                         self.process_hard_wall(side, t)?
