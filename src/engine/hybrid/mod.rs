@@ -201,6 +201,11 @@ pub struct Hybrid<'a> {
     bu: Vec<f64>,
     bv: Vec<f64>,
     bz: Vec<f64>,
+    /// Scratch of the bead states at a merge or split (`N` each).
+    eu: Vec<f64>,
+    ev: Vec<f64>,
+    /// Mass arrays of removed clusters, reused by the next clusters made.
+    spare_mass: Vec<Vec<f64>>,
     /// Integrators of removed clusters, renewed for the next clusters made
     /// ([`Integrator::renew`]): a gap event allocates nothing for them.
     spare: Vec<Box<dyn crate::integrate::Integrator>>,
@@ -260,6 +265,9 @@ impl<'a> Hybrid<'a> {
             bu: vec![0.0; n],
             bv: vec![0.0; n],
             bz: vec![0.0; 2 * n],
+            eu: vec![0.0; n],
+            ev: vec![0.0; n],
+            spare_mass: Vec::new(),
             spare: Vec::new(),
         }
     }

@@ -43,7 +43,9 @@ impl Hybrid<'_> {
             self.bu[i] = u[i] - fu;
             self.bv[i] = v[i] - fv;
         }
-        let mut mass = chain.mass[lo..hi].to_vec();
+        let mut mass = self.spare_mass.pop().unwrap_or_default();
+        mass.clear();
+        mass.extend_from_slice(&chain.mass[lo..hi]);
         let pinned = [
             lo == 0 && self.st.pinned[0],
             hi == self.n && self.st.pinned[1],
@@ -180,11 +182,12 @@ impl Hybrid<'_> {
         cl
     }
 
-    /// Keeps the integrator of a removed cluster for the next cluster made (at most
+    /// Keeps the integrator and mass array of a removed cluster for the next cluster made (at most
     /// [`SPARE_INTEGRATORS`] are kept).
     pub(super) fn recycle(&mut self, cl: Cluster) {
         if self.spare.len() < SPARE_INTEGRATORS {
             self.spare.push(cl.integ);
+            self.spare_mass.push(cl.mass);
         }
     }
 
@@ -383,8 +386,8 @@ impl Hybrid<'_> {
             FREE => self.group_of(c + 1).hi,
             s => self.clusters[s as usize].as_ref().expect("live").hi,
         };
-        let mut u = vec![0.0; hi - lo];
-        let mut v = vec![0.0; hi - lo];
+        // the merged beads' states, in scratch taken out for the call (no allocation)
+        let (mut u, mut v) = (std::mem::take(&mut self.eu), std::mem::take(&mut self.ev));
         for i in lo..hi {
             let (a, b) = self.pos(i, t);
             u[i - lo] = a;
@@ -409,7 +412,8 @@ impl Hybrid<'_> {
             self.log(t, c, EventKind::Close, rel, 0.0);
             self.count_slow_closing(rel, &[c, c + 1]);
         }
-        self.make_cluster(lo, hi, t, (&u, &v), None);
+        self.make_cluster(lo, hi, t, (&u[..hi - lo], &v[..hi - lo]), None);
+        (self.eu, self.ev) = (u, v);
         Ok(())
     }
 
@@ -467,8 +471,11 @@ impl Hybrid<'_> {
         let m = hi - lo;
         let z = cl.integ.state();
         let fu = cl.frame_at(t);
-        let u: Vec<f64> = (0..m).map(|k| fu + z[k]).collect();
-        let v: Vec<f64> = (0..m).map(|k| cl.frame_v + z[m + k]).collect();
+        let (mut u, mut v) = (std::mem::take(&mut self.eu), std::mem::take(&mut self.ev));
+        for k in 0..m {
+            u[k] = fu + z[k];
+            v[k] = cl.frame_v + z[m + k];
+        }
         let mut start = lo;
         for i in lo..hi {
             let last = i + 1 == hi;
@@ -507,6 +514,7 @@ impl Hybrid<'_> {
             }
         }
         self.recycle(cl);
+        (self.eu, self.ev) = (u, v);
         for c in lo.saturating_sub(1)..hi.min(self.n - 1) {
             self.schedule_free_pair(c);
         }
