@@ -10,7 +10,9 @@
 //!
 //! ## Scheduling (why no event is missed or taken out of order)
 //! The queue holds one entry per cluster, keyed by the cluster's current time (lagging cluster
-//! first), one entry per predicted free–free or free–wall closing, and the next output frame.
+//! first), one entry per predicted free–free or free–wall closing, the next output frame, and
+//! per soft wall a crossing of `θ` found on the step of the cluster holding its end bead, until
+//! the clock reaches it and it is logged ([`walllog`]).
 //! When a cluster steps over `[t₀, t₁]` it looks for its boundary gaps closing over the part of
 //! the step where the neighbour's trajectory is known (a free bead: always; a cluster: up to that
 //! cluster's current time). Because clusters step lagging-first, the neighbour's last step always
