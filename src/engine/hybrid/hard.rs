@@ -279,3 +279,56 @@ impl Hybrid<'_> {
         }
     }
 }
+
+impl Hybrid<'_> {
+    /// First collision over `[t0, t1]` of `cl`'s end bead with a hard wall it holds (not pinned
+    /// there): the crossing of the wall gap on the continuous output, as `(t, side)`. A bead that
+    /// starts the window overlapping by rounding right after a bounce (moving away) is measured
+    /// from that overlap.
+    pub(super) fn hard_wall_hit(
+        &self,
+        cl: &super::cluster::Cluster,
+        t0: f64,
+        t1: f64,
+    ) -> Option<(f64, u8)> {
+        let (lo, hi) = (cl.lo, cl.hi);
+        let mut wall_hit: Option<(f64, u8)> = None;
+        if lo == 0 && self.hard_wall(0).is_some() && !self.st.pinned[0] {
+            let pre = self
+                .chain
+                .left_wall
+                .as_ref()
+                .map_or(0.0, |w| w.precompression);
+            let d0 = pre - cl.u_at(t0, 0);
+            let off = if d0 > 0.0 && cl.v_at(t0, 0) >= 0.0 {
+                d0
+            } else {
+                0.0
+            };
+            if let Some(t) = super::detect::first_crossing(|t| pre - cl.u_at(t, 0) - off, t0, t1) {
+                wall_hit = Some((t, 0));
+            }
+        }
+        if hi == self.n && self.hard_wall(1).is_some() && !self.st.pinned[1] {
+            let pre = self
+                .chain
+                .right_wall
+                .as_ref()
+                .map_or(0.0, |w| w.precompression);
+            let last = self.n - 1;
+            let d0 = pre + cl.u_at(t0, last);
+            let off = if d0 > 0.0 && cl.v_at(t0, last) <= 0.0 {
+                d0
+            } else {
+                0.0
+            };
+            if let Some(t) = super::detect::first_crossing(|t| pre + cl.u_at(t, last) - off, t0, t1)
+            {
+                if wall_hit.is_none_or(|(te, _)| t < te) {
+                    wall_hit = Some((t, 1));
+                }
+            }
+        }
+        wall_hit
+    }
+}

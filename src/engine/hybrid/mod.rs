@@ -431,38 +431,11 @@ impl<'a> Hybrid<'a> {
         }
     }
 
-    fn step_cluster(&mut self, slot: u32) -> Result<(), EngineError> {
-        let until = self.cfg.until;
-        let chain = self.chain;
-        let bound = {
-            let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
-            let bound = self.opening_bound(cl, until);
-            self.closing_bound(cl, bound)
-        };
-        let (lo, hi, t0, t1) = {
-            let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
-            let sys = cluster::ClusterSys {
-                chain,
-                lo: cl.lo,
-                mass: &cl.mass,
-                pinned: cl.pinned,
-                rigid: cl.rigid.then(|| &self.st.stuck[cl.lo..cl.hi - 1]),
-            };
-            let t0 = cl.t_now;
-            let t1 = cl.integ.step(&sys, bound)?;
-            cl.t_now = t1;
-            (cl.lo, cl.hi, t0, t1)
-        };
-        self.st.steps_total += 1;
-
-        if let Some(max) = self.cfg.max_steps {
-            if self.st.steps_total >= max {
-                return Err(IntegrationError::Budget(max).into());
-            }
-        }
-        // Boundary closings over the known part of the step.
+    /// First closing of `cl`'s boundary gaps over its step `[t0, t1]`, as `(t, contact)`, over
+    /// the part of the step where the neighbour's trajectory is known (module docs).
+    fn first_boundary_closing(&self, cl: &Cluster, t0: f64, t1: f64) -> Option<(f64, usize)> {
+        let (lo, hi) = (cl.lo, cl.hi);
         let mut earliest: Option<(f64, usize)> = None;
-        let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
         if lo > 0 {
             let c = lo - 1;
             let tb = t1.min(self.known_until(c));
@@ -485,43 +458,43 @@ impl<'a> Hybrid<'a> {
                 }
             }
         }
+        earliest
+    }
+
+    fn step_cluster(&mut self, slot: u32) -> Result<(), EngineError> {
+        let until = self.cfg.until;
+        let chain = self.chain;
+        let bound = {
+            let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
+            let bound = self.opening_bound(cl, until);
+            self.closing_bound(cl, bound)
+        };
+        let (lo, t0, t1) = {
+            let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
+            let sys = cluster::ClusterSys {
+                chain,
+                lo: cl.lo,
+                mass: &cl.mass,
+                pinned: cl.pinned,
+                rigid: cl.rigid.then(|| &self.st.stuck[cl.lo..cl.hi - 1]),
+            };
+            let t0 = cl.t_now;
+            let t1 = cl.integ.step(&sys, bound)?;
+            cl.t_now = t1;
+            (cl.lo, t0, t1)
+        };
+        self.st.steps_total += 1;
+
+        if let Some(max) = self.cfg.max_steps {
+            if self.st.steps_total >= max {
+                return Err(IntegrationError::Budget(max).into());
+            }
+        }
+        // Boundary closings over the known part of the step.
+        let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
+        let earliest = self.first_boundary_closing(cl, t0, t1);
         // Hard walls: the cluster holding an end bead watches the wall gap itself.
-        let mut wall_hit: Option<(f64, u8)> = None;
-        if lo == 0 && self.hard_wall(0).is_some() && !self.st.pinned[0] {
-            let pre = self
-                .chain
-                .left_wall
-                .as_ref()
-                .map_or(0.0, |w| w.precompression);
-            let d0 = pre - cl.u_at(t0, 0);
-            let off = if d0 > 0.0 && cl.v_at(t0, 0) >= 0.0 {
-                d0
-            } else {
-                0.0
-            };
-            if let Some(t) = detect::first_crossing(|t| pre - cl.u_at(t, 0) - off, t0, t1) {
-                wall_hit = Some((t, 0));
-            }
-        }
-        if hi == self.n && self.hard_wall(1).is_some() && !self.st.pinned[1] {
-            let pre = self
-                .chain
-                .right_wall
-                .as_ref()
-                .map_or(0.0, |w| w.precompression);
-            let last = self.n - 1;
-            let d0 = pre + cl.u_at(t0, last);
-            let off = if d0 > 0.0 && cl.v_at(t0, last) <= 0.0 {
-                d0
-            } else {
-                0.0
-            };
-            if let Some(t) = detect::first_crossing(|t| pre + cl.u_at(t, last) - off, t0, t1) {
-                if wall_hit.is_none_or(|(te, _)| t < te) {
-                    wall_hit = Some((t, 1));
-                }
-            }
-        }
+        let wall_hit = self.hard_wall_hit(cl, t0, t1);
         if let Some((tw, side)) = wall_hit {
             if earliest.is_none_or(|(te, _)| tw < te) {
                 self.update_peaks(slot, tw);
