@@ -49,12 +49,17 @@ impl Hybrid<'_> {
         })
     }
 
+    /// The overlap of the soft wall at `side` with its end bead is `pre + s·u`: `(pre, s)`, or
+    /// `None` where there is no soft wall.
+    fn wall_frame(&self, side: u8) -> Option<(f64, f64)> {
+        let s = if side == 0 { -1.0 } else { 1.0 };
+        self.soft_wall(side).map(|w| (w.precompression, s))
+    }
+
     /// Is the soft wall at `side` closed on bead state `u` (overlap above `θ`)?
     pub(super) fn wall_closed_at(&self, side: u8, u: f64) -> bool {
-        self.soft_wall(side).is_some_and(|w| {
-            let s = if side == 0 { -1.0 } else { 1.0 };
-            w.precompression + s * u > self.theta
-        })
+        self.wall_frame(side)
+            .is_some_and(|(pre, s)| pre + s * u > self.theta)
     }
 
     /// After an accepted step of the cluster in `slot`, kept up to `tb` (its end, or where it is
@@ -85,10 +90,9 @@ impl Hybrid<'_> {
     /// First time in `[ta, tb]` where the overlap of the soft wall at `side` with `cl`'s end
     /// bead crosses `θ` in the direction the log expects next (module docs).
     fn next_wall_crossing(&self, cl: &Cluster, side: u8, ta: f64, tb: f64) -> Option<f64> {
-        let w = self.soft_wall(side)?;
+        let (pre, s) = self.wall_frame(side)?;
         let i = self.end_bead(side);
-        let s = if side == 0 { -1.0 } else { 1.0 };
-        let delta = |t: f64| w.precompression + s * cl.u_at(t, i);
+        let delta = |t: f64| pre + s * cl.u_at(t, i);
         let (d0, dd0) = (delta(ta), s * cl.v_at(ta, i));
         // Sign +1: looking for δ rising above the threshold (closing), −1: falling below it.
         let dir = if self.st.wall_in[side as usize] {
@@ -108,16 +112,13 @@ impl Hybrid<'_> {
     /// last step (`t` if none is found), so a free end bead always has its walls open.
     pub(super) fn leave_soft_walls(&mut self, cl: &Cluster, i: usize, t: f64) {
         for side in [0u8, 1] {
-            let Some(w) = self.soft_wall(side) else {
-                continue;
-            };
-            if self.end_bead(side) != i || !self.st.wall_in[side as usize] {
+            let closed = self.st.wall_in[side as usize] && self.soft_wall(side).is_some();
+            if self.end_bead(side) != i || !closed {
                 continue;
             }
-            let s = if side == 0 { -1.0 } else { 1.0 };
-            let theta = self.theta;
-            let g = |x: f64| theta - (w.precompression + s * cl.u_at(x, i));
-            let t_open = super::detect::first_crossing(g, cl.integ.t_prev(), t).unwrap_or(t);
+            let t_open = self
+                .next_wall_crossing(cl, side, cl.integ.t_prev(), t)
+                .unwrap_or(t);
             let k = self.n - 1 + side as usize;
             let rel = cl.v_at(t_open, i);
             self.log(t_open, i, EventKind::WallOpen, rel, self.st.peak[k]);
@@ -146,9 +147,8 @@ impl Hybrid<'_> {
         } else {
             // the peak of the closed phase: from the closing on (the step's earlier part, open,
             // may have raised it)
-            let w = self.soft_wall(side).expect("soft wall");
-            let s = if side == 0 { -1.0 } else { 1.0 };
-            let d = |x: f64| w.precompression + s * cl.u_at(x, i);
+            let (pre, s) = self.wall_frame(side).expect("soft wall");
+            let d = |x: f64| pre + s * cl.u_at(x, i);
             let dd = |x: f64| s * cl.v_at(x, i);
             self.st.peak[k] = super::detect::step_max(d, dd, t, tb.max(t));
             self.log(t, i, EventKind::WallClose, rel, 0.0);
