@@ -155,13 +155,16 @@ fn loose_atol_leaves_no_recollisions_behind_a_wave() {
 /// Steps that reached past a contact opening integrated across the force's kink at `δ = 0` and
 /// were rejected, often several times, before the opening was located: `periodic_decay` at
 /// rtol 1e-6 rejected 3654 steps for 12 457 accepted (29 %). Landing on predicted openings
-/// (`src/engine/hybrid/opening.rs`): 851 for 11 458 (7 %).
+/// (`src/engine/hybrid/opening.rs`): 851 for 11 458 (7 %). Since the steps that land on a
+/// kink where its force matters are measured as rough (`src/engine/hybrid/kinks.rs`), some of
+/// them are rejected by design: 2066 for 11 891 (17 %); the bound (was 12 %) still separates
+/// the two.
 #[test]
 fn steps_reaching_past_an_opening_are_not_rejected() {
     let s = beadchain::scene::preset("periodic_decay_2.5_2.555").expect("preset");
     let o = run(&s, Engine::Hybrid, Method::Auto, 1e-6, 1e-10);
     let (acc, rej) = (o.stats.steps, o.stats.rejected);
-    assert!(rej * 100 <= 12 * acc, "{rej} rejected for {acc} accepted");
+    assert!(rej * 100 <= 21 * acc, "{rej} rejected for {acc} accepted");
 }
 
 /// The pieces of a split cluster start with the cluster's step size, not Hairer's estimate
@@ -243,8 +246,12 @@ fn convex_boundary_detection_finds_the_events_sampling_finds() {
             );
             let vmax = sampling.v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
             let d = max_abs_diff(&convex.v, &sampling.v);
-            // rel tol 1e-9 of the largest velocity (the runs' own errors are >= 1e-11 there)
-            assert!(d <= 1e-9 * vmax, "{} at rtol {rtol:e}: {d:e}", s.name);
+            // rel tol max(1e-9, 0.1·rtol) of the largest velocity (was 1e-9; the runs' own
+            // errors are >= 1e-11 at rtol 1e-10, ~rtol at 1e-6): a located time's last bits may
+            // tip whether a step at a kink is rough (src/engine/hybrid/kinks.rs), and then the
+            // two runs take different steps (interface at rtol 1e-6: 1.0e-8 of it)
+            let tol = 1e-9_f64.max(0.1 * rtol);
+            assert!(d <= tol * vmax, "{} at rtol {rtol:e}: {d:e}", s.name);
         }
     }
 }

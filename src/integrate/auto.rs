@@ -252,6 +252,10 @@ impl Integrator for Auto {
         self.active_mut().set_step_size(h);
     }
 
+    fn set_rough(&mut self, rough: bool) {
+        self.dop.set_rough(rough);
+    }
+
     fn restart(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64], h: f64) {
         self.start_active(|i| i.restart(sys, t, u, v, h));
     }

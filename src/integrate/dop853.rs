@@ -25,6 +25,12 @@
 //!   `t_bound` (an event time of the caller) the next proposal is at least the interrupted one
 //!   (as OrdinaryDiffEq.jl does at `tstops`; SciPy would restart from the short step, whose
 //!   error estimate is mostly rounding noise when it is very short).
+//! - Steps the caller marks as starting or ending at a kink of the right-hand side
+//!   ([`Integrator::set_rough`]) are accepted only if the 5th-order estimate `e5` is within the
+//!   tolerance too: the combined estimator trusts the 8th-order solution to be `e5/(0.1·e3)`
+//!   times better than the 5th-order one, which holds for smooth solutions only (a lone bead's
+//!   step onto the kink of its wall force was accepted with `e5 = 229` and `e3 = 6·10⁵`
+//!   tolerances; `crate::engine::hybrid`'s `kinks` module).
 //! - The three extra dense-output stages are evaluated eagerly after every accepted step (15
 //!   right-hand sides per accepted step, 12 per rejected one), because [`Integrator::dense`]
 //!   has no access to the system.
@@ -81,6 +87,9 @@ pub struct Dop853 {
     diss: (f64, f64),
     /// The system is dissipative: `E_d` is an error-controlled component (set every step).
     damped: bool,
+    /// The steps start or end at a kink ([`Integrator::set_rough`]): the error is at least the
+    /// 5th-order estimate. Set by the caller around steps, never saved.
+    rough: bool,
     stats: Stats,
 }
 
@@ -179,6 +188,7 @@ impl Dop853 {
             pw: [0.0; N_MAIN],
             diss: (0.0, 0.0),
             damped: false,
+            rough: false,
             stats: Stats::default(),
         }
     }
@@ -321,7 +331,13 @@ impl Dop853 {
             return 0.0;
         }
         let (n5sq, n3sq) = (n5 * n5, n3 * n3);
-        h.abs() * n5sq / (n5sq + 0.01 * n3sq).sqrt()
+        let err = h.abs() * n5sq / (n5sq + 0.01 * n3sq).sqrt();
+        if self.rough {
+            // at a kink the 8th-order solution is no better than the 5th-order one
+            err.max(h.abs() * n5)
+        } else {
+            err
+        }
     }
 
     /// The 3 extra stages and the continuous-output coefficients of the step `z_old → z` of
@@ -483,6 +499,10 @@ impl Integrator for Dop853 {
 
     fn set_step_size(&mut self, h: f64) {
         self.h = h;
+    }
+
+    fn set_rough(&mut self, rough: bool) {
+        self.rough = rough;
     }
 
     fn t(&self) -> f64 {

@@ -360,6 +360,12 @@ pub trait Integrator {
     fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]);
     /// Overrides the next step-size proposal (e.g. to land on a known time in one step).
     fn set_step_size(&mut self, h: f64);
+    /// Whether the next steps start or end at a kink of the right-hand side (a contact force
+    /// `n a δ₊^{n−1}` at `δ = 0`), where the solution is not smooth: a method whose error
+    /// estimate assumes a smooth solution then measures them by one that does not
+    /// ([`dop853`]: its 5th-order estimate too). Not part of the saved state: the caller sets
+    /// it before the steps and clears it after. Default: ignored.
+    fn set_rough(&mut self, _rough: bool) {}
     /// [`Integrator::reset`] then [`Integrator::set_step_size`]`(h)`, for a restart whose first
     /// step is known (the hybrid engine redoing a step to land on an event, a method switch):
     /// a method whose `reset` estimates a starting step skips that estimate (DOP853: one

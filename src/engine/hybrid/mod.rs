@@ -49,6 +49,7 @@ pub mod detect;
 mod eventlog;
 pub mod free;
 mod hard;
+mod kinks;
 mod opening;
 mod process;
 mod state;
@@ -464,10 +465,12 @@ impl<'a> Hybrid<'a> {
     fn step_cluster(&mut self, slot: u32) -> Result<(), EngineError> {
         let until = self.cfg.until;
         let chain = self.chain;
-        let bound = {
+        let (bound, rough) = {
             let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
             let bound = self.opening_bound(cl, until);
-            self.closing_bound(cl, bound)
+            let bound = self.closing_bound(cl, bound);
+            let h = cl.integ.step_size().min(bound - cl.integ.t());
+            (bound, self.rough_step(cl, h))
         };
         let (lo, t0, t1) = {
             let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
@@ -479,7 +482,10 @@ impl<'a> Hybrid<'a> {
                 rigid: cl.rigid.then(|| &self.st.stuck[cl.lo..cl.hi - 1]),
             };
             let t0 = cl.t_now;
-            let t1 = cl.integ.step(&sys, bound)?;
+            cl.integ.set_rough(rough);
+            let t1 = cl.integ.step(&sys, bound);
+            cl.integ.set_rough(false);
+            let t1 = t1?;
             cl.t_now = t1;
             (cl.lo, t0, t1)
         };
@@ -507,7 +513,7 @@ impl<'a> Hybrid<'a> {
                 return Ok(());
             }
         }
-        if let Some(to) = self.first_opening(cl, t0, t1) {
+        if let Some(to) = self.first_landing(cl, t0, t1) {
             if earliest.is_none_or(|(te, _)| to < te) {
                 self.defer_open(slot, to);
                 return Ok(());

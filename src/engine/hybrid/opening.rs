@@ -241,7 +241,7 @@ impl Hybrid<'_> {
 
 /// Time for an overlap `gap` above its target, moving as `gap + δ̇τ + δ̈τ²/2`, to reach the
 /// target (its first root), or infinity where the quadratic never does.
-fn reaches(gap: f64, dd: f64, ddd: f64) -> f64 {
+pub(super) fn reaches(gap: f64, dd: f64, ddd: f64) -> f64 {
     let disc = dd * dd - 2.0 * ddd * gap;
     if disc >= 0.0 {
         2.0 * gap / (disc.sqrt() - dd)

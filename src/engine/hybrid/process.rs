@@ -342,8 +342,14 @@ impl Hybrid<'_> {
         if cl.integ.t() <= t {
             return Ok(());
         }
-        let m = cl.m();
         let t0 = cl.integ.t_prev();
+        // a redone step starts at a kink, or ends on the one it lands on (kinks module)
+        let rough = {
+            let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
+            self.rough_at(cl, t0, t - t0) || self.rough_at(cl, t, t - t0)
+        };
+        let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
+        let m = cl.m();
         let z = &mut self.bz[..2 * m];
         let sys = ClusterSys {
             chain,
@@ -363,9 +369,14 @@ impl Hybrid<'_> {
         cl.integ.dense(t0, z);
         self.st.dissipated += cl.integ.dissipated().0;
         cl.integ.restart(&sys, t0, &z[..m], &z[m..], t - t0);
+        cl.integ.set_rough(rough);
         while cl.integ.t() < t {
-            cl.integ.step(&sys, t)?;
+            if let Err(e) = cl.integ.step(&sys, t) {
+                cl.integ.set_rough(false);
+                return Err(e.into());
+            }
         }
+        cl.integ.set_rough(false);
         Ok(())
     }
 

@@ -32,7 +32,7 @@ use crate::engine::events::EventKind;
 
 impl Hybrid<'_> {
     /// The end bead at `side` (0 left, 1 right).
-    fn end_bead(&self, side: u8) -> usize {
+    pub(super) fn end_bead(&self, side: u8) -> usize {
         if side == 0 {
             0
         } else {
@@ -41,7 +41,7 @@ impl Hybrid<'_> {
     }
 
     /// Sides of the soft walls whose end bead `cl` holds.
-    fn soft_walls_of(&self, cl: &Cluster) -> impl Iterator<Item = u8> + '_ {
+    pub(super) fn soft_walls_of(&self, cl: &Cluster) -> impl Iterator<Item = u8> + '_ {
         let (lo, hi) = (cl.lo, cl.hi);
         [0u8, 1].into_iter().filter(move |&side| {
             let held = if side == 0 { lo == 0 } else { hi == self.n };
@@ -51,7 +51,7 @@ impl Hybrid<'_> {
 
     /// The overlap of the soft wall at `side` with its end bead is `pre + s·u`: `(pre, s)`, or
     /// `None` where there is no soft wall.
-    fn wall_frame(&self, side: u8) -> Option<(f64, f64)> {
+    pub(super) fn wall_frame(&self, side: u8) -> Option<(f64, f64)> {
         let s = if side == 0 { -1.0 } else { 1.0 };
         self.soft_wall(side).map(|w| (w.precompression, s))
     }
