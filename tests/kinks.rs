@@ -88,21 +88,6 @@ fn a_lone_beads_step_onto_its_wall_opening_is_measured_as_rough() {
     assert!(e <= 10.0 * rtol, "energy error {e:e}");
 }
 
-/// xorshift64* stream: the random scenes' only source of randomness.
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-}
-
 /// 2–11 beads (masses 0.2–5), touching at rest, with gaps up to 0.5, or precompressed by up
 /// to 0.05; contact exponents 2.05–4.5 (2.5 for 30 %), prefactors 0.3–3; half the beads moving
 /// at up to ±1; a field of up to ±0.3 (30 %); soft walls from 0.02 into the end bead to 0.5 away

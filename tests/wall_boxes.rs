@@ -17,21 +17,6 @@ use beadchain::scene::{Engine, Scene};
 use beadchain::snapshot::EventKind;
 use common::*;
 
-/// xorshift64* stream: the test's only source of randomness.
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-}
-
 /// A soft wall `gap` ∈ [−0.08, 1.5) beyond an end bead at distance `end` from the centre (a
 /// negative gap: the wall starts pressed into the bead).
 fn random_wall(r: &mut Rng, end: f64) -> Wall {
