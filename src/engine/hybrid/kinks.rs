@@ -25,8 +25,10 @@
 //!    a lone bead's step onto its wall opening (n_w = 3.01, rtol 1e-10) was accepted with
 //!    `e5 = 229` and `e3 = 6·10⁵` tolerances (`err` 0.87) and lost 10⁻⁸ of the energy. Such a
 //!    step is now measured as rough ([`Integrator::set_rough`]: `max(err, e5)`) where the kink
-//!    matters at the tolerance ([`Hybrid::rough_step`]): a contact within one step of its kink
-//!    (`|δ| ≤ |δ̇|·h`) whose force over the step, `∫₀ʰ n a (|δ̇|τ)^{n−1} dτ = a |δ̇|^{n−1} hⁿ`,
+//!    matters at the tolerance ([`Hybrid::rough_step`], [`Hybrid::rough_at`]): a soft contact
+//!    or wall at its kink where the step starts (`|δ| ≤ max(θ, MIN_FRACTION·|δ̇|·h)`) or carried
+//!    to within `θ` of it by the step (the quadratic `δ + δ̇τ + δ̈τ²/2`), whose force over the
+//!    step, `∫₀ʰ n a (|δ̇|τ)^{n−1} dτ = a |δ̇|^{n−1} hⁿ` at the rate `|δ̇|` it crosses with,
 //!    changes a bead's velocity by more than its error weight. The kinks behind a solitary wave
 //!    do not (the 1000-bead striker opens and closes its contacts at `|δ̇| ≈ 10⁻⁷`), so such
 //!    scenes take the steps they took; colliding beads do.
@@ -47,7 +49,9 @@ enum Kink {
 }
 
 /// Smallest located wall kink after the step start, as a fraction of the step: one closer to
-/// the start is the kink the step started on (landed there to rounding).
+/// the start is the kink the step started on (landed there to rounding). Likewise a kink within
+/// this fraction of a step's length (`MIN_FRACTION·|δ̇|·h` in overlap) of its start is one the
+/// step starts on ([`Hybrid::rough_at`]).
 const MIN_FRACTION: f64 = 1e-3;
 
 impl Hybrid<'_> {
