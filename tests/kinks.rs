@@ -200,3 +200,46 @@ fn radau_steps_are_not_landed_on_a_dashpot_walls_jump() {
         assert!(r.is_ok(), "{method:?} at rtol {rtol:e}: {:?}", r.err());
     }
 }
+
+/// The sweep behind docs/engines.md ("Steps at kinks"): `cargo test --release --test kinks --
+/// --ignored --nocapture`. 120 seeded random scenes (those of
+/// [`random_collision_scenes_converge_to_the_tolerance`], from its first), the default method
+/// at rtol 1e-6 / 1e-8 / 1e-10 against hybrid Radau IIA at 1e-12: prints the median, 90th
+/// percentile and largest final-state deviation over rtol, and the steps, per rtol. Asserts
+/// only that every run succeeds (a measurement, not a test).
+#[test]
+#[ignore]
+fn sweep_random_scenes_at_three_tolerances() {
+    let mut r = Rng(0x1234_5678_9ABC_DEF1);
+    let rtols = [1e-6, 1e-8, 1e-10];
+    let mut dev = vec![Vec::new(); 3];
+    let mut steps = [0u64; 3];
+    for _ in 0..120 {
+        let s = random_scene(&mut r);
+        let until = s.run.until;
+        let reference = run(
+            &s,
+            &config(Engine::Hybrid, Method::Radau5, 1e-12, 1e-16, until),
+        )
+        .0;
+        for (k, rtol) in rtols.into_iter().enumerate() {
+            let o = run(
+                &s,
+                &config(Engine::Hybrid, Method::Auto, rtol, rtol * 1e-4, until),
+            )
+            .0;
+            let d = Deviation::between(&s, &o, &reference);
+            dev[k].push(d.rel_u.max(d.rel_v) / rtol);
+            steps[k] += o.stats.steps;
+        }
+    }
+    for (k, rtol) in rtols.into_iter().enumerate() {
+        let d = &mut dev[k];
+        d.sort_by(f64::total_cmp);
+        let (median, p90, max) = (d[60], d[108], d[119]);
+        eprintln!(
+            "rtol {rtol:e}: deviation/rtol median {median:.3} p90 {p90:.1} max {max:.3e}; {} steps",
+            steps[k]
+        );
+    }
+}
