@@ -25,12 +25,8 @@
 //!   `t_bound` (an event time of the caller) the next proposal is at least the interrupted one
 //!   (as OrdinaryDiffEq.jl does at `tstops`; SciPy would restart from the short step, whose
 //!   error estimate is mostly rounding noise when it is very short).
-//! - Steps the caller marks as starting or ending at a kink of the right-hand side
-//!   ([`Integrator::set_rough`]) are accepted only if the 5th-order estimate `e5` is within the
-//!   tolerance too: the combined estimator trusts the 8th-order solution to be `e5/(0.1·e3)`
-//!   times better than the 5th-order one, which holds for smooth solutions only (a lone bead's
-//!   step onto the kink of its wall force was accepted with `e5 = 229` and `e3 = 6·10⁵`
-//!   tolerances; `crate::engine::hybrid`'s `kinks` module).
+//! - A step marked rough ([`Integrator::set_rough`]: at a kink of the right-hand side, where
+//!   the combined estimate's smoothness assumption fails) needs `e5 ≤ 1` too (hybrid `kinks`).
 //! - The three extra dense-output stages are evaluated eagerly after every accepted step (15
 //!   right-hand sides per accepted step, 12 per rejected one), because [`Integrator::dense`]
 //!   has no access to the system.
@@ -87,8 +83,7 @@ pub struct Dop853 {
     diss: (f64, f64),
     /// The system is dissipative: `E_d` is an error-controlled component (set every step).
     damped: bool,
-    /// The steps start or end at a kink ([`Integrator::set_rough`]): the error is at least the
-    /// 5th-order estimate. Set by the caller around steps, never saved.
+    /// Steps at a kink ([`Integrator::set_rough`]; set around steps, never saved).
     rough: bool,
     stats: Stats,
 }
