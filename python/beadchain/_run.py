@@ -173,7 +173,7 @@ def run(
 
     - ``engine``: ``"hybrid"`` (default) or ``"dense"``;
     - ``method``: ``"auto"`` (default), ``"radau5"``, ``"dop853"`` or ``"verlet"``;
-    - ``rtol``: 1e-8; ``atol``: rtol/1e4 (at least 1e-14), relative to the run's scales;
+    - ``rtol``: 1e-8; ``atol``: rtol/1e4 (at least 1e-15), relative to the run's scales;
     - ``every``: output interval (default: first and last frame only);
     - ``until``: end time in computer units (the scene's ``[run] until``);
     - ``out``: also write the snapshot file ``beadchain run --out`` writes (None: no file);

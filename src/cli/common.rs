@@ -64,7 +64,7 @@ pub struct Common {
     #[arg(long)]
     pub rtol: Option<f64>,
     /// Absolute tolerance, relative to the run's characteristic length/velocity
-    /// [default: the scene's, else rtol/10^4, at least 1e-14 (1e-12 at the default rtol)].
+    /// [default: the scene's, else rtol/10^4, at least 1e-15 (1e-12 at the default rtol)].
     #[arg(long)]
     pub atol: Option<f64>,
     /// End time [default: the scene's `[run] until`].

@@ -49,7 +49,7 @@ pub struct RunConfig {
 
 impl RunConfig {
     /// The scene's own settings, with documented defaults for what it leaves out (`atol`
-    /// defaults to [`default_atol`]`(rtol)`, i.e. `rtol/10⁴`, at least `1e-14`).
+    /// defaults to [`default_atol`]`(rtol)`, i.e. `rtol/10⁴`, at least `1e-15`).
     pub fn from_scene(scene: &Scene) -> Self {
         let rtol = scene.run.rtol.unwrap_or(DEFAULT_RTOL);
         Self {

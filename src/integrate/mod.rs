@@ -28,7 +28,7 @@
 //! the meaning of a tolerance does not depend on how many beads are integrated together.
 //!
 //! The default `atol` is `rtol · DEFAULT_ATOL_RATIO` (= `rtol/10⁴`), at least `ATOL_FLOOR`
-//! (`1e-14`, see [`default_atol`]), so that the error keeps falling with `rtol` over
+//! (`1e-15`, see [`default_atol`]), so that the error keeps falling with `rtol` over
 //! `1e-3 … 1e-13`: a fixed `atol` stalled the error at tight `rtol` and, at loose `rtol`, held
 //! the displacements to a far tighter tolerance than the velocities. The ratio `10⁻⁴` (it was
 //! `10⁻²`) holds the beads a wave leaves behind, whose velocities fall geometrically with the
@@ -38,7 +38,11 @@
 //! `rtol/10⁴`); on the 1000-bead striker to wave exit the velocity error at `rtol = 1e-8` fell
 //! from 5.4e-8 to 7.5e-10 (energy error 1.1e-7 to 1.5e-9) for 18 % more time, a better
 //! work–precision trade at every `rtol` from `1e-6` to `1e-10`. The floor keeps the absolute
-//! weights above rounding (`1e-16` cost 30 % more time at `rtol = 1e-12` for no gain).
+//! weights above rounding. It was `1e-14` until the error of the default method was found to
+//! stall there: on the 1000-bead striker to wave exit 7.3e-12 at `rtol = 1e-10`, 9.5e-12 at
+//! `1e-11` and 1.3e-12 at `1e-12`; with `1e-15` 2.3e-12 at `1e-11` (+26 % time) and 9.3e-13 at
+//! `1e-12` (`tests/convergence.rs`). `1e-16` stops hybrid Radau IIA at `rtol = 1e-12` on a box of
+//! linear-dashpot contacts (`validation/repro/radau_dashpot_box_atol1e-16.toml`).
 
 pub mod auto;
 pub mod dop853;
@@ -56,7 +60,7 @@ pub const DEFAULT_ATOL: f64 = 1e-12;
 /// Default `atol / rtol` when only `rtol` is given.
 pub const DEFAULT_ATOL_RATIO: f64 = 1e-4;
 /// Smallest default `atol` (near rounding of the scaled state).
-pub const ATOL_FLOOR: f64 = 1e-14;
+pub const ATOL_FLOOR: f64 = 1e-15;
 
 /// The default absolute tolerance for a relative tolerance `rtol`: `rtol · DEFAULT_ATOL_RATIO`,
 /// at least [`ATOL_FLOOR`] and below `rtol` (so `default_atol(DEFAULT_RTOL) == DEFAULT_ATOL`).

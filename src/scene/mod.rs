@@ -44,7 +44,7 @@
 //! until = 150.0            # REQUIRED end time (computer units), > 0
 //! every = 1.0              # output interval; default: only first and last frame
 //! rtol = 1e-8              # relative tolerance in (0, 1); default 1e-8
-//! atol = 1e-10             # absolute tolerance in (0, 1), relative to the run's scales; default rtol/1e4 (at least 1e-14)
+//! atol = 1e-10             # absolute tolerance in (0, 1), relative to the run's scales; default rtol/1e4 (at least 1e-15)
 //! method = "auto"          # "auto" (default) | "radau5" | "dop853" | "verlet"
 //! engine = "dense"         # "dense" | "hybrid" (default "hybrid"; `--engine` overrides)
 //! ```
