@@ -125,30 +125,21 @@ impl Hybrid<'_> {
             let tau = super::opening::reaches(d - theta, dd, ddd);
             (tau <= h).then(|| (dd + ddd * tau).abs())
         };
-        for k in 0..m - 1 {
-            let c = cl.lo + k;
-            let (d, dd) = (self.pre(c) + z[k] - z[k + 1], z[m + k] - z[m + k + 1]);
-            let Some(rate) = at_kink(d, dd, f.map(|f| f[m + k] - f[m + k + 1])) else {
-                continue;
+        self.soft_kinks(cl).any(|(kink, law, beads)| {
+            let (d, dd, ddd) = match kink {
+                Kink::Contact(c) => {
+                    let k = c - cl.lo;
+                    let ddd = f.map(|f| f[m + k] - f[m + k + 1]);
+                    (self.pre(c) + z[k] - z[k + 1], z[m + k] - z[m + k + 1], ddd)
+                }
+                Kink::Wall(side) => {
+                    let (pre, s) = self.wall_frame(side).expect("a soft wall");
+                    let i = beads[0];
+                    let ddd = f.map(|f| s * f[m + i - cl.lo]);
+                    (pre + s * cl.u_at(t, i), s * cl.v_at(t, i), ddd)
+                }
             };
-            if self.st.stuck[c] || self.chain.hard_restitution(c).is_some() {
-                continue;
-            }
-            let law = (self.chain.exponent[c], self.chain.prefactor[c]);
-            if self.kink_matters(cl, t, rate, law, h, [c, c + 1]) {
-                return true;
-            }
-        }
-        self.soft_walls_of(cl).any(|side| {
-            let (Some((pre, s)), Some(w)) = (self.wall_frame(side), self.soft_wall(side)) else {
-                return false;
-            };
-            let i = self.end_bead(side);
-            let (d, dd) = (pre + s * cl.u_at(t, i), s * cl.v_at(t, i));
-            let ddd = f.map(|f| s * f[m + i - cl.lo]);
-            at_kink(d, dd, ddd).is_some_and(|rate| {
-                self.kink_matters(cl, t, rate, (w.exponent, w.prefactor), h, [i, i])
-            })
+            at_kink(d, dd, ddd).is_some_and(|rate| self.kink_matters(cl, t, rate, law, h, beads))
         })
     }
 
