@@ -37,6 +37,13 @@ impl Dop853 {
             v.resize(n, 0.0);
         }
         self.k.resize(N_STAGES * n, 0.0);
+        // never shrunk: the packed stages are read by group only, and only groups that the
+        // stages of this state were written into (zero-filling on every renew cost more than
+        // the stage sums save on the large clusters of the interface scenes)
+        let len = super::packed::packed_len(n);
+        if self.kp.len() < len {
+            self.kp.resize(len, 0.0);
+        }
         self.f.resize(N_DENSE * n, 0.0);
         (self.t, self.t_prev, self.h) = (0.0, 0.0, 0.0);
         self.pw = [0.0; N_MAIN];
@@ -87,6 +94,10 @@ impl Dop853 {
             .zip(&s.vecs[..4])
         {
             d.copy_from_slice(v);
+        }
+        let n = self.z.len();
+        for (s, ks) in self.k.chunks_exact(n.max(1)).enumerate() {
+            super::packed::pack(&mut self.kp, s, ks);
         }
         self.stats = s.stats.clone();
         self.diss = s.dissipated;

@@ -198,7 +198,7 @@ fn similarity_scaling_gives_same_steps() {
 }
 
 /// [`Dop853::step`] runs its AVX2 build where the processor has AVX2; it must give the bits of
-/// the baseline build (`step_impl` inlined here, compiled without AVX2): the same operations in
+/// the baseline build (`step_any` inlined here, compiled without AVX2): the same operations in
 /// the same order, no fused multiply-adds. Conservative and damped chains (the damped one also
 /// integrates the dissipated energy). Without AVX2 both run the baseline code (printed).
 #[test]
@@ -210,26 +210,29 @@ fn avx2_and_baseline_steps_are_bit_identical() {
     if !avx2 {
         eprintln!("no AVX2 on this processor: both calls run the baseline build");
     }
-    let plain = uniform_chain(20);
-    let mut damped = plain.clone();
-    damped.damping = Some(crate::model::Damping {
-        law: crate::model::DampingLaw::Viscoelastic,
-        contact: vec![0.3; 19],
-        left_wall: 0.0,
-        right_wall: 0.0,
-    });
-    for chain in [plain, damped] {
-        let (u, v) = striker(20, 1.0);
+    // 20 beads run on the packed stages, 40 on the stage-after-stage loops (`packed.rs`)
+    for (nb, chain) in [20, 40].into_iter().flat_map(|nb| {
+        let plain = uniform_chain(nb);
+        let mut damped = plain.clone();
+        damped.damping = Some(crate::model::Damping {
+            law: crate::model::DampingLaw::Viscoelastic,
+            contact: vec![0.3; nb - 1],
+            left_wall: 0.0,
+            right_wall: 0.0,
+        });
+        [(nb, plain), (nb, damped)]
+    }) {
+        let (u, v) = striker(nb, 1.0);
         let tol = tolerances(&chain, &u, &v, 1e-8, 1e-12);
         let sys = ChainRange::whole(&chain);
-        let (mut a, mut b) = (Dop853::new(20, tol), Dop853::new(20, tol));
+        let (mut a, mut b) = (Dop853::new(nb, tol), Dop853::new(nb, tol));
         a.reset(&sys, 0.0, &u, &v);
         b.reset(&sys, 0.0, &u, &v);
         let bits = |x: &[f64]| x.iter().map(|y| y.to_bits()).collect::<Vec<_>>();
-        let (mut za, mut zb) = (vec![0.0; 40], vec![0.0; 40]);
+        let (mut za, mut zb) = (vec![0.0; 2 * nb], vec![0.0; 2 * nb]);
         while a.t() < 30.0 {
             let ta = a.step(&sys, 30.0).expect("step");
-            let tb = b.step_impl(&sys, 30.0).expect("step");
+            let tb = b.step_any(&sys, 30.0).expect("step");
             assert_eq!(ta.to_bits(), tb.to_bits());
             assert_eq!(bits(a.state()), bits(b.state()), "t = {ta}");
             let (da, db) = (a.dissipated(), b.dissipated());
@@ -248,48 +251,94 @@ fn avx2_and_baseline_steps_are_bit_identical() {
     }
 }
 
-/// The stage sums start as `0.0 + c_0 K_0` and copy the velocity half while writing it, instead
-/// of zero-filling and copying after: bit for bit the same (signed zeros included), for every row
-/// of the method's coefficients (main, dense-output and error rows).
+/// The stage sums on the packed stages (`packed.rs`) and the stage-after-stage ones are bit for
+/// bit those of the plain loop `0 + Σ_j c_j K_j` over the nonzero `c_j` in stage order (signed
+/// zeros included), for every row
+/// of the method's coefficients (main, dense-output and error rows) and state lengths with full
+/// and partial groups of 4; each row's list of nonzero stages is that of its array.
 #[test]
-fn stage_sums_are_bit_identical_to_fill_then_accumulate() {
-    let (m, n) = (3, 6);
-    // stage values with zeros of both signs, tiny and large entries
-    let k: Vec<f64> = (0..N_STAGES * n)
-        .map(|i| match i % 7 {
-            0 => 0.0,
-            1 => -0.0,
-            2 => 1e-300 * (i as f64),
-            3 => -(i as f64).sqrt(),
-            _ => 1.0 / (i as f64 + 0.5),
-        })
-        .collect();
-    let z: Vec<f64> = (0..n)
-        .map(|i| if i % 2 == 0 { -0.0 } else { 0.25 * i as f64 })
-        .collect();
-    let rows = A
-        .iter()
-        .map(|r| &r[..])
-        .chain(D.iter().map(|r| &r[..]))
-        .chain([&E5[..], &E3[..]]);
-    for c in rows {
-        let mut naive = vec![0.0; n];
-        for (j, &cj) in c.iter().enumerate() {
-            if cj != 0.0 {
+fn packed_stage_sums_are_bit_identical_to_the_plain_loop() {
+    use super::coefficients::D;
+    use super::packed::{self, *};
+    fn check<R: Row>(c: &[f64]) {
+        let nonzero: Vec<usize> = (0..c.len()).filter(|&j| c[j] != 0.0).collect();
+        assert_eq!(R::NONZERO, &nonzero[..]);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        for m in [1, 2, 3, 4, 7] {
+            let n = 2 * m;
+            // stage values with zeros of both signs, tiny and large entries
+            let k: Vec<f64> = (0..N_STAGES * n)
+                .map(|i| match i % 7 {
+                    0 => 0.0,
+                    1 => -0.0,
+                    2 => 1e-300 * (i as f64),
+                    3 => -(i as f64).sqrt(),
+                    _ => 1.0 / (i as f64 + 0.5),
+                })
+                .collect();
+            // a larger, stale packed array, as a renewed integrator has
+            let mut kp = vec![f64::NAN; packed::packed_len(n) + 64];
+            for (s, ks) in k.chunks_exact(n).enumerate() {
+                packed::pack(&mut kp, s, ks);
+            }
+            let mut naive = vec![0.0; n];
+            for &j in &nonzero {
                 for (x, kj) in naive.iter_mut().zip(&k[j * n..(j + 1) * n]) {
-                    *x += cj * kj;
+                    *x += c[j] * kj;
                 }
             }
+            let h = 0.3;
+            let mut scaled = vec![f64::NAN; n];
+            packed::sum_times::<R>(&mut scaled, &kp, h);
+            let naive_h: Vec<f64> = naive.iter().map(|x| x * h).collect();
+            assert_eq!(bits(&scaled), bits(&naive_h), "sum × h, m = {m}");
+            let z: Vec<f64> = (0..n)
+                .map(|i| if i % 2 == 0 { -0.0 } else { 0.25 * i as f64 })
+                .collect();
+            let naive_y: Vec<f64> = z.iter().zip(&naive).map(|(zi, yi)| zi + h * yi).collect();
+            let (mut y, mut ku) = (vec![f64::NAN; n], vec![f64::NAN; m]);
+            packed::combine::<R>(&mut y, &mut ku, &z, h, &kp);
+            assert_eq!(bits(&y), bits(&naive_y), "combine, m = {m}");
+            assert_eq!(bits(&ku), bits(&naive_y[m..]), "velocity half, m = {m}");
+            // the stage-after-stage loop of the longer states gives the same bits
+            let (mut y, mut ku) = (vec![f64::NAN; n], vec![f64::NAN; m]);
+            packed::combine_plain(&mut y, &mut ku, &z, h, c, &k);
+            assert_eq!(bits(&y), bits(&naive_y), "plain combine, m = {m}");
+            assert_eq!(
+                bits(&ku),
+                bits(&naive_y[m..]),
+                "plain velocity half, m = {m}"
+            );
         }
-        let mut sum = vec![f64::NAN; n];
-        stage_sum(&mut sum, c, &k);
-        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        assert_eq!(bits(&sum), bits(&naive));
-        let h = 0.3;
-        let naive_y: Vec<f64> = z.iter().zip(&naive).map(|(zi, yi)| zi + h * yi).collect();
-        let (mut y, mut ku) = (vec![f64::NAN; n], vec![f64::NAN; m]);
-        combine(&mut y, &mut ku, &z, h, c, &k);
-        assert_eq!(bits(&y), bits(&naive_y));
-        assert_eq!(bits(&ku), bits(&naive_y[m..]));
+    }
+    check::<RowA1>(A[1]);
+    check::<RowA2>(A[2]);
+    check::<RowA3>(A[3]);
+    check::<RowA4>(A[4]);
+    check::<RowA5>(A[5]);
+    check::<RowA6>(A[6]);
+    check::<RowA7>(A[7]);
+    check::<RowA8>(A[8]);
+    check::<RowA9>(A[9]);
+    check::<RowA10>(A[10]);
+    check::<RowA11>(A[11]);
+    check::<RowA12>(A[12]);
+    check::<RowA13>(A[13]);
+    check::<RowA14>(A[14]);
+    check::<RowA15>(A[15]);
+    check::<RowD0>(&D[0][..]);
+    check::<RowD1>(&D[1][..]);
+    check::<RowD2>(&D[2][..]);
+    check::<RowD3>(&D[3][..]);
+    check::<RowE5>(&E5[..]);
+    check::<RowE3>(&E3[..]);
+}
+
+/// The error estimates are summed on the stages where either weight is nonzero, which are the
+/// same for both: summing them apart gives the bits of the joint loop.
+#[test]
+fn error_weights_are_nonzero_on_the_same_stages() {
+    for j in 0..E5.len() {
+        assert_eq!(E5[j] != 0.0, E3[j] != 0.0, "stage {j}");
     }
 }
