@@ -208,3 +208,21 @@ def test_floor_is_the_loose_reference_scored_against_the_tight_one():
     assert abs(f["velocity"] - 1.0) <= 1e-12, f
     assert abs(f["lead"] - (0.5 * (1e-6 + 4.0) - 0.5) / 0.5) <= 1e-12 * 3.0, f
     assert f["energy"] == 0.0
+
+
+def test_compare_binaries_runs_a_binary_against_itself():
+    """compare_binaries.py alternates two binaries and reports identical output for one binary
+    given twice (the beadchain CLI of CI's build, BEADCHAIN_CLI)."""
+    import subprocess
+    binary = os.environ.get("BEADCHAIN_CLI")
+    if not binary or not os.path.exists(binary):
+        import pytest
+        pytest.skip("BEADCHAIN_CLI not set")
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "compare_binaries.py")
+    out = subprocess.run([sys.executable, script, binary, binary, "--repeat", "2",
+                          "--case", "striker:1e-4"], capture_output=True, text=True, check=True).stdout
+    rows = [line for line in out.splitlines() if line.startswith("| striker |")]
+    assert len(rows) == 1, out
+    cells = [c.strip() for c in rows[0].strip("|").split("|")]
+    assert cells[1] == "1e-4" and cells[5] == "yes", rows[0]
+    assert float(cells[4]) > 0.0

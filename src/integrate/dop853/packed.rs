@@ -8,13 +8,15 @@
 //! its arithmetic (`valgrind --tool=callgrind`: about 14 000 instructions per step of a 6-bead
 //! cluster outside its right-hand sides).
 //!
-//! Here the stages are also kept **packed** by groups of 4 components, the 16 stages of a group
-//! side by side: component `i = 4g + l` of stage `j` at `((16g + j)·4 + l)`. A sum runs group by
-//! group with the partial sums of its 4 components in registers, over the nonzero coefficients
-//! of a row written out at compile time ([`Row`]: the zero `a_sj` are never visited, and each
-//! term is one 4-wide load, multiplication and addition). Each component is summed in the same order as
-//! before (`0.0 + c_first K_first`, then `+ c_j K_j` in increasing `j`), so every result is
-//! bit-identical to the stage-after-stage loop (`tests.rs` holds them equal).
+//! Here, for states of up to [`PACKED_MAX_LEN`] numbers, the stages are also kept **packed** by
+//! groups of 4 components, the 16 stages of a group side by side: component `i = 4g + l` of
+//! stage `j` at `((16g + j)·4 + l)`. A sum runs group by group with the partial sums of its 4
+//! components in registers, over the nonzero coefficients of a row written out at compile time
+//! ([`Row`]: the zero `a_sj` are never visited, and each term is a load, a multiplication and
+//! an addition of 4 lanes). Each component is summed in the same order as the plain loop
+//! ([`stage_sum`]: `0.0 + c_first K_first`, then `+ c_j K_j` in increasing `j`), so every result
+//! is bit-identical to it (`tests.rs` holds them equal). Longer states use the plain loops,
+//! which vectorise 4-wide there ([`use_packed`]). Measured in docs/engines.md (2026-11-26).
 //!
 //! [`Dop853`]: super::Dop853
 
