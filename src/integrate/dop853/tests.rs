@@ -1,6 +1,7 @@
 //! Tests of [`Dop853`] on bead chains (accuracy against references, step bookkeeping,
 //! continuous output, checkpoints).
 
+use super::coefficients::{A, E3, E5};
 use super::*;
 use crate::integrate::test_util::{striker, uniform_chain};
 use crate::integrate::{ChainRange, DEFAULT_ATOL};
