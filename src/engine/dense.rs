@@ -15,7 +15,9 @@ use crate::integrate::auto::Auto;
 use crate::integrate::dop853::Dop853;
 use crate::integrate::radau5::Radau5;
 use crate::integrate::verlet::Verlet;
-use crate::integrate::{dissipated_at, ChainRange, Integrator, Method, System, Tolerances};
+use crate::integrate::{
+    dissipated_at, ChainRange, DissipationWeight, Integrator, Method, System, Tolerances,
+};
 use crate::scene::Scene;
 use std::time::Instant;
 
@@ -85,6 +87,8 @@ impl<'a> DenseEngine<'a> {
             scales: chain.scales(&scene.u0, &scene.v0),
             v_frame: 0.0,
             u_origin: 0.0,
+            // never restarted: E_d's weight is relative to each step's own increment
+            dissipation: DissipationWeight::Step,
         };
         let mut e = Self {
             scene,
@@ -250,6 +254,8 @@ impl Engine for DenseEngine<'_> {
             scales: self.scene.chain.scales(&s.u, v),
             v_frame: 0.0,
             u_origin: 0.0,
+            // never restarted: E_d's weight is relative to each step's own increment
+            dissipation: DissipationWeight::Step,
         };
         self.integ = make_integrator(self.cfg, n, tol);
         let sys = self.sys();

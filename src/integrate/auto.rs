@@ -405,6 +405,7 @@ mod tests {
             scales: chain.scales(&u, &v),
             v_frame: 0.0,
             u_origin: 0.0,
+            dissipation: Default::default(),
         };
         let sys = ChainRange::whole(&chain);
         let mut a = Auto::new(6, tol, SolverKind::Auto, false);
@@ -440,6 +441,7 @@ mod tests {
             scales: chain.scales(u, v),
             v_frame: 0.0,
             u_origin: 0.0,
+            dissipation: Default::default(),
         };
         let (chain6, chain4) = (uniform_chain(6), uniform_chain(4));
         let (u6, v6) = striker(6, 1.0);

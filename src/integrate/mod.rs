@@ -196,6 +196,25 @@ pub struct Tolerances {
     /// is relative to its distance from the wall that its force depends on, not to how far it
     /// travelled to get there.
     pub u_origin: f64,
+    /// What the relative part of the dissipated energy's error weight is taken on in DOP853
+    /// ([`Tolerances::weight_e`]; Radau IIA's estimate is always relative to `E_d` since the
+    /// reset).
+    pub dissipation: DissipationWeight,
+}
+
+/// What the relative part of the error weight of the dissipated energy `E_d` (the extra state
+/// of dissipative systems) is relative to.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum DissipationWeight {
+    /// `|E_d|` since the integrator's last reset: a hybrid cluster, restarted at every gap
+    /// event, so `E_d` is what its current contacts dissipated.
+    #[default]
+    SinceReset,
+    /// The step's own increment `|ΔE_d|`: an integration that is never restarted (the dense
+    /// engine), where `E_d` since the start grows to a fraction of `E_0` and an error weight
+    /// `rtol·E_d` would let every step across a contact's onset or release err by that much
+    /// (40 damped beads, rtol 1e-10: balance error 1.9e-7, 1931·rtol; now 1.3e-12).
+    Step,
 }
 
 impl Tolerances {
@@ -218,8 +237,9 @@ impl Tolerances {
                     .abs()
                     .max((v_new + self.v_frame).abs())
     }
-    /// Error weight of the dissipated energy (the extra state `E_d` of dissipative systems):
-    /// `atol·E + rtol·|E_d|`, with `E` the run's energy scale (1 when it has none).
+    /// Error weight of the dissipated energy (the extra state `E_d` of dissipative systems)
+    /// over a step from `d_old` to `d_new`: `atol·E + rtol·|E_d|` (or `rtol·|ΔE_d|`, see
+    /// [`DissipationWeight`]), with `E` the run's energy scale (1 when it has none).
     #[inline]
     pub fn weight_e(&self, d_old: f64, d_new: f64) -> f64 {
         let e = if self.scales.energy > 0.0 {
@@ -227,7 +247,11 @@ impl Tolerances {
         } else {
             1.0
         };
-        self.atol * e + self.rtol * d_old.abs().max(d_new.abs())
+        let rel = match self.dissipation {
+            DissipationWeight::SinceReset => d_old.abs().max(d_new.abs()),
+            DissipationWeight::Step => (d_new - d_old).abs(),
+        };
+        self.atol * e + self.rtol * rel
     }
     /// Per-bead velocity scales `V_i` of beads with masses `mass` into `out` (see
     /// [`Scales::bead_velocity`]). No allocation; the integrators call it once per step.

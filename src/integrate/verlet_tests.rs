@@ -15,6 +15,7 @@ fn tolerances(chain: &Chain, u: &[f64], v: &[f64], rtol: f64) -> Tolerances {
         scales: chain.scales(u, v),
         v_frame: 0.0,
         u_origin: 0.0,
+        dissipation: Default::default(),
     }
 }
 

@@ -75,7 +75,7 @@ impl Hybrid<'_> {
     /// Gives beads `a..b` of one cluster the velocity `v` at `t` (the cluster settled at `t`):
     /// the cluster restarts from its state with the new velocities.
     fn replace_velocity(&mut self, a: usize, b: usize, t: f64, v: f64) {
-        let cl = self.remove_cluster(self.st.owner[a]);
+        let cl = self.remove_cluster(self.st.owner[a], t);
         let (lo, hi) = (cl.lo, cl.hi);
         let us: Vec<f64> = (lo..hi).map(|k| cl.u_at(t, k)).collect();
         let mut vs: Vec<f64> = (lo..hi).map(|k| cl.v_at(t, k)).collect();

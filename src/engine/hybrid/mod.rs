@@ -225,6 +225,7 @@ impl<'a> Hybrid<'a> {
             scales,
             v_frame: 0.0,
             u_origin: 0.0,
+            dissipation: Default::default(),
         };
         let g = match &chain.field {
             Some(w) => w.iter().zip(&chain.mass).map(|(w, m)| w / m).collect(),

@@ -160,12 +160,15 @@ impl Hybrid<'_> {
         }
     }
 
-    /// Removes a cluster (its counters go to the run totals).
-    pub(super) fn remove_cluster(&mut self, slot: u32) -> Cluster {
+    /// Removes a cluster at time `t` (its counters go to the run totals, and the energy it
+    /// dissipated up to `t`, not up to the end of its last step, to the run's books: a merge
+    /// can read a cluster's state at `t` from the continuous output of a step that ends past
+    /// `t`, and the merged cluster integrates the dissipation from `t` on).
+    pub(super) fn remove_cluster(&mut self, slot: u32, t: f64) -> Cluster {
         let cl = self.clusters[slot as usize].take().expect("live cluster");
         if self.chain.is_dissipative() {
             let sys = cl.sys(self.chain, &self.st.stuck);
-            let t = cl.t_now.min(cl.integ.t());
+            let t = t.min(cl.integ.t());
             self.st.dissipated += crate::integrate::dissipated_at(&*cl.integ, &sys, t);
         }
         self.queue.remove(&Key::Cluster(slot));
@@ -406,7 +409,7 @@ impl Hybrid<'_> {
         }
         for side in [self.st.owner[c], self.st.owner[c + 1]] {
             if side != FREE && self.clusters[side as usize].is_some() {
-                let cl = self.remove_cluster(side);
+                let cl = self.remove_cluster(side, t);
                 self.recycle(cl);
             }
         }
@@ -478,7 +481,7 @@ impl Hybrid<'_> {
         };
         self.release_and_unstick(slot, t);
         let h = self.inherited_step(slot);
-        let cl = self.remove_cluster(slot);
+        let cl = self.remove_cluster(slot, t);
         let m = hi - lo;
         let z = cl.integ.state();
         let fu = cl.frame_at(t);

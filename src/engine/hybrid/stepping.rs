@@ -210,7 +210,7 @@ impl Engine for HybridEngine<'_> {
         for slot in 0..h.clusters.len() {
             if let Some(cl) = h.clusters[slot].as_mut() {
                 cl.t_now = t;
-                h.remove_cluster(slot as u32);
+                h.remove_cluster(slot as u32, t);
             }
         }
         h.queue.clear();

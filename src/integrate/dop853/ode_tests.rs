@@ -79,6 +79,7 @@ fn unit_tol(rtol: f64, atol: f64) -> Tolerances {
         },
         v_frame: 0.0,
         u_origin: 0.0,
+        dissipation: Default::default(),
     }
 }
 
