@@ -143,3 +143,80 @@ fn energy_books_balance_within_100_rtol_in_every_frame() {
         bad.join("\n")
     );
 }
+
+/// 3 beads with viscoelastic `A = 1e308`: both engines wrote a snapshot as a success with the
+/// energy going 0.5 → 8e58. Refused now (exit 2, the key and contact named, no file).
+#[test]
+fn damping_too_strong_to_integrate_is_refused() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    for (law, g, ok) in [
+        ("viscoelastic", "1e308", false),
+        ("linear_dashpot", "1e200", false),
+        ("viscoelastic", "1e10", true),
+    ] {
+        let text = format!(
+            "[chain]\nbeads = 3\nlaw = \"{law}\"\ndamping = {g}\n[initial]\nstriker = 1.0\n\
+             [run]\nuntil = 10.0\n"
+        );
+        std::fs::write(dir.path().join("od.toml"), text).expect("write");
+        for engine in ["hybrid", "dense"] {
+            let o = common::bc(dir.path(), &["run", "od.toml", "--engine", engine]);
+            let err = String::from_utf8_lossy(&o.stderr);
+            if ok {
+                common::assert_ok(&o);
+                continue;
+            }
+            assert_eq!(o.status.code(), Some(2), "{law} {g} {engine}: {err}");
+            assert!(
+                err.contains("od.toml: [chain].damping: contact 0: damping")
+                    && err.contains("sticks at first touch")
+                    && err.lines().count() == 1,
+                "{err}"
+            );
+            assert!(!dir.path().join("od.snap").exists(), "no file written");
+        }
+    }
+}
+
+/// A snapshot whose frames do not balance (E_d off by 1e-4 of E_0 at rtol 1e-8) is flagged by
+/// `inspect`, and a run's summary flags the same through [`beadchain::engine::balance_note`].
+#[test]
+fn balance_error_above_1000_rtol_is_reported() {
+    use beadchain::snapshot::{Header, RunSummary, Snapshot, SnapshotWriter};
+    let sc = scene(
+        "[scene]\nname = \"books\"\n[chain]\nbeads = 3\nlaw = \"viscoelastic\"\ndamping = 0.1\n\
+         [initial]\nstriker = 1.0\n[run]\nuntil = 10.0\n",
+    );
+    let dir = tempfile::tempdir().expect("tempdir");
+    let inspect_of = |d_end: f64| {
+        let p = dir.path().join(format!("b{d_end}.snap"));
+        let h = Header::new(
+            sc.clone(),
+            Engine::Hybrid,
+            Method::Auto,
+            1e-8,
+            1e-12,
+            "test".into(),
+        );
+        let mut w = SnapshotWriter::create(&p, &h).expect("create");
+        let (u1, v1) = ([0.0, 0.0, 0.0], [0.5, 0.0, 0.0]);
+        w.set_dissipated(0.0);
+        w.write_frame(0.0, &sc.u0, &sc.v0).expect("frame");
+        w.set_dissipated(d_end);
+        w.write_frame(10.0, &u1, &v1).expect("frame");
+        w.finish(&[], &RunSummary::default()).expect("finish");
+        let snap = Snapshot::open(&p).expect("open");
+        beadchain::export::inspect(&snap, &sc.chain)
+    };
+    // E_0 = 0.5, E_end = 0.125: the books balance with E_d = 0.375
+    let good = inspect_of(0.375);
+    assert!(!good.contains("energy balance error"), "{good}");
+    let bad = inspect_of(0.375 + 5e-5);
+    assert!(
+        bad.contains("warning:     energy balance error 1.000e-4 is 10000x rtol 1e-8"),
+        "{bad}"
+    );
+    assert!(beadchain::engine::balance_note(9.9e-6, 1e-8).is_none());
+    assert!(beadchain::engine::balance_note(1.1e-5, 1e-8).is_some());
+    assert!(beadchain::engine::balance_note(f64::NAN, 1e-8).is_some());
+}

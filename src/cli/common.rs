@@ -208,6 +208,9 @@ pub fn print_outcome(
         writeln!(w, "warning: {note}")?;
     }
     if out.dissipated != 0.0 {
+        if let Some(note) = beadchain::engine::balance_note(out.relative_energy_error(), cfg.rtol) {
+            eprintln!("beadchain: warning: {}: {note}", scene.name);
+        }
         writeln!(
             w,
             "energy {:.12e} -> {:.12e}, dissipated {:.12e} (balance error {:.3e}); momentum {:.12e} -> {:.12e}",

@@ -274,6 +274,22 @@ impl Deviation {
     }
 }
 
+/// A run whose energy balance error exceeds this many `rtol` is reported as unresolved
+/// ([`balance_note`]): the books promise `100·rtol` ([`crate::model::Chain::loses_energy`]
+/// scenes, `tests/energy_books.rs`), so 1000 means something went wrong, not noise.
+pub const BALANCE_WARNING: f64 = 1000.0;
+
+/// The warning of a run (or snapshot) that loses energy and whose relative balance error
+/// `|E + E_d − E_0|/S` is above [`BALANCE_WARNING`]` · rtol`; `None` otherwise.
+pub fn balance_note(balance: f64, rtol: f64) -> Option<String> {
+    (!(balance <= BALANCE_WARNING * rtol)).then(|| {
+        format!(
+            "energy balance error {balance:.3e} is {:.0}x rtol {rtol:e} (more than {BALANCE_WARNING}x): the dissipated energy is not resolved; rerun with a smaller --rtol or --method radau5 to check",
+            balance / rtol
+        )
+    })
+}
+
 impl RunOutcome {
     /// Relative total-energy error `|E_end − E_0| / S` with `S` the larger of `|E_0|` and
     /// [`RunOutcome::energy_scale`]; the absolute error when both are 0 (never NaN/inf).

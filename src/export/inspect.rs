@@ -135,6 +135,9 @@ fn energy_lines(s: &mut String, snap: &Snapshot, chain: &Chain) {
                     "dissipated:  {} by the last frame (balance error {bal:.3e})",
                     Num(d1 - d0)
                 );
+                if let Some(note) = crate::engine::balance_note(bal.abs(), snap.header().rtol) {
+                    let _ = writeln!(s, "warning:     {note}");
+                }
             }
         }
         (Err(e), _) if !snap.header().output.is_full() => {

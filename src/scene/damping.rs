@@ -349,3 +349,47 @@ fn check_coefficient(ctx: &Ctx, key: &str, g: f64) -> Result<(), SceneError> {
         Err(ctx.err(key, format!("must be a finite number >= 0, got {g}")))
     }
 }
+
+/// Largest damping ratio `ζ` a contact may have ([`check_scale`]).
+pub const MAX_DAMPING_RATIO: f64 = 1e100;
+
+/// Refuses damping too strong to integrate: a contact's ratio of its damping rate to the run's
+/// time scale `T = L/V` ([`crate::model::Chain::scales`]), `ζ = A/T` (viscoelastic) or
+/// `ζ = c·T/μ` (linear dashpot, `μ` the reduced mass; a wall's bead mass), above
+/// [`MAX_DAMPING_RATIO`]. Such a contact relaxes `ζ` times faster than it oscillates: it sticks
+/// at first touch, and its force overflows the integration (3 beads, `A = 1e308`: both engines
+/// wrote a snapshot with the energy going 0.5 → 8e58).
+pub(crate) fn check_scale(ctx: &Ctx, scene: &crate::scene::Scene) -> Result<(), SceneError> {
+    let c = &scene.chain;
+    let Some(d) = &c.damping else {
+        return Ok(());
+    };
+    let t = c.scales(&scene.u0, &scene.v0).time();
+    let ratio = |g: f64, mu: f64| match d.law {
+        DampingLaw::Viscoelastic => g / t,
+        DampingLaw::LinearDashpot => g * t / mu,
+    };
+    let too_strong = |z: f64| !(z <= MAX_DAMPING_RATIO);
+    let advice = "a contact this overdamped sticks at first touch: give a smaller `damping`, \
+                  or a [hard] contact with restitution = 0";
+    let n = c.mass.len();
+    for (k, &g) in d.contact.iter().enumerate() {
+        let mu = c.mass[k] * c.mass[k + 1] / (c.mass[k] + c.mass[k + 1]);
+        let z = ratio(g, mu);
+        if too_strong(z) {
+            let msg = format!("damping {g:e} relaxes the contact {z:.1e} times faster than the run's time scale T = {t:.3e} (ratio at most {MAX_DAMPING_RATIO:e}): {advice}");
+            return Err(ctx.index_err("[chain].damping", Per::Contact, k, msg));
+        }
+    }
+    for (side, wall, g, m) in [
+        ("left", &c.left_wall, d.left_wall, c.mass[0]),
+        ("right", &c.right_wall, d.right_wall, c.mass[n - 1]),
+    ] {
+        let z = ratio(g, m);
+        if wall.is_some() && too_strong(z) {
+            let msg = format!("damping {g:e} relaxes the wall contact {z:.1e} times faster than the run's time scale T = {t:.3e} (ratio at most {MAX_DAMPING_RATIO:e}): {advice}");
+            return Err(ctx.err(&format!("[walls].{side}.damping"), msg));
+        }
+    }
+    Ok(())
+}

@@ -33,6 +33,7 @@ pub(crate) fn validate_in(scene: &Scene, file: &str) -> Result<Vec<String>, Scen
     check_walls(&ctx, scene, &mut warnings)?;
     check_run(&ctx, &scene.run)?;
     check_scales(&ctx, scene)?;
+    super::damping::check_scale(&ctx, scene)?;
     warn_soft_contacts(file, &scene.chain, &mut warnings);
     let c = &scene.chain;
     let n = c.mass.len();
