@@ -7,6 +7,12 @@
 //! ([`crate::engine::PauseAt::frames`]) it returns [`Stop::Frame`] after each frame with the
 //! clock at the frame (the integrator may be a step ahead; [`Engine::state`] comes from its
 //! continuous output), and the next advance continues with the clock it had before the pause.
+//!
+//! **Free fall.** A chain in a field without walls is integrated relative to its free fall
+//! ([`crate::model::Chain::free_fall`]): the integrator holds `w = u − ½ g t²`, `ẇ = v − g t`
+//! of the chain less the field's common part, so its error weights follow the beads' motion
+//! relative to the falling chain, not the common velocity `g t`; frames and states are given in
+//! the lab frame.
 
 use super::checkpoint::{DenseState, EngineState};
 use super::stepper::{check_target, outcome_at, Engine, PauseAt, State, Stop};
@@ -18,6 +24,7 @@ use crate::integrate::verlet::Verlet;
 use crate::integrate::{
     dissipated_at, ChainRange, DissipationWeight, Integrator, Method, System, Tolerances,
 };
+use crate::model::Chain;
 use crate::scene::Scene;
 use std::time::Instant;
 
@@ -70,6 +77,14 @@ pub struct DenseEngine<'a> {
     pause: PauseAt,
     /// The clock before a [`Stop::Frame`] moved it to the frame (restored by the next advance).
     paused_clock: Option<f64>,
+    /// The free fall the chain is integrated relative to (module docs): `g` and the chain less
+    /// the field's common part (`None`: the scene's chain, in the lab frame).
+    fall: (f64, Option<Chain>),
+}
+
+/// The chain the integrator sees: the scene's, or the one relative to its free fall.
+fn frame_chain<'c>(scene: &'c Scene, fall: &'c Option<Chain>) -> &'c Chain {
+    fall.as_ref().unwrap_or(&scene.chain)
 }
 
 impl<'a> DenseEngine<'a> {
@@ -104,10 +119,12 @@ impl<'a> DenseEngine<'a> {
             buf: vec![0.0; 2 * n],
             pause: PauseAt::default(),
             paused_clock: None,
+            fall: chain.free_fall(),
         };
         match from {
             None => {
-                let sys = ChainRange::whole(chain);
+                // at t = 0 the free-falling frame is the lab frame
+                let sys = ChainRange::whole(frame_chain(scene, &e.fall.1));
                 e.integ.reset(&sys, 0.0, &scene.u0, &scene.v0);
             }
             Some(d) => {
@@ -124,8 +141,19 @@ impl<'a> DenseEngine<'a> {
         Ok(e)
     }
 
-    fn sys(&self) -> ChainRange<'a> {
-        ChainRange::whole(&self.scene.chain)
+    fn sys(&self) -> ChainRange<'_> {
+        ChainRange::whole(frame_chain(self.scene, &self.fall.1))
+    }
+
+    /// The integrated state `z = (w, ẇ)` at `t` in the lab frame, `u = w + ½ g t²`,
+    /// `v = ẇ + g t` (module docs); untouched without a free fall.
+    fn to_lab(&self, t: f64, z: &mut [f64]) {
+        let g = self.fall.0;
+        if g != 0.0 {
+            let n = z.len() / 2;
+            z[..n].iter_mut().for_each(|x| *x += 0.5 * g * t * t);
+            z[n..].iter_mut().for_each(|x| *x += g * t);
+        }
     }
 
     /// Dissipated energy at `t` (within the last step).
@@ -143,6 +171,9 @@ impl<'a> DenseEngine<'a> {
                 return Ok(None);
             }
             self.integ.dense(tf, &mut self.buf);
+            let mut z = std::mem::take(&mut self.buf);
+            self.to_lab(tf, &mut z);
+            self.buf = z;
             if self.scene.chain.loses_energy() {
                 obs.dissipated(tf, self.dissipated(tf))?;
             }
@@ -192,7 +223,7 @@ impl Engine for DenseEngine<'_> {
             if stop {
                 return Ok(Stop::Requested { t: self.clock });
             }
-            let sys = self.sys();
+            let sys = ChainRange::whole(frame_chain(self.scene, &self.fall.1));
             self.integ.step(&sys as &dyn System, self.cfg.until)?;
             self.clock = self.integ.t().min(until);
             if let Some(max) = self.cfg.max_steps {
@@ -225,6 +256,7 @@ impl Engine for DenseEngine<'_> {
         } else {
             self.integ.dense(self.clock, &mut z);
         }
+        self.to_lab(self.clock, &mut z);
         let v = z.split_off(n);
         State {
             t: self.clock,
@@ -258,8 +290,12 @@ impl Engine for DenseEngine<'_> {
             dissipation: DissipationWeight::Step,
         };
         self.integ = make_integrator(self.cfg, n, tol);
-        let sys = self.sys();
-        self.integ.reset(&sys, self.clock, &s.u, v);
+        // back to the free-falling frame (module docs)
+        let (t, g) = (self.clock, self.fall.0);
+        let sys = ChainRange::whole(frame_chain(self.scene, &self.fall.1));
+        let w: Vec<f64> = s.u.iter().map(|x| x - 0.5 * g * t * t).collect();
+        let wv: Vec<f64> = v.iter().map(|x| x - g * t).collect();
+        self.integ.reset(&sys, t, &w, &wv);
         Ok(())
     }
 

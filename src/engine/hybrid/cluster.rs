@@ -6,6 +6,10 @@
 //! for `w` are those of `u` (eq. 7), while overlaps of 1e-12 stay representable even when the beads
 //! have travelled far (relative form). A cluster that holds a chain end with a wall uses the
 //! absolute frame (`U = V = 0`), because the wall force depends on the absolute position.
+//!
+//! A chain in a field without walls falls freely ([`Chain::free_fall`]): the frame falls with
+//! it, `U + V τ + ½ g τ²` (`τ = t − t_f`), and the cluster integrates the chain less the field's
+//! common part, so a uniform field leaves the integrated numbers those of the chain without one.
 
 use crate::integrate::{Integrator, System};
 use crate::model::Chain;
@@ -143,6 +147,8 @@ pub struct Cluster {
     pub frame_v: f64,
     /// Frame reference time `t_f`.
     pub frame_t: f64,
+    /// Frame acceleration `g` (the chain's free fall, [`Chain::free_fall`]; 0 in general).
+    pub frame_g: f64,
     /// The cluster's integrator (state `w`, `ẇ`).
     pub integ: Box<dyn Integrator>,
     /// The cluster's current time: `integ.t()`, or the earlier time it is parked at.
@@ -166,7 +172,23 @@ impl Cluster {
     /// Frame displacement at `t`.
     #[inline]
     pub fn frame_at(&self, t: f64) -> f64 {
-        self.frame_u + self.frame_v * (t - self.frame_t)
+        let tau = t - self.frame_t;
+        let u = self.frame_u + self.frame_v * tau;
+        if self.frame_g == 0.0 {
+            u
+        } else {
+            u + 0.5 * self.frame_g * tau * tau
+        }
+    }
+
+    /// Frame velocity at `t`.
+    #[inline]
+    pub fn frame_vel(&self, t: f64) -> f64 {
+        if self.frame_g == 0.0 {
+            self.frame_v
+        } else {
+            self.frame_v + self.frame_g * (t - self.frame_t)
+        }
     }
 
     /// Local displacement `w` of global bead `i` at `t` (continuous output).
@@ -184,7 +206,7 @@ impl Cluster {
     /// Global velocity of bead `i` at `t`.
     #[inline]
     pub fn v_at(&self, t: f64, i: usize) -> f64 {
-        self.frame_v + self.integ.dense_at(t, self.m() + i - self.lo)
+        self.frame_vel(t) + self.integ.dense_at(t, self.m() + i - self.lo)
     }
 
     /// The system this cluster integrates (`stuck`: the engine's flags, one per contact).

@@ -220,7 +220,9 @@ impl Hybrid<'_> {
         let tol = &self.tol;
         beads.into_iter().any(|i| {
             let mi = self.chain.mass[i];
-            let weight = tol.atol * tol.scales.bead_velocity(mi) + tol.rtol * cl.v_at(t, i).abs();
+            // the velocity relative to the chain's free fall, as the cluster's weights take it
+            let v = cl.v_at(t, i) - cl.frame_g * t;
+            let weight = tol.atol * tol.scales.bead_velocity(mi) + tol.rtol * v.abs();
             impulse / mi > weight
         })
     }

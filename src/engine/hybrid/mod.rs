@@ -186,6 +186,9 @@ pub struct Hybrid<'a> {
     n: usize,
     /// Field acceleration per bead, `W_i / m_i`.
     g: Vec<f64>,
+    /// The chain's free fall ([`Chain::free_fall`]): the clusters' frames fall at `fall.0` and
+    /// they integrate `fall.1` (the chain less the field's common part), or `chain` if `None`.
+    fall: (f64, Option<Chain>),
     // ---- state
     /// Plain data (the checkpoint stores it as it is).
     st: HybridData,
@@ -238,6 +241,7 @@ impl<'a> Hybrid<'a> {
             theta: contact_threshold(chain, cfg.rtol, cfg.atol) * scales.length,
             n,
             g,
+            fall: chain.free_fall(),
             st: HybridData {
                 t: 0.0,
                 owner: vec![FREE; n],
@@ -476,7 +480,7 @@ impl<'a> Hybrid<'a> {
         let (lo, t0, t1) = {
             let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
             let sys = cluster::ClusterSys {
-                chain,
+                chain: self.fall.1.as_ref().unwrap_or(chain),
                 lo: cl.lo,
                 mass: &cl.mass,
                 pinned: cl.pinned,
@@ -551,7 +555,7 @@ impl<'a> Hybrid<'a> {
         let mut e = self.st.dissipated;
         if self.chain.is_dissipative() {
             for cl in self.clusters.iter().flatten() {
-                let sys = cl.sys(self.chain, &self.st.stuck);
+                let sys = cl.sys(self.fall.1.as_ref().unwrap_or(self.chain), &self.st.stuck);
                 e += crate::integrate::dissipated_at(&*cl.integ, &sys, t.min(cl.integ.t()));
             }
         }
@@ -574,7 +578,7 @@ impl<'a> Hybrid<'a> {
             return true;
         }
         if m == 1 {
-            let (u, v) = (cl.frame_at(cl.t_now) + z[0], cl.frame_v + z[1]);
+            let (u, v) = (cl.frame_at(cl.t_now) + z[0], cl.frame_vel(cl.t_now) + z[1]);
             return !self.wall_holds(cl.lo, u, v);
         }
         self.release_pin(cl).is_some()

@@ -171,7 +171,10 @@ impl Hybrid<'_> {
         }
         let w = self.soft_wall(side)?;
         let z = cl.integ.state();
-        let (u, v) = (cl.frame_at(cl.integ.t()) + z[0], cl.frame_v + z[1]);
+        let (u, v) = (
+            cl.frame_at(cl.integ.t()) + z[0],
+            cl.frame_vel(cl.integ.t()) + z[1],
+        );
         let s = if side == 0 { -1.0 } else { 1.0 };
         Some((w.precompression + s * u, s * v, s * f[1]))
     }

@@ -66,13 +66,13 @@ impl Hybrid<'_> {
                 self.bv[k] = 0.0;
             }
         }
-        let tol = self.cluster_tol(lo, hi, fv);
+        let tol = self.cluster_tol(lo, hi, fv, t);
         let mut integ = (self.spare.pop())
             .and_then(|mut i| i.renew(m, tol).then_some(i))
             .unwrap_or_else(|| make_integrator(self.cfg, m, tol));
         let rigid = self.st.stuck[lo..hi - 1].contains(&true);
         let sys = ClusterSys {
-            chain,
+            chain: self.fall.1.as_ref().unwrap_or(chain),
             lo,
             mass: &mass,
             pinned,
@@ -88,6 +88,8 @@ impl Hybrid<'_> {
             frame_u: fu,
             frame_v: fv,
             frame_t: t,
+            // 0 with walls (the only clusters in the lab frame)
+            frame_g: self.fall.0,
             integ,
             t_now: t,
             pending: None,
@@ -147,14 +149,25 @@ impl Hybrid<'_> {
     /// ([`Tolerances::u_origin`]): a bead that flew 2 length units to a soft wall was held to
     /// `2·rtol` in position, far more than its overlap's share, and a single bounce lost up to
     /// 300·rtol of the energy (`tests/regressions.rs`).
-    pub(super) fn cluster_tol(&self, lo: usize, hi: usize, frame_v: f64) -> Tolerances {
+    pub(super) fn cluster_tol(
+        &self,
+        lo: usize,
+        hi: usize,
+        frame_v: f64,
+        frame_t: f64,
+    ) -> Tolerances {
         let u_origin = match (&self.chain.left_wall, &self.chain.right_wall) {
             (Some(w), _) if lo == 0 => w.precompression,
             (_, Some(w)) if hi == self.n => -w.precompression,
             _ => 0.0,
         };
         Tolerances {
-            v_frame: frame_v,
+            // relative to the chain's free fall at the frame's time (Chain::free_fall)
+            v_frame: if self.fall.0 == 0.0 {
+                frame_v
+            } else {
+                frame_v - self.fall.0 * frame_t
+            },
             u_origin,
             ..self.tol
         }
@@ -167,7 +180,7 @@ impl Hybrid<'_> {
     pub(super) fn remove_cluster(&mut self, slot: u32, t: f64) -> Cluster {
         let cl = self.clusters[slot as usize].take().expect("live cluster");
         if self.chain.is_dissipative() {
-            let sys = cl.sys(self.chain, &self.st.stuck);
+            let sys = cl.sys(self.fall.1.as_ref().unwrap_or(self.chain), &self.st.stuck);
             let t = t.min(cl.integ.t());
             self.st.dissipated += crate::integrate::dissipated_at(&*cl.integ, &sys, t);
         }
@@ -355,7 +368,7 @@ impl Hybrid<'_> {
         let m = cl.m();
         let z = &mut self.bz[..2 * m];
         let sys = ClusterSys {
-            chain,
+            chain: self.fall.1.as_ref().unwrap_or(chain),
             lo: cl.lo,
             mass: &cl.mass,
             pinned: cl.pinned,
@@ -488,7 +501,7 @@ impl Hybrid<'_> {
         let (mut u, mut v) = (std::mem::take(&mut self.eu), std::mem::take(&mut self.ev));
         for k in 0..m {
             u[k] = fu + z[k];
-            v[k] = cl.frame_v + z[m + k];
+            v[k] = cl.frame_vel(t) + z[m + k];
         }
         let mut start = lo;
         for i in lo..hi {

@@ -70,7 +70,7 @@ impl Hybrid<'_> {
             .map(|(k, c)| {
                 let Some(c) = c else { return Ok(None) };
                 let m = (c.hi - c.lo) as usize;
-                let tol = self.cluster_tol(c.lo as usize, c.hi as usize, c.frame.1);
+                let tol = self.cluster_tol(c.lo as usize, c.hi as usize, c.frame.1, c.frame.2);
                 let mut integ = make_integrator(self.cfg, m, tol);
                 integ
                     .load(&c.integ)
@@ -81,6 +81,7 @@ impl Hybrid<'_> {
                     frame_u: c.frame.0,
                     frame_v: c.frame.1,
                     frame_t: c.frame.2,
+                    frame_g: self.fall.0,
                     integ,
                     t_now: c.t_now,
                     pending: c.pending,
