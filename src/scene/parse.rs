@@ -79,7 +79,10 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
         DEFAULT_EXPONENT,
     )?;
     let inertia = material::inertia(ctx, &t, &specs, len, physical)?;
-    let scales = inertia.scales;
+    let scales = match inertia.scales {
+        Some(sc) => Some(sc),
+        None => tables::computer_scales(ctx, &t)?,
+    };
     let precompression = match &specs.precompression {
         Some(s) => {
             let p = s.resolve(ctx, "[chain].precompression", len.nc, Per::Contact, 0.0)?;
