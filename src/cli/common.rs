@@ -88,11 +88,12 @@ pub struct Common {
 /// step's stages) dominates the error estimate: a warning, not an error.
 const RTOL_F64_FLOOR: f64 = 1e-14;
 
-/// Loads a scene (file or preset) and prints its validation warnings on standard error.
+/// Loads a scene (file or preset) and prints its validation warnings on standard error (each
+/// warning already names the scene: `beadchain: warning: NAME: KEY: ...`).
 pub fn load_scene(spec: &str) -> Result<Scene> {
     let scene = scene::load(spec)?;
     for w in scene::validate(&scene)? {
-        eprintln!("beadchain: warning: {}: {w}", scene.name);
+        eprintln!("beadchain: warning: {w}");
     }
     Ok(scene)
 }
