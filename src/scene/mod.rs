@@ -209,6 +209,7 @@ mod load;
 mod material;
 mod output;
 pub mod parse;
+pub mod plausible;
 pub mod presets;
 pub mod selection;
 mod settings;
@@ -220,7 +221,7 @@ pub mod values;
 mod walls;
 
 pub use error::SceneError;
-pub use load::load;
+pub use load::{load, load_with_material};
 pub use parse::parse_str;
 pub use presets::{preset, presets, PresetInfo};
 pub use units::UnitScales;
