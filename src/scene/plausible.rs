@@ -111,7 +111,7 @@ pub fn warnings(
     let mut fastest: Option<(usize, f64)> = None;
     for k in 0..nb - 1 {
         let w = v0[k] - v0[k + 1];
-        if c.hard_restitution(k).is_some() || !(w > 0.0) {
+        if c.hard_restitution(k).is_some() || w <= 0.0 || w.is_nan() {
             continue;
         }
         if fastest.is_none_or(|(_, f)| w > f) {
