@@ -14,6 +14,7 @@
 use anyhow::{Context, Result};
 use beadchain::analysis::summary::{ratio, InterfaceSplit};
 use beadchain::analysis::{summarize, Summary, SummaryError, SummaryOptions};
+use beadchain::scene::UnitScales;
 use beadchain::snapshot::{Frame, Snapshot};
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -58,11 +59,24 @@ fn or_why(x: Option<f64>, prec: usize, why: &str) -> String {
 
 /// Runs `beadchain analyze`; returns the exit code.
 pub fn cmd_analyze(args: AnalyzeArgs) -> Result<i32> {
-    let a = analyze(&args)?;
+    let (a, units) = analyze(&args)?;
     let o = if args.json {
         json(&a)
     } else {
         let mut o = summary(&args, &a);
+        if let Some(u) = units {
+            let j = u.mass / (u.time * u.time);
+            let _ = writeln!(
+                o,
+                "in SI: t = {:.6e} s to {:.6e} s, energy initial {:.6e} J, final {:.6e} J (time unit {:.6e} s, mass unit {:.6e} kg)",
+                a.t_first * u.time,
+                a.t_last * u.time,
+                a.e0 * j,
+                a.e_end * j,
+                u.time,
+                u.mass
+            );
+        }
         if args.frames {
             o.push_str(&frames_table(&a));
         } else {
@@ -75,7 +89,7 @@ pub fn cmd_analyze(args: AnalyzeArgs) -> Result<i32> {
 }
 
 /// Reads the snapshot (every bead, both fields) and summarizes its frames.
-fn analyze(args: &AnalyzeArgs) -> Result<Summary> {
+fn analyze(args: &AnalyzeArgs) -> Result<(Summary, Option<UnitScales>)> {
     let snap =
         Snapshot::open(&args.snapshot).with_context(|| format!("{}", args.snapshot.display()))?;
     for w in snap.warnings() {
@@ -96,11 +110,13 @@ fn analyze(args: &AnalyzeArgs) -> Result<Summary> {
         fit_from: args.fit_from,
         fit_to: args.fit_to,
     };
-    summarize(chain, &views, &opts).map_err(|e| match e {
+    let units = snap.header().scene.units;
+    let summary = summarize(chain, &views, &opts).map_err(|e| match e {
         SummaryError::NoFrames => anyhow::anyhow!("the snapshot holds no frame"),
         SummaryError::Interface { .. } => anyhow::anyhow!("--{e}"),
         other => anyhow::anyhow!("{}: {other}", args.snapshot.display()),
-    })
+    })?;
+    Ok((summary, units))
 }
 
 fn summary(args: &AnalyzeArgs, a: &Summary) -> String {

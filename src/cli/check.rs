@@ -1,6 +1,6 @@
 //! `beadchain check`: prints the report of [`beadchain::check`] and its verdict.
 
-use super::common::{config, load_scene, Common};
+use super::common::{config, Common};
 use anyhow::{Context, Result};
 use beadchain::check::{check_with_progress, CheckReport};
 use beadchain::engine;
@@ -20,8 +20,9 @@ pub struct CheckArgs {
 
 /// Runs `beadchain check`; returns the exit code (1 when the engines disagree).
 pub fn cmd_check(a: CheckArgs) -> Result<i32> {
-    let scene = load_scene(&a.common.scene)?;
+    let (scene, material) = super::common::load_scene_with_material(&a.common.scene)?;
     let base = config(&scene, &a.common)?;
+    super::common::warn_implausible(&scene, material.as_ref(), &base, &a.common);
     engine::check_config(&scene, &base).with_context(|| scene.name.clone())?;
     let tol = a.tol.unwrap_or(1000.0 * base.rtol);
     compare(&scene, &base, tol, a.common.quiet)

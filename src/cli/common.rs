@@ -6,6 +6,7 @@ use anyhow::Result;
 use beadchain::engine::{RunConfig, RunOutcome};
 use beadchain::integrate::Method;
 use beadchain::linalg::SolverKind;
+use beadchain::scene::plausible::BeadMaterial;
 use beadchain::scene::{self, Engine, Scene};
 use clap::ValueEnum;
 use std::io::Write;
@@ -67,7 +68,7 @@ pub struct Common {
     /// [default: the scene's, else rtol/10^4, at least 1e-15 (1e-12 at the default rtol)].
     #[arg(long)]
     pub atol: Option<f64>,
-    /// End time [default: the scene's `[run] until`].
+    /// End time, computer units; --until-si for seconds [default: the scene's `[run] until`].
     #[arg(long)]
     pub until: Option<f64>,
     /// End time in seconds (physical scenes: divided by the scene's time unit β).
@@ -88,13 +89,38 @@ pub struct Common {
 /// step's stages) dominates the error estimate: a warning, not an error.
 const RTOL_F64_FLOOR: f64 = 1e-14;
 
-/// Loads a scene (file or preset) and prints its validation warnings on standard error.
+/// Loads a scene (file or preset) and prints its validation warnings on standard error (each
+/// warning already names the scene: `beadchain: warning: NAME: KEY: ...`).
 pub fn load_scene(spec: &str) -> Result<Scene> {
-    let scene = scene::load(spec)?;
+    load_scene_with_material(spec).map(|(s, _)| s)
+}
+
+/// [`load_scene`], with the SI bead material of a physical scene (for [`warn_implausible`]).
+pub fn load_scene_with_material(spec: &str) -> Result<(Scene, Option<BeadMaterial>)> {
+    let (scene, material) = scene::load_with_material(spec)?;
     for w in scene::validate(&scene)? {
-        eprintln!("beadchain: warning: {}: {w}", scene.name);
+        eprintln!("beadchain: warning: {w}");
     }
-    Ok(scene)
+    Ok((scene, material))
+}
+
+/// Prints the warnings of [`scene::plausible`] (a physical scene whose plain numbers look like
+/// SI values: a striker faster than sound, a run shorter than one contact, ...) for a run to
+/// `cfg.until`.
+pub fn warn_implausible(
+    scene: &Scene,
+    material: Option<&BeadMaterial>,
+    cfg: &RunConfig,
+    c: &Common,
+) {
+    let key = match (c.until, c.until_si) {
+        (Some(_), _) => "--until",
+        (None, Some(_)) => "--until-si",
+        _ => "[run].until",
+    };
+    for w in scene::plausible::warnings(scene, material, cfg.until, key) {
+        eprintln!("beadchain: warning: {w}");
+    }
 }
 
 /// `x` seconds in the computer time of `scene` (`x / β`, paper eq. 10); a one-line error naming
@@ -221,7 +247,7 @@ pub fn print_outcome(
             out.momentum_initial,
             out.momentum_final
         )?;
-        return Ok(());
+        return si_line(w, scene, out);
     }
     writeln!(
         w,
@@ -231,6 +257,30 @@ pub fn print_outcome(
         out.relative_energy_error(),
         out.momentum_initial,
         out.momentum_final
+    )?;
+    si_line(w, scene, out)
+}
+
+/// A physical scene's end time and energies in SI (time `t β`, energy `E m0/β²`, paper eq. 10).
+fn si_line(w: &mut dyn Write, scene: &Scene, out: &RunOutcome) -> Result<()> {
+    let Some(u) = scene.units else {
+        return Ok(());
+    };
+    let joule = |e: f64| e * u.mass / (u.time * u.time);
+    write!(
+        w,
+        "in SI: t = {:.6e} s, energy {:.6e} J -> {:.6e} J",
+        out.t_end * u.time,
+        joule(out.energy_initial),
+        joule(out.energy_final)
+    )?;
+    if out.dissipated != 0.0 {
+        write!(w, ", dissipated {:.6e} J", joule(out.dissipated))?;
+    }
+    writeln!(
+        w,
+        " (time unit {:.6e} s, mass unit {:.6e} kg)",
+        u.time, u.mass
     )?;
     Ok(())
 }

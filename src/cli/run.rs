@@ -2,7 +2,7 @@
 //! sink of [`super::ckpt`], and prints the run summary.
 
 use super::ckpt;
-use super::common::{config, load_scene, print_outcome, Common, EngineArg};
+use super::common::{config, load_scene_with_material, print_outcome, Common, EngineArg};
 use super::files::SizeLimit;
 use super::select::OutputArgs;
 use anyhow::{bail, Context, Result};
@@ -21,7 +21,8 @@ pub struct RunArgs {
     /// Engine [default: the scene's, else hybrid].
     #[arg(long, value_enum)]
     pub engine: Option<EngineArg>,
-    /// Output interval [default: the scene's `[run] every`, else first and last frame].
+    /// Output interval, computer units; --every-si for seconds [default: the scene's `[run]
+    /// every`, else first and last frame].
     #[arg(long)]
     pub every: Option<f64>,
     /// Output interval in seconds (physical scenes: divided by the scene's time unit β).
@@ -46,8 +47,9 @@ pub struct RunArgs {
 
 /// Runs `beadchain run`; returns the exit code.
 pub fn cmd_run(a: RunArgs) -> Result<i32> {
-    let mut scene = load_scene(&a.common.scene)?;
+    let (mut scene, material) = load_scene_with_material(&a.common.scene)?;
     let mut cfg = config(&scene, &a.common)?;
+    super::common::warn_implausible(&scene, material.as_ref(), &cfg, &a.common);
     if let Some(e) = a.engine {
         cfg.engine = e.into();
     }

@@ -36,7 +36,16 @@ pub fn inspect_with(snap: &Snapshot, chain: &Chain, damaged: &[(usize, String)])
     let _ = writeln!(s, "frames:      {n}");
     if n > 0 {
         let times = snap.frame_times();
-        let _ = writeln!(s, "time span:   {} .. {}", Num(times[0]), Num(times[n - 1]));
+        let _ = write!(s, "time span:   {} .. {}", Num(times[0]), Num(times[n - 1]));
+        if let Some(u) = snap.header().scene.units {
+            let _ = write!(
+                s,
+                " (SI: {:e} s .. {:e} s)",
+                times[0] * u.time,
+                times[n - 1] * u.time
+            );
+        }
+        let _ = writeln!(s);
         energy_lines(&mut s, snap, chain);
     }
     let _ = writeln!(s, "events:      {}", snap.events().len());
@@ -116,12 +125,17 @@ fn energy_lines(s: &mut String, snap: &Snapshot, chain: &Chain) {
     };
     match (energy(0), energy(n - 1)) {
         (Ok((e0, s0, d0)), Ok((e1, s1, d1))) => {
-            let _ = writeln!(
+            let _ = write!(
                 s,
                 "energy:      first frame {}, last frame {}",
                 Num(e0),
                 Num(e1)
             );
+            if let Some(u) = snap.header().scene.units {
+                let j = u.mass / (u.time * u.time);
+                let _ = write!(s, " (SI: {:e} J, {:e} J)", e0 * j, e1 * j);
+            }
+            let _ = writeln!(s);
             // Relative to the gross energy (meaningful when E0 = 0, e.g. rest under a field).
             let rel = crate::model::relative_energy_change(e0, e1, s0.max(s1)).copysign(e1 - e0);
             let _ = writeln!(s, "energy change (relative): {rel:.3e}");

@@ -3,7 +3,8 @@
 //! neither imports the other back.
 
 use super::error::{one_line, SceneError};
-use super::parse::parse_str;
+use super::parse::parse_with_material;
+use super::plausible::BeadMaterial;
 use super::presets;
 use super::Scene;
 use std::path::Path;
@@ -11,6 +12,11 @@ use std::path::Path;
 /// Load a scene: `spec` is a path to a `.toml` file; if no such file exists and `spec` is a
 /// preset name, the preset is loaded; otherwise the error names both possibilities.
 pub fn load(spec: &str) -> Result<Scene, SceneError> {
+    load_with_material(spec).map(|(s, _)| s)
+}
+
+/// [`load`], with the SI bead material of a physical scene ([`parse_with_material`]).
+pub fn load_with_material(spec: &str) -> Result<(Scene, Option<BeadMaterial>), SceneError> {
     let path = Path::new(spec);
     if path.exists() {
         let text = crate::files::read_text(path).map_err(|e| SceneError::Io {
@@ -18,10 +24,10 @@ pub fn load(spec: &str) -> Result<Scene, SceneError> {
             reason: one_line(&e.to_string()),
         })?;
         let base = path.parent().unwrap_or(Path::new("."));
-        return parse_str(&text, base, spec);
+        return parse_with_material(&text, base, spec);
     }
     if presets::presets().iter().any(|p| p.name == spec) {
-        return presets::preset(spec);
+        return presets::preset_with_material(spec);
     }
     Err(SceneError::NotFound {
         spec: one_line(spec),

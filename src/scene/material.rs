@@ -23,6 +23,7 @@ pub(super) struct Material {
     pub radius: Vec<f64>,
     pub young: Vec<f64>,
     pub poisson: Vec<f64>,
+    pub density: Vec<f64>,
     /// Per bead, the viscoelastic constant `A` (s) from `[units] viscosity_shear` and
     /// `viscosity_bulk` ([`units::brilliantov_a`]); `None` when the scene gives no viscosity.
     pub viscous_a: Option<Vec<f64>>,
@@ -121,6 +122,7 @@ fn physical_inertia(ctx: &Ctx, t: &Tables, s: &Specs, len: Len) -> Result<Inerti
             radius,
             young,
             poisson,
+            density,
             viscous_a,
         }),
     })

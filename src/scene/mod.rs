@@ -106,7 +106,7 @@
 //!
 //! ```toml
 //! [units]
-//! system = "physical"      # "dimensionless" (default) | "physical"
+//! system = "physical"      # "dimensionless" (default) | "physical" | "computer" (scene show)
 //! time_scale = "paper"     # "paper" (default): eq. 10 rescaling | "si": kg, s, m unchanged
 //! radius = 4.0e-3          # REQUIRED per bead, m
 //! young = 2.26e11          # REQUIRED per bead, Pa
@@ -129,6 +129,10 @@
 //! `β = sqrt(m0/(μ n0))` (eq. 10); lengths stay in metres. Eq. 11 is then eq. 7 with computer mass
 //! `m/m0`, computer prefactor `a/(μ n0)` (= `ã/n0`), force `W β²/m0`, velocity `v β`, time `t/β`,
 //! energy `E β²/m0`. The resolved scene's description records `β`, `m0`, `μ`, `n0`.
+//!
+//! `system = "computer"` (what `scene show` writes for a physical scene, [`show`]): explicit
+//! computer-unit values under the dimensionless rules, with the four scales `m0` (kg),
+//! `time_unit` (s), `mu`, `n0` given (all required), so SI output and `--until-si` still work.
 //!
 //! Plain keys always mean computer units. Physical scenes also accept SI twins, converted with
 //! `β`: `[initial] striker_si`, `striker_right_si`, `velocity_si` (m/s), `pulse.velocity_si`;
@@ -205,6 +209,7 @@ mod load;
 mod material;
 mod output;
 pub mod parse;
+pub mod plausible;
 pub mod presets;
 pub mod selection;
 mod settings;
@@ -216,7 +221,7 @@ pub mod values;
 mod walls;
 
 pub use error::SceneError;
-pub use load::load;
+pub use load::{load, load_with_material};
 pub use parse::parse_str;
 pub use presets::{preset, presets, PresetInfo};
 pub use units::UnitScales;

@@ -3,6 +3,7 @@
 //! docs; value forms and builders are in [`super::values`], physical units in [`super::units`].
 
 use super::error::{one_line, SceneError};
+use super::plausible::BeadMaterial;
 use super::validate::validate_in;
 use super::values::{Ctx, Per};
 use super::{arrays, initial, material, settings, tables, walls, Scene};
@@ -16,11 +17,22 @@ pub use super::material::{DEFAULT_MASS, DEFAULT_PREFACTOR};
 /// Parse scene text. `base_dir` resolves `{ file = ... }` CSVs; `origin` names the file in
 /// messages (its stem is the default scene name). The result is validated.
 pub fn parse_str(text: &str, base_dir: &Path, origin: &str) -> Result<Scene, SceneError> {
+    parse_with_material(text, base_dir, origin).map(|(scene, _)| scene)
+}
+
+/// [`parse_str`], with the SI bead material of a physical scene (`[units]` radius, young,
+/// density; `None` otherwise), which the resolved scene does not keep: the plausibility
+/// warnings of [`super::plausible`] need it.
+pub fn parse_with_material(
+    text: &str,
+    base_dir: &Path,
+    origin: &str,
+) -> Result<(Scene, Option<BeadMaterial>), SceneError> {
     let origin = one_line(origin);
     let root: Table = toml::from_str(text).map_err(|e| syntax_error(&origin, text, &e))?;
-    let scene = build(&root, base_dir, &origin)?;
+    let (scene, material) = build(&root, base_dir, &origin)?;
     validate_in(&scene, &origin)?;
-    Ok(scene)
+    Ok((scene, material))
 }
 
 /// Convert a TOML error into a one-line error with 1-based line/column.
@@ -55,7 +67,11 @@ fn syntax_error(file: &str, text: &str, e: &toml::de::Error) -> SceneError {
 /// ([`super::arrays`]), masses and prefactors ([`super::material`]), initial state and field
 /// ([`super::initial`]), walls ([`super::walls`]) and damping ([`super::damping`]), run settings
 /// with `[hard]` and `[output]` ([`super::settings`]).
-fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneError> {
+fn build(
+    root: &Table,
+    base_dir: &Path,
+    origin: &str,
+) -> Result<(Scene, Option<BeadMaterial>), SceneError> {
     let pre = Ctx {
         file: origin,
         base_dir,
@@ -79,7 +95,10 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
         DEFAULT_EXPONENT,
     )?;
     let inertia = material::inertia(ctx, &t, &specs, len, physical)?;
-    let scales = inertia.scales;
+    let scales = match inertia.scales {
+        Some(sc) => Some(sc),
+        None => tables::computer_scales(ctx, &t)?,
+    };
     let precompression = match &specs.precompression {
         Some(s) => {
             let p = s.resolve(ctx, "[chain].precompression", len.nc, Per::Contact, 0.0)?;
@@ -111,6 +130,11 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
     let [left_wall, right_wall] = walls;
     let (run, hard) = settings::run_settings(ctx, root, &t, scales, len.nb)?;
     let (name, description) = settings::name_and_description(ctx, &t, origin, scales)?;
+    let material = inertia.material.map(|m| BeadMaterial {
+        radius: m.radius,
+        young: m.young,
+        density: m.density,
+    });
     let mut scene = Scene {
         name,
         description,
@@ -132,5 +156,5 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Scene, SceneErro
         units: scales,
     };
     super::hard::default_collapse_interval(&mut scene);
-    Ok(scene)
+    Ok((scene, material))
 }

@@ -2,7 +2,8 @@
 //! `include_str!` so they work from any directory. `beadchain scenes` lists them.
 
 use super::error::SceneError;
-use super::parse::parse_str;
+use super::parse::parse_with_material;
+use super::plausible::BeadMaterial;
 use super::Scene;
 use std::path::Path;
 
@@ -141,11 +142,18 @@ pub const DEFAULT_PRESET: &str = "striker";
 /// Load a preset by name. Presets contain no `{ file = ... }` references; messages name the
 /// preset as `preset:NAME`.
 pub fn preset(name: &str) -> Result<Scene, SceneError> {
+    preset_with_material(name).map(|(s, _)| s)
+}
+
+/// [`preset`] with the SI bead material of a physical preset ([`parse_with_material`]).
+pub fn preset_with_material(name: &str) -> Result<(Scene, Option<BeadMaterial>), SceneError> {
     match PRESETS.iter().find(|p| p.name == name) {
-        Some(p) => parse_str(p.toml, Path::new("."), &format!("preset:{}", p.name)).map(|mut s| {
-            s.name = p.name.to_string();
-            s
-        }),
+        Some(p) => parse_with_material(p.toml, Path::new("."), &format!("preset:{}", p.name)).map(
+            |(mut s, m)| {
+                s.name = p.name.to_string();
+                (s, m)
+            },
+        ),
         None => Err(SceneError::NotFound {
             spec: super::error::one_line(name),
             presets: PRESETS

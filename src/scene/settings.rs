@@ -97,10 +97,16 @@ pub(super) fn name_and_description(
         if !description.is_empty() {
             description.push(' ');
         }
-        description.push_str(&format!(
-            "[physical units: time unit {:.6e} s, mass unit {:.6e} kg, mu {:e}, n0 {}; lengths in m]",
-            sc.time, sc.mass, sc.mu, sc.n0
-        ));
+        description.push_str(&units_note(&sc));
     }
     Ok((name, description))
+}
+
+/// The note a physical scene's description ends with (its unit scales; older snapshots are
+/// read back through it).
+pub(crate) fn units_note(sc: &UnitScales) -> String {
+    format!(
+        "[physical units: time unit {:.6e} s, mass unit {:.6e} kg, mu {:e}, n0 {}; lengths in m]",
+        sc.time, sc.mass, sc.mu, sc.n0
+    )
 }

@@ -2,14 +2,24 @@
 //! value after the builders (`alternate`, `random`, `taper`, ...) and the unit conversion
 //! (paper eqs. 10–11), in computer units.
 //!
-//! - [`to_toml`]: a complete dimensionless scene file with explicit arrays. Parsing it gives the
-//!   same chain, initial state and run settings bit for bit (floats are written in Rust's
-//!   shortest round-trip form), so a physical or randomly built scene can be frozen, shared or
-//!   edited as plain numbers. The unit scales of a physical scene stay in its description.
+//! - [`to_toml`]: a complete scene file with explicit arrays. Parsing it gives the same
+//!   resolved [`Scene`] (`==`, floats in Rust's shortest round-trip form, so bit for bit) and
+//!   therefore the same run: every key a scene can hold is written out — masses, exponents,
+//!   prefactors, precompression, the initial state, the field, walls (soft ones with their
+//!   damping), the contact law with one damping coefficient per contact (whatever gave it:
+//!   `damping`, `restitution` + `impact_speed`, or the material viscosities), `[hard]` with its
+//!   collapse interval, `[output]`, and `[run]` (until, every, rtol, atol, method, engine).
+//!   A physical scene becomes `[units] system = "computer"` with its four scales (`m0`,
+//!   `time_unit`, `mu`, `n0`): the values are in computer units, and the scales still convert
+//!   times, velocities and energies to SI (`run`, `inspect`, `export --units si`); the material
+//!   keys (`radius`, `young`, ...) and the `_si` keys are gone, having been applied. The note on
+//!   the scales that parsing appends to a physical scene's description is left out (parsing
+//!   appends it again).
 //! - [`to_csv`]: one row per bead (`bead,mass,u0,v0,force`) with the values of the contact to its
 //!   right (`exponent,prefactor,precompression,restitution`; empty on the last bead, and
 //!   `restitution` empty for a soft contact), readable by `pandas.read_csv` without options.
 
+use super::settings::units_note;
 use super::Scene;
 use crate::model::Wall;
 use std::fmt::Write as _;
@@ -27,7 +37,9 @@ fn quoted(s: &str) -> String {
     toml::Value::String(s.to_string()).to_string()
 }
 
-fn wall(w: &Wall) -> String {
+/// A wall's inline table; `damping` is the coefficient of a soft wall in a damped chain (a hard
+/// wall's follows from the contacts when parsed).
+fn wall(w: &Wall, damping: Option<f64>) -> String {
     let mut parts = Vec::new();
     match w.restitution {
         Some(e) => {
@@ -37,6 +49,9 @@ fn wall(w: &Wall) -> String {
         None => {
             parts.push(format!("exponent = {}", num(w.exponent)));
             parts.push(format!("prefactor = {}", num(w.prefactor)));
+            if let Some(g) = damping {
+                parts.push(format!("damping = {}", num(g)));
+            }
         }
     }
     if w.precompression != 0.0 || w.restitution.is_none() {
@@ -45,9 +60,21 @@ fn wall(w: &Wall) -> String {
     format!("{{ {} }}", parts.join(", "))
 }
 
-/// The scene as a dimensionless TOML scene file with explicit arrays (module docs).
+/// The description as the scene file gave it: without the note on the unit scales that
+/// parsing appends to a physical scene's description.
+fn given_description(s: &Scene) -> String {
+    let d = s.description.as_str();
+    let Some(sc) = &s.units else {
+        return d.to_string();
+    };
+    match d.strip_suffix(units_note(sc).as_str()) {
+        Some(rest) => rest.strip_suffix(' ').unwrap_or(rest).to_string(),
+        None => d.to_string(),
+    }
+}
+
+/// The scene as a TOML scene file with explicit arrays in computer units (module docs).
 pub fn to_toml(s: &Scene) -> String {
-    let c = &s.chain;
     let mut o = String::new();
     let _ = writeln!(
         o,
@@ -55,14 +82,35 @@ pub fn to_toml(s: &Scene) -> String {
         s.name
     );
     let _ = writeln!(o, "[scene]\nname = {}", quoted(&s.name));
-    let _ = writeln!(o, "description = {}", quoted(&s.description));
-    let _ = writeln!(o, "seed = {}\n", s.seed);
-    let _ = writeln!(o, "[chain]\nbeads = {}", c.mass.len());
+    let _ = writeln!(o, "description = {}", quoted(&given_description(s)));
+    let _ = writeln!(o, "seed = {}", s.seed);
+    if let Some(sc) = &s.units {
+        let _ = writeln!(
+            o,
+            "\n[units]  # values below are in computer units; these scales convert them to SI"
+        );
+        let _ = writeln!(o, "system = \"computer\"\nm0 = {}", num(sc.mass));
+        let _ = writeln!(o, "time_unit = {}", num(sc.time));
+        let _ = writeln!(o, "mu = {}\nn0 = {}", num(sc.mu), num(sc.n0));
+    }
+    chain_tables(&mut o, s);
+    run_tables(&mut o, s);
+    o
+}
+
+/// `[chain]` (with the contact law), `[initial]`, `[field]` and `[walls]`.
+fn chain_tables(o: &mut String, s: &Scene) {
+    let c = &s.chain;
+    let _ = writeln!(o, "\n[chain]\nbeads = {}", c.mass.len());
     let _ = writeln!(o, "mass = {}", array(&c.mass));
     let _ = writeln!(o, "exponent = {}", array(&c.exponent));
     let _ = writeln!(o, "prefactor = {}", array(&c.prefactor));
     if let Some(p) = &c.precompression {
         let _ = writeln!(o, "precompression = {}", array(p));
+    }
+    if let Some(d) = &c.damping {
+        let _ = writeln!(o, "law = {}", quoted(d.law.name()));
+        let _ = writeln!(o, "damping = {}", array(&d.contact));
     }
     let _ = writeln!(o, "\n[initial]\ndisplacement = {}", array(&s.u0));
     let _ = writeln!(o, "velocity = {}", array(&s.v0));
@@ -71,13 +119,21 @@ pub fn to_toml(s: &Scene) -> String {
     }
     if c.left_wall.is_some() || c.right_wall.is_some() {
         let _ = writeln!(o, "\n[walls]");
-        for (side, w) in [("left", &c.left_wall), ("right", &c.right_wall)] {
+        let damping = c.damping.as_ref();
+        for (side, w, g) in [
+            ("left", &c.left_wall, damping.map(|d| d.left_wall)),
+            ("right", &c.right_wall, damping.map(|d| d.right_wall)),
+        ] {
             if let Some(w) = w {
-                let _ = writeln!(o, "{side} = {}", wall(w));
+                let _ = writeln!(o, "{side} = {}", wall(w, g));
             }
         }
     }
-    if let Some(h) = &c.hard {
+}
+
+/// `[hard]`, `[run]` and `[output]`.
+fn run_tables(o: &mut String, s: &Scene) {
+    if let Some(h) = &s.chain.hard {
         let (ks, es): (Vec<usize>, Vec<f64>) = h
             .restitution
             .iter()
@@ -106,7 +162,16 @@ pub fn to_toml(s: &Scene) -> String {
     if let Some(e) = r.engine {
         let _ = writeln!(o, "engine = {}", quoted(e.name()));
     }
-    o
+    if let Some(sel) = &r.output {
+        let _ = writeln!(o, "\n[output]\nfields = {}", quoted(sel.fields.name()));
+        if let Some(b) = &sel.beads {
+            let items: Vec<String> = b.iter().map(u64::to_string).collect();
+            let _ = writeln!(o, "beads = [{}]", items.join(", "));
+        }
+        if let Some(k) = sel.frames_max {
+            let _ = writeln!(o, "frames_max = {k}");
+        }
+    }
 }
 
 /// The scene's per-bead and per-contact values as CSV (module docs).

@@ -4,7 +4,8 @@
 //! in dimensionless ones). First step of [`super::parse::parse_str`].
 
 use super::error::{one_line, SceneError};
-use super::keys::{forbid, get, opt_str, table};
+use super::keys::{forbid, get, kp, opt_num, opt_str, table};
+use super::units::UnitScales;
 use super::values::Ctx;
 use toml::{Table, Value};
 
@@ -139,26 +140,42 @@ const UNITS_KEYS: &[&str] = &[
     "wall_poisson",
     "viscosity_shear",
     "viscosity_bulk",
+    "time_unit",
 ];
 
-/// `[units].system`: true for `"physical"`. Refuses the keys the other system does not use.
+/// The keys of `[units] system = "computer"` (a resolved scene in computer units that keeps
+/// its SI scales, as `scene show` writes it): the mass unit `m0` (kg), the time unit `β` (s),
+/// `μ` and `n0`, each required.
+const COMPUTER_KEYS: &[&str] = &["m0", "time_unit", "mu", "n0"];
+
+/// `[units].system`: true for `"physical"`. Refuses the keys the other system does not use
+/// (`"computer"` follows the dimensionless rules and adds [`COMPUTER_KEYS`]).
 pub(super) fn unit_system(ctx: &Ctx, t: &Tables) -> Result<bool, SceneError> {
-    let physical = match opt_str(ctx, t.units, "units", "system")? {
-        None | Some("dimensionless") => false,
-        Some("physical") => true,
+    let (physical, computer) = match opt_str(ctx, t.units, "units", "system")? {
+        None | Some("dimensionless") => (false, false),
+        Some("physical") => (true, false),
+        Some("computer") => (false, true),
         Some(s) => {
             return Err(ctx.err(
                 "[units].system",
-                format!("expected \"dimensionless\" or \"physical\", got \"{s}\""),
+                format!("expected \"dimensionless\", \"physical\" or \"computer\", got \"{s}\""),
             ))
         }
     };
     if physical {
         let why = "not allowed in a physical scene (masses and prefactors come from [units] radius, young, poisson, density)";
         forbid(ctx, t.chain, "chain", &["mass", "prefactor", "radius"], why)?;
+        let why =
+            "only used with [units] system = \"computer\" (a physical scene derives its time unit)";
+        forbid(ctx, t.units, "units", &["time_unit"], why)?;
     } else {
         let why = "only allowed in a physical scene ([units] system = \"physical\")";
-        forbid(ctx, t.units, "units", &UNITS_KEYS[1..], why)?;
+        let keys: Vec<&str> = UNITS_KEYS[1..]
+            .iter()
+            .copied()
+            .filter(|k| !(computer && COMPUTER_KEYS.contains(k)))
+            .collect();
+        forbid(ctx, t.units, "units", &keys, why)?;
         forbid(
             ctx,
             t.initial,
@@ -168,6 +185,41 @@ pub(super) fn unit_system(ctx: &Ctx, t: &Tables) -> Result<bool, SceneError> {
         )?;
         forbid(ctx, t.run, "run", &["until_si", "every_si"], why)?;
         forbid(ctx, t.field, "field", &["force_si", "gravity_si"], why)?;
+        forbid(
+            ctx,
+            t.chain,
+            "chain",
+            &["damping_si", "impact_speed_si"],
+            why,
+        )?;
     }
     Ok(physical)
+}
+
+/// The SI scales of `[units] system = "computer"` (`None` for another system): every value
+/// of the scene is in computer units already; the scales only convert outputs to SI (and the
+/// checks of physical scenes use them), exactly as in the physical scene it was shown from.
+pub(super) fn computer_scales(ctx: &Ctx, t: &Tables) -> Result<Option<UnitScales>, SceneError> {
+    if opt_str(ctx, t.units, "units", "system")? != Some("computer") {
+        return Ok(None);
+    }
+    let mut v = [0.0; 4];
+    for (x, k) in v.iter_mut().zip(COMPUTER_KEYS) {
+        *x = match opt_num(ctx, t.units, "units", k)? {
+            Some(x) if x > 0.0 && x.is_finite() => x,
+            Some(x) => return Err(ctx.err(&kp("units", k), format!("must be > 0, got {x}"))),
+            None => {
+                return Err(ctx.err(
+                    &kp("units", k),
+                    "required with system = \"computer\" (m0 in kg, time_unit in s, mu, n0)",
+                ))
+            }
+        };
+    }
+    Ok(Some(UnitScales {
+        mass: v[0],
+        time: v[1],
+        mu: v[2],
+        n0: v[3],
+    }))
 }
