@@ -9,6 +9,7 @@ use crate::scene::Scene;
 use crate::{without_gil, RunError, SceneError};
 use beadchain::engine::{self, Engine, PauseAt, RunConfig, Stop};
 use beadchain::scene::Scene as LibScene;
+use beadchain::snapshot::size::short;
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -114,8 +115,9 @@ impl Simulation {
     ) -> PyResult<(&'static str, f64, Option<Bound<'py, PyDict>>)> {
         if let Some((t, why)) = &self.failed {
             return Err(RunError::new_err(format!(
-                "{}: advance: the simulation failed at t = {t} ({why}) and stays failed; set a valid state with set_velocities(v) to go on, or start a new Simulation",
-                self.run.scene.name
+                "{}: advance: the simulation failed at t = {} ({why}) and stays failed; set a valid state with set_velocities(v) to go on, or start a new Simulation",
+                self.run.scene.name,
+                short(*t)
             )));
         }
         let target = until.unwrap_or(self.run.cfg.until);
