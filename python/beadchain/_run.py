@@ -9,7 +9,7 @@ from typing import Any, Callable, Iterable, NamedTuple, Optional
 import numpy as np
 
 from . import _beadchain
-from ._scene import Scene, Units, _need_units
+from ._scene import Scene, Units, _masked_data, _need_units, _scalar
 
 
 _UNREAD = object()
@@ -103,6 +103,15 @@ class Run:
     def __len__(self) -> int:
         return len(self.t)
 
+    def __getstate__(self) -> dict:
+        """Pickled (and deep-copied) as its arrays: a loaded snapshot's frames are read first,
+        the file itself is not part of the pickle."""
+        if self._file is not None:
+            self._read_all()
+        state = dict(self.__dict__)
+        state["_file"] = None
+        return state
+
     def __repr__(self) -> str:
         n = None if self.u is None and self.v is None else (self.u if self.u is not None else self.v).shape[1]
         return f"Run(scene={self.scene.name!r}, frames={len(self.t)}, beads={n}, events={len(self.events['t'])})"
@@ -166,6 +175,9 @@ def run(
     record: bool = True,
     max_steps: Optional[int] = None,
     observers: Iterable[Callable[[float, np.ndarray, np.ndarray], Any]] = (),
+    until_si: Optional[float] = None,
+    every_si: Optional[float] = None,
+    max_output_bytes: Optional[int] = None,
 ) -> Run:
     """Runs ``scene`` to its end time and returns a :class:`Run`.
 
@@ -179,16 +191,28 @@ def run(
     - ``out``: also write the snapshot file ``beadchain run --out`` writes (None: no file);
     - ``record``: keep the frames in memory (False with ``out`` for long runs);
     - ``max_steps``: abort after this many accepted steps (None: no limit);
-    - ``observers``: callables ``f(t, u, v)`` called at every frame.
+    - ``observers``: callables ``f(t, u, v)`` called at every frame;
+    - ``until_si``, ``every_si``: ``until``/``every`` in seconds (physical scenes; the CLI's
+      ``--until-si``/``--every-si``); giving both ``until`` and ``until_si`` is an error;
+    - ``max_output_bytes``: the limit of the estimated output (default 10 GiB, the CLI's).
+
+    The scene's ``[output]`` table applies as in ``beadchain run``: only its ``beads`` and
+    ``fields`` are kept (in memory and in ``out``), and a run that would write more than its
+    ``frames_max`` frames is refused before it starts. So is a run whose estimated output (the
+    frames kept or written, ``beadchain run``'s estimate) is above ``max_output_bytes``; an
+    allocation that fails anyway raises MemoryError.
 
     The GIL is released while the engine runs; Ctrl-C stops it and raises KeyboardInterrupt
     (an ``out`` file is then not written). Bad options raise :class:`SceneError` with the CLI's
     message; an engine failure raises :class:`RunError`.
     """
     raw = _beadchain.run(
-        scene._s, engine=engine, method=method, rtol=rtol, atol=atol, every=every, until=until,
-        out=None if out is None else os.fspath(out), record=record, max_steps=max_steps,
-        observers=list(observers),
+        scene._s, engine=engine, method=method, rtol=_scalar("rtol", rtol),
+        atol=_scalar("atol", atol), every=_scalar("every", every), until=_scalar("until", until),
+        out=None if out is None else os.fspath(out), record=record,
+        max_steps=_scalar("max_steps", max_steps), observers=list(observers),
+        until_si=_scalar("until_si", until_si), every_si=_scalar("every_si", every_si),
+        max_output_bytes=_scalar("max_output_bytes", max_output_bytes),
     )
     ran = Scene._wrap(raw["scene"], scene._text)
     return Run(raw, ran)
@@ -231,21 +255,28 @@ class Simulation:
     """A scene advanced in pieces (the library's steppable engine).
 
     ``Simulation(scene, engine=None, method=None, rtol=None, atol=None, every=None,
-    until=None, record=True, observers=())``: options as :func:`run`. Then ``advance(t)``
+    until=None, record=True, observers=(), until_si=None, every_si=None)``: options as
+    :func:`run` (every bead and both fields are kept: ``[output]`` applies to :func:`run`).
+    Then ``advance(t)``
     (returns a :class:`Stop`), ``state`` (a :class:`State`), ``set_velocities(v)`` between
     advances, ``add_observer(f)`` (``f(t, u, v)`` called at frames, not per step), ``stats()``
     and ``frames()`` (a :class:`Run` of the frames so far). Advancing in pieces gives the same
-    frames as one :func:`run`, until a state is changed.
+    frames as one :func:`run`, until a state is changed. After an engine failure the
+    simulation stays failed (``advance`` raises :class:`RunError` naming the time) until
+    ``set_velocities`` gives it a valid state; no frame is ever non-finite.
     """
 
     def __init__(self, scene: Scene, engine: Optional[str] = None, method: Optional[str] = None,
                  rtol: Optional[float] = None, atol: Optional[float] = None,
                  every: Optional[float] = None, until: Optional[float] = None,
                  record: bool = True,
-                 observers: Iterable[Callable[[float, np.ndarray, np.ndarray], Any]] = ()):
+                 observers: Iterable[Callable[[float, np.ndarray, np.ndarray], Any]] = (),
+                 until_si: Optional[float] = None, every_si: Optional[float] = None):
         self._sim = _beadchain.Simulation(
-            scene._s, engine=engine, method=method, rtol=rtol, atol=atol, every=every,
-            until=until, record=record, observers=list(observers),
+            scene._s, engine=engine, method=method, rtol=_scalar("rtol", rtol),
+            atol=_scalar("atol", atol), every=_scalar("every", every),
+            until=_scalar("until", until), record=record, observers=list(observers),
+            until_si=_scalar("until_si", until_si), every_si=_scalar("every_si", every_si),
         )
         self.scene = Scene._wrap(self._sim.scene, scene._text)
         self._chunks: list = []
@@ -260,7 +291,7 @@ class Simulation:
     def advance(self, until: Optional[float] = None) -> Stop:
         """Advances to ``until`` (default: the run's end time, at most that), or to the next
         pause (:meth:`pause_at`); returns why it stopped (:class:`Stop`)."""
-        reason, t, event = self._sim.advance(until)
+        reason, t, event = self._sim.advance(_scalar("until", until))
         return Stop(reason, t, event)
 
     @property
@@ -280,6 +311,8 @@ class Simulation:
 
     def set_velocities(self, v) -> None:
         """New velocities (N,) at the engine clock; the integration restarts there."""
+        if isinstance(v, np.ma.MaskedArray):
+            v = _masked_data(f"{self.scene.name}: set_velocities: v", v)
         self._sim.set_velocities(np.ascontiguousarray(v, dtype=np.float64))
 
     def add_observer(self, f: Callable[[float, np.ndarray, np.ndarray], Any]) -> None:

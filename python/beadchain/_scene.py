@@ -105,6 +105,61 @@ def _need_units(units: Optional[Units], what: str) -> Units:
     return units
 
 
+def _masked_data(key: str, v: np.ma.MaskedArray) -> np.ndarray:
+    """The data of a masked array; SceneError naming ``key`` when any value is masked."""
+    mask = np.ma.getmaskarray(v)
+    if mask.any():
+        first = tuple(int(i) for i in np.argwhere(mask)[0]) if mask.ndim else ()
+        where = f" (first at index {first[0] if len(first) == 1 else first})" if first else ""
+        raise _beadchain.SceneError(
+            f"{key}: expected numbers, got a masked array with {int(mask.sum())} masked "
+            f"value(s){where}; fill them (.filled(x)) or leave them out"
+        )
+    return np.ma.getdata(v)
+
+
+def _plain(key: str, v: Any) -> Any:
+    """A keyword's value as the TOML writer takes it: NumPy 0-d arrays as scalars, masked arrays
+    as their data (refused when a value is masked); arrays of another shape, or values of
+    another type, raise an error naming ``key`` and what was expected."""
+    if isinstance(v, np.ma.MaskedArray):
+        v = _masked_data(key, v)
+    if isinstance(v, np.ndarray):
+        if v.ndim == 0:
+            return v.item()
+        if v.ndim != 1:
+            raise TypeError(f"{key}: expected a number or a 1-D array (one value per bead or "
+                            f"contact), got an array of shape {v.shape}")
+        if v.dtype.kind not in "biuf":
+            raise TypeError(f"{key}: expected an array of numbers, got dtype {v.dtype}")
+        return v
+    if isinstance(v, Mapping):
+        return {k: _plain(f"{key}.{k}", x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_plain(f"{key}[{i}]", x) for i, x in enumerate(v)]
+    if v is None or isinstance(v, (bool, int, float, str, np.generic)):
+        return v
+    raise TypeError(f"{key}: expected a number, string, array, list or dict, got "
+                    f"{type(v).__name__}")
+
+
+def _scalar(key: str, x: Any) -> Any:
+    """A scalar option (``every=``, ``until=``...): a NumPy 0-d array as its value, a masked
+    one refused; an array of another shape raises TypeError naming ``key``."""
+    if isinstance(x, np.ma.MaskedArray):
+        x = _masked_data(key, x)
+    if isinstance(x, np.ndarray):
+        if x.ndim != 0:
+            raise TypeError(f"{key}: expected a number, got an array of shape {x.shape}")
+        return x.item()
+    return x
+
+
+def _scene_from_state(state: bytes, text: Optional[str]) -> "Scene":
+    """Unpickles a :class:`Scene` (see ``Scene.__reduce__``)."""
+    return Scene._wrap(_beadchain.Scene._from_state(state), text)
+
+
 def _looks_like_text(s: str) -> bool:
     return "\n" in s or "=" in s or s.lstrip().startswith("[")
 
@@ -132,17 +187,17 @@ class Scene:
 
     def __init__(self, **kwargs: Any):
         tables: dict = {t: {} for t in (*_KEYS, *_TABLES)}
+        origin = str(kwargs.get("name") or "scene")
         for k, v in kwargs.items():
             if k in _TABLES:
                 if not isinstance(v, Mapping):
                     raise TypeError(f"Scene(): {k} must be a dict (the [{k}] table)")
-                tables[k] = dict(v)
+                tables[k] = _plain(f"{origin}: [{k}]", dict(v))
             elif k in _WHERE:
-                tables[_WHERE[k]][k] = v
+                tables[_WHERE[k]][k] = _plain(f"{origin}: [{_WHERE[k]}].{k}", v)
             else:
                 raise TypeError(f"Scene(): unexpected keyword {k!r}")
         text = _toml.document(tables)
-        origin = str(kwargs.get("name") or "scene")
         self._s = _beadchain.Scene._from_text(text, origin, ".")
         self._text = text
 
@@ -257,6 +312,21 @@ class Scene:
 
     def __repr__(self) -> str:
         return f"Scene(name={self.name!r}, n_beads={self.n_beads}, until={self.until})"
+
+    # --- pickling and equality ------------------------------------------------------------
+    def __reduce__(self):
+        """Pickled (and deep-copied) as the resolved scene's exact bytes (every array, the
+        contact law, ``[run]`` and ``[output]``, the warnings) and its source text."""
+        return (_scene_from_state, (self._s._state(), self._text))
+
+    def __eq__(self, other: object) -> bool:
+        """Equal when the resolved scenes are (source text and origin aside)."""
+        if not isinstance(other, Scene):
+            return NotImplemented
+        return bytes(self._s._state()) == bytes(other._s._state())
+
+    def __hash__(self) -> int:
+        return hash(bytes(self._s._state()))
 
 
 def presets() -> list:

@@ -2,10 +2,16 @@
 //! copy), the event log as columns and the dissipated energy; optionally streams the same
 //! snapshot file the CLI writes; calls Python observers at frames; and polls for signals so
 //! Ctrl-C stops the engine (Control::Stop) instead of waiting for the run's end.
+//!
+//! Frames kept in memory hold only the run's output selection (`[output]` beads and fields, as
+//! the snapshot file). Their buffers grow with `try_reserve`: an allocation that fails becomes a
+//! Python `MemoryError` instead of aborting the interpreter. A frame with a non-finite value
+//! stops the run with an error (no NaN frame is ever kept or written).
 
 use beadchain::engine::{Control, EngineError, EngineState, Observer};
-use beadchain::snapshot::{EventRecord, SnapshotWriter};
+use beadchain::snapshot::{EventRecord, Selection, SnapshotWriter};
 use numpy::PyArray1;
+use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
 use std::time::{Duration, Instant};
 
@@ -47,6 +53,8 @@ impl EventColumns {
 pub(crate) struct Collector {
     /// Keep frames in memory.
     pub record: bool,
+    /// Which beads and fields the kept frames hold (every bead and both fields by default).
+    pub selection: Selection,
     pub t: Vec<f64>,
     /// Displacements, frame after frame (`F·N`).
     pub u: Vec<f64>,
@@ -68,6 +76,7 @@ impl Collector {
     pub fn new(record: bool, writer: Option<SnapshotWriter>, callbacks: Vec<Py<PyAny>>) -> Self {
         Self {
             record,
+            selection: Selection::default(),
             t: Vec::new(),
             u: Vec::new(),
             v: Vec::new(),
@@ -112,12 +121,70 @@ fn io(e: beadchain::snapshot::SnapshotError) -> EngineError {
     EngineError::Observer(e.to_string())
 }
 
+/// Appends the values of `x` at `beads` (every bead: `None`) to `out`, growing it with
+/// `try_reserve`.
+fn push_selected(
+    out: &mut Vec<f64>,
+    x: &[f64],
+    beads: Option<&[u64]>,
+) -> Result<(), std::collections::TryReserveError> {
+    match beads {
+        None => {
+            out.try_reserve(x.len())?;
+            out.extend_from_slice(x);
+        }
+        Some(b) => {
+            out.try_reserve(b.len())?;
+            out.extend(b.iter().map(|&i| x[i as usize]));
+        }
+    }
+    Ok(())
+}
+
+/// The first bead whose displacement or velocity is not finite.
+fn non_finite(t: f64, u: &[f64], v: &[f64]) -> Option<String> {
+    let i = (0..u.len()).find(|&i| !u[i].is_finite() || !v[i].is_finite())?;
+    Some(format!(
+        "the state became non-finite at t = {t} (bead {i}: u = {}, v = {}); no frame was kept",
+        u[i], v[i]
+    ))
+}
+
+impl Collector {
+    /// Keeps a frame in memory (the selected beads and fields); a failed allocation leaves a
+    /// `MemoryError` for the caller and stops the engine.
+    fn keep(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
+        let beads = self.selection.beads.as_deref();
+        let fields = self.selection.fields;
+        let r = (|| {
+            self.t.try_reserve(1)?;
+            if fields.has_u() {
+                push_selected(&mut self.u, u, beads)?;
+            }
+            if fields.has_v() {
+                push_selected(&mut self.v, v, beads)?;
+            }
+            self.t.push(t);
+            Ok::<(), std::collections::TryReserveError>(())
+        })();
+        r.map_err(|e| {
+            let kept = self.t.len();
+            let msg = format!(
+                "run: out of memory keeping frame {kept} at t = {t} ({e}): keep fewer frames (a larger every=), fewer beads or fields (output={{\"beads\": ..., \"fields\": ...}}), or write them to a file only (out=..., record=False)"
+            );
+            self.error = Some(PyMemoryError::new_err(msg.clone()));
+            EngineError::Observer(msg)
+        })
+    }
+}
+
 impl Observer for Collector {
     fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
+        if let Some(msg) = non_finite(t, u, v) {
+            return Err(EngineError::Observer(msg));
+        }
         if self.record {
-            self.t.push(t);
-            self.u.extend_from_slice(u);
-            self.v.extend_from_slice(v);
+            self.keep(t, u, v)?;
         }
         if let Some(w) = self.writer.as_mut() {
             w.write_frame(t, u, v).map_err(io)?;
@@ -132,6 +199,12 @@ impl Observer for Collector {
             w.set_dissipated(energy);
         }
         if self.record {
+            self.dissipated.try_reserve(1).map_err(|e| {
+                self.error = Some(PyMemoryError::new_err(format!(
+                    "run: out of memory keeping the dissipated energy ({e})"
+                )));
+                EngineError::Observer("out of memory".into())
+            })?;
             self.dissipated.push(energy);
         }
         Ok(())

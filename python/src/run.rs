@@ -7,7 +7,8 @@ use crate::{without_gil, RunError, SceneError, SnapshotError};
 use beadchain::engine::{self, EngineError, RunConfig, RunOutcome, Stop};
 use beadchain::integrate::{default_atol, Method};
 use beadchain::scene::{Engine as EngineKind, Scene as LibScene};
-use beadchain::snapshot::{Header, RunSummary, SnapshotWriter};
+use beadchain::snapshot::size::DEFAULT_MAX_OUTPUT_BYTES;
+use beadchain::snapshot::{Header, RunSummary, Selection, SnapshotWriter};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -21,7 +22,38 @@ pub(crate) struct Options {
     pub atol: Option<f64>,
     pub every: Option<f64>,
     pub until: Option<f64>,
+    /// `until` in seconds (physical scenes; the CLI's `--until-si`).
+    pub until_si: Option<f64>,
+    /// `every` in seconds (physical scenes; the CLI's `--every-si`).
+    pub every_si: Option<f64>,
     pub max_steps: Option<u64>,
+}
+
+/// `x` seconds as computer time of `scene` (`x / β`, as the CLI's `--until-si`/`--every-si`);
+/// `key` names the keyword in the error of a dimensionless scene or of a duplicate keyword.
+fn si_time(
+    scene: &LibScene,
+    key: &str,
+    plain: Option<f64>,
+    x: Option<f64>,
+) -> PyResult<Option<f64>> {
+    let Some(x) = x else {
+        return Ok(plain);
+    };
+    let plain_key = key.trim_end_matches("_si");
+    if plain.is_some() {
+        return Err(SceneError::new_err(format!(
+            "{}: {key}: give {plain_key} (computer units) or {key} (seconds), not both",
+            scene.name
+        )));
+    }
+    match scene.units {
+        Some(u) => Ok(Some(x / u.time)),
+        None => Err(SceneError::new_err(format!(
+            "{}: {key}: the scene is dimensionless (computer units only); SI times need a physical scene ([units] system = \"physical\"), else give {plain_key}",
+            scene.name
+        ))),
+    }
 }
 
 fn bad(what: &str, expected: &str, got: &str) -> PyErr {
@@ -68,11 +100,11 @@ pub(crate) fn config(scene: &LibScene, o: &Options) -> PyResult<(LibScene, RunCo
     if let Some(a) = o.atol {
         cfg.atol = a;
     }
-    if let Some(t) = o.until {
+    if let Some(t) = si_time(scene, "until_si", o.until, o.until_si)? {
         cfg.until = t;
     }
-    if o.every.is_some() {
-        cfg.every = o.every;
+    if let Some(dt) = si_time(scene, "every_si", o.every, o.every_si)? {
+        cfg.every = Some(dt);
     }
     cfg.max_steps = o.max_steps;
     let mut s = scene.clone();
@@ -153,17 +185,24 @@ fn summary(out: &RunOutcome) -> RunSummary {
     }
 }
 
-/// Moves the collected frames into a dict of arrays (`u`, `v` flat, `F·N`; no copy).
+/// Moves the collected frames into a dict of arrays (`u`, `v` flat, `F·M` for the `M` stored
+/// beads, None for a field not stored; `beads`: the stored bead indices, None for every bead;
+/// no copy).
 pub(crate) fn frames_dict<'py>(
     py: Python<'py>,
     c: &mut Collector,
     n: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    d.set_item("n", n)?;
+    let sel = &c.selection;
+    d.set_item("n", sel.bead_count(n as u64))?;
+    d.set_item("beads", sel.beads.clone())?;
+    let (has_u, has_v) = (sel.fields.has_u(), sel.fields.has_v());
     d.set_item("t", PyArray1::from_vec(py, std::mem::take(&mut c.t)))?;
-    d.set_item("u", PyArray1::from_vec(py, std::mem::take(&mut c.u)))?;
-    d.set_item("v", PyArray1::from_vec(py, std::mem::take(&mut c.v)))?;
+    let u = std::mem::take(&mut c.u);
+    let v = std::mem::take(&mut c.v);
+    d.set_item("u", has_u.then(|| PyArray1::from_vec(py, u)))?;
+    d.set_item("v", has_v.then(|| PyArray1::from_vec(py, v)))?;
     let dis = std::mem::take(&mut c.dissipated);
     d.set_item(
         "dissipated",
@@ -173,10 +212,48 @@ pub(crate) fn frames_dict<'py>(
     Ok(d)
 }
 
+/// The output rules of `beadchain run`, shared with it ([`size::check_frames_max`],
+/// [`size::check_output_size`]): a run that would write more frames than `[output].frames_max`,
+/// or whose estimated output (kept frames or snapshot file, the same bytes) is above `limit`, is
+/// refused before it starts, with the keywords that fit it.
+fn check_output(s: &LibScene, cfg: &RunConfig, sel: &Selection, limit: u64) -> PyResult<()> {
+    use beadchain::snapshot::size::{self, count_text, human_bytes, short};
+    let (until, every) = (cfg.until, cfg.every);
+    let every_text = every.map_or("none (first and last frame)".into(), short);
+    if let Err(e) = size::check_frames_max(sel.frames_max, until, every) {
+        return Err(SceneError::new_err(format!(
+            "{}: output.frames_max: the run would write {} frames (until = {}, every = {every_text}), more than frames_max {}; use every={} or larger, or raise output frames_max",
+            s.name,
+            count_text(e.count),
+            short(until),
+            e.frames_max,
+            short(e.every_that_fits),
+        )));
+    }
+    let n = s.chain.len();
+    let values = sel.values_per_frame(n as u64).unwrap_or(u64::MAX);
+    if let Err(e) = size::check_output_size((n, values), (0.0, until, every), 0, limit) {
+        let of = if sel.is_full() {
+            format!("{n} beads")
+        } else {
+            format!("{values} stored values of {n} beads")
+        };
+        return Err(SceneError::new_err(format!(
+            "{}: every: the output would be about {} ({} frames of {of}: until = {}, every = {every_text}), above the limit of {}: use a larger every=, a smaller until=, fewer beads or fields (output={{\"beads\": ..., \"fields\": ...}}), or pass max_output_bytes=",
+            s.name,
+            human_bytes(e.bytes),
+            count_text(e.frames),
+            short(until),
+            human_bytes(limit as f64),
+        )));
+    }
+    Ok(())
+}
+
 /// Runs `scene` to its end time; frames in memory (unless `record` is false) and, with `out`,
 /// the CLI's snapshot file (written under a temporary name, renamed when the run finishes).
 #[pyfunction]
-#[pyo3(signature = (scene, engine=None, method=None, rtol=None, atol=None, every=None, until=None, out=None, record=true, max_steps=None, observers=Vec::new()))]
+#[pyo3(signature = (scene, engine=None, method=None, rtol=None, atol=None, every=None, until=None, out=None, record=true, max_steps=None, observers=Vec::new(), until_si=None, every_si=None, max_output_bytes=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn run<'py>(
     py: Python<'py>,
@@ -191,6 +268,9 @@ pub fn run<'py>(
     record: bool,
     max_steps: Option<u64>,
     observers: Vec<Py<PyAny>>,
+    until_si: Option<f64>,
+    every_si: Option<f64>,
+    max_output_bytes: Option<u64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let o = Options {
         engine,
@@ -199,9 +279,17 @@ pub fn run<'py>(
         atol,
         every,
         until,
+        until_si,
+        every_si,
         max_steps,
     };
     let (s, cfg) = config(&scene.scene, &o)?;
+    let sel = s.run.output.clone().unwrap_or_default();
+    let limit = match (record, &out) {
+        (false, None) => u64::MAX, // nothing kept: only frames_max applies
+        _ => max_output_bytes.unwrap_or(DEFAULT_MAX_OUTPUT_BYTES),
+    };
+    check_output(&s, &cfg, &sel, limit)?;
     let writer = match &out {
         Some(path) => {
             let mut header = Header::new(
@@ -212,7 +300,7 @@ pub fn run<'py>(
                 cfg.atol,
                 format!("python: beadchain.run({})", s.name),
             );
-            header.output = s.run.output.clone().unwrap_or_default();
+            header.output = sel.clone();
             Some(
                 SnapshotWriter::create(path, &header)
                     .map_err(|e| SnapshotError::new_err(e.to_string()))?,
@@ -221,6 +309,7 @@ pub fn run<'py>(
         None => None,
     };
     let mut obs = Collector::new(record, writer, observers);
+    obs.selection = sel;
     let r = without_gil(py, || -> Result<(Stop, RunOutcome), EngineError> {
         let mut e = engine::start(&s, &cfg)?;
         let stop = e.advance(cfg.until, &mut obs)?;

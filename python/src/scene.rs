@@ -10,7 +10,7 @@ use crate::SceneError as PySceneError;
 use beadchain::scene::{self, Scene as LibScene, SceneError};
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyBytes, PyDict, PyList};
 use std::path::Path;
 
 /// A validated scene (chain, initial state, run settings).
@@ -194,6 +194,27 @@ impl Scene {
     /// The resolved scene as TOML text (every array written out; parses back to this scene).
     fn to_toml(&self) -> String {
         scene::show::to_toml(&self.scene)
+    }
+
+    /// The scene as bytes for pickling (bincode of the resolved scene, its `[output]` selection
+    /// and its warnings: every field exactly, whatever its contact law or origin).
+    fn _state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        let state = (&self.scene, &self.scene.run.output, &self.warnings);
+        let b = bincode::serde::encode_to_vec(state, bincode::config::standard())
+            .map_err(|e| PySceneError::new_err(format!("{}: pickle: {e}", self.scene.name)))?;
+        Ok(PyBytes::new(py, &b))
+    }
+
+    /// The scene [`Scene::_state`] wrote.
+    #[staticmethod]
+    fn _from_state(b: &[u8]) -> PyResult<Self> {
+        type State = (LibScene, Option<scene::selection::Selection>, Vec<String>);
+        let ((mut scene, output, warnings), _): (State, usize) =
+            bincode::serde::decode_from_slice(b, bincode::config::standard()).map_err(|e| {
+                PySceneError::new_err(format!("unpickle Scene: not a scene state ({e})"))
+            })?;
+        scene.run.output = output;
+        Ok(Self { scene, warnings })
     }
 
     fn __repr__(&self) -> String {

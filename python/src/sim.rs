@@ -6,9 +6,10 @@
 use crate::observe::Collector;
 use crate::run::{config, engine_err, frames_dict, stats, Options};
 use crate::scene::Scene;
-use crate::{without_gil, SceneError};
+use crate::{without_gil, RunError, SceneError};
 use beadchain::engine::{self, Engine, PauseAt, RunConfig, Stop};
 use beadchain::scene::Scene as LibScene;
+use beadchain::snapshot::size::short;
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -49,12 +50,14 @@ impl Running {
 #[pyclass(module = "beadchain._beadchain", unsendable)]
 pub struct Simulation {
     run: Running,
+    /// Why and when the engine failed: later advances raise until a valid state is set.
+    failed: Option<(f64, String)>,
 }
 
 #[pymethods]
 impl Simulation {
     #[new]
-    #[pyo3(signature = (scene, engine=None, method=None, rtol=None, atol=None, every=None, until=None, record=true, observers=Vec::new()))]
+    #[pyo3(signature = (scene, engine=None, method=None, rtol=None, atol=None, every=None, until=None, record=true, observers=Vec::new(), until_si=None, every_si=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         scene: &Scene,
@@ -66,6 +69,8 @@ impl Simulation {
         until: Option<f64>,
         record: bool,
         observers: Vec<Py<PyAny>>,
+        until_si: Option<f64>,
+        every_si: Option<f64>,
     ) -> PyResult<Self> {
         let o = Options {
             engine,
@@ -74,6 +79,8 @@ impl Simulation {
             atol,
             every,
             until,
+            until_si,
+            every_si,
             max_steps: None,
         };
         let (s, cfg) = config(&scene.scene, &o)?;
@@ -81,7 +88,7 @@ impl Simulation {
         let obs = Collector::new(record, None, observers);
         let run =
             Running::start(s, cfg, obs).map_err(|e| SceneError::new_err(format!("{name}: {e}")))?;
-        Ok(Self { run })
+        Ok(Self { run, failed: None })
     }
 
     /// Adds a Python observer `f(t, u, v)`, called at every later frame.
@@ -106,10 +113,20 @@ impl Simulation {
         py: Python<'py>,
         until: Option<f64>,
     ) -> PyResult<(&'static str, f64, Option<Bound<'py, PyDict>>)> {
+        if let Some((t, why)) = &self.failed {
+            return Err(RunError::new_err(format!(
+                "{}: advance: the simulation failed at t = {} ({why}) and stays failed; set a valid state with set_velocities(v) to go on, or start a new Simulation",
+                self.run.scene.name,
+                short(*t)
+            )));
+        }
         let target = until.unwrap_or(self.run.cfg.until);
         let Running { engine, obs, .. } = &mut self.run;
         let r = without_gil(py, || engine.advance(target, obs));
-        let stop = r.map_err(|e| engine_err(&self.run.scene, &mut self.run.obs, e))?;
+        let stop = r.map_err(|e| {
+            self.failed = Some((self.run.engine.time(), e.to_string()));
+            engine_err(&self.run.scene, &mut self.run.obs, e)
+        })?;
         if let Some(err) = self.run.obs.error.take() {
             return Err(err);
         }
@@ -176,7 +193,18 @@ impl Simulation {
         self.run
             .engine
             .set_velocities(v)
-            .map_err(|e| SceneError::new_err(format!("{name}: {e}")))
+            .map_err(|e| SceneError::new_err(format!("{name}: {e}")))?;
+        if self.failed.is_some() {
+            let s = self.run.engine.state();
+            if let Some(i) = s.u.iter().position(|x| !x.is_finite()) {
+                return Err(RunError::new_err(format!(
+                    "{name}: set_velocities: the failed simulation's displacement of bead {i} is {} at t = {}: it cannot go on; start a new Simulation",
+                    s.u[i], s.t
+                )));
+            }
+            self.failed = None;
+        }
+        Ok(())
     }
 
     /// Counters and energies at the engine clock (as `run().stats`).

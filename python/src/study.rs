@@ -47,6 +47,8 @@ pub fn check<'py>(
         atol,
         every: None,
         until,
+        until_si: None,
+        every_si: None,
         max_steps: None,
     };
     let (s, cfg) = config(&scene.scene, &o)?;

@@ -13,9 +13,9 @@
 
 use anyhow::{bail, Result};
 use beadchain::files::same_file;
+pub use beadchain::snapshot::size::short;
 use beadchain::snapshot::size::{
-    count_text, frame_count_estimate, human_bytes, output_bytes_estimate_values,
-    DEFAULT_MAX_OUTPUT_BYTES,
+    check_output_size, count_text, human_bytes, OutputTooLarge, DEFAULT_MAX_OUTPUT_BYTES,
 };
 use std::path::{Path, PathBuf};
 
@@ -52,15 +52,16 @@ impl SizeLimit {
         frames_before: usize,
         until_key: &str,
     ) -> Result<()> {
-        let frames = frame_count_estimate(t0, until, every) + frames_before as f64;
-        let bytes = output_bytes_estimate_values(n_beads, values as f64, frames);
         let limit = self.bytes();
         let of = if values == 2 * n_beads as u64 {
             format!("{n_beads} beads")
         } else {
             format!("{values} stored values of {n_beads} beads")
         };
-        if bytes > limit as f64 {
+        let span = (t0, until, every);
+        if let Err(OutputTooLarge { bytes, frames }) =
+            check_output_size((n_beads, values), span, frames_before, limit)
+        {
             bail!(
                 "{what}: [run].every: the output would be about {} ({} frames of {of}: {until_key} = {}, every = {}), above the limit of {}: raise [run].every (or --every), lower {until_key}, or pass --max-output-bytes N or --force",
                 human_bytes(bytes),
@@ -71,15 +72,6 @@ impl SizeLimit {
             );
         }
         Ok(())
-    }
-}
-
-/// A number as `{}` in `1e-5 ≤ |x| < 1e16`, else as `{:e}` (`1e300`, not 301 digits).
-pub fn short(x: f64) -> String {
-    if x == 0.0 || (1e-5..1e16).contains(&x.abs()) {
-        x.to_string()
-    } else {
-        format!("{x:e}")
     }
 }
 

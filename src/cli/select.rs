@@ -12,7 +12,7 @@
 use super::files::short;
 use anyhow::{bail, Result};
 use beadchain::snapshot::select::parse_beads;
-use beadchain::snapshot::size::{count_text, frame_count};
+use beadchain::snapshot::size::{self, count_text, TooManyFrames};
 use beadchain::snapshot::{Fields, Selection};
 
 /// The output-selection options of `run`.
@@ -73,14 +73,14 @@ pub fn check_frames_max(
     (key, cap_key): (&str, &str),
     until_key: &str,
 ) -> Result<()> {
-    let Some(k) = sel.frames_max else {
+    let Err(TooManyFrames {
+        count,
+        frames_max: k,
+        every_that_fits: dt,
+    }) = size::check_frames_max(sel.frames_max, until, every)
+    else {
         return Ok(());
     };
-    let count = frame_count(until, every);
-    if count <= k as f64 {
-        return Ok(());
-    }
-    let dt = every_that_fits(until, k);
     bail!(
         "{what}: {key}: the run would write {} frames ({until_key} = {}, every = {}), more than {cap_key} {k}; use --every {} or larger, or raise {cap_key}",
         count_text(count),
@@ -88,17 +88,4 @@ pub fn check_frames_max(
         every.map_or("none".into(), short),
         short(dt),
     )
-}
-
-/// The smallest `every` (to f64 rounding) with which a run to `until` writes at most `k ≥ 2`
-/// frames: `until/(k−1)`, stepped up by ulps until [`frame_count`] agrees.
-fn every_that_fits(until: f64, k: u64) -> f64 {
-    let mut dt = until / (k - 1) as f64;
-    for _ in 0..64 {
-        if frame_count(until, Some(dt)) <= k as f64 {
-            break;
-        }
-        dt = f64::from_bits(dt.to_bits() + 1);
-    }
-    dt
 }

@@ -94,3 +94,109 @@ pub fn count_text(x: f64) -> String {
         format!("{x:.3e}")
     }
 }
+
+/// A number as `{}` in `1e-5 ≤ |x| < 1e16`, else as `{:e}` (`1e300`, not 301 digits).
+pub fn short(x: f64) -> String {
+    if x == 0.0 || (1e-5..1e16).contains(&x.abs()) {
+        x.to_string()
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// A run's estimated output above its limit ([`check_output_size`]): the caller words the
+/// message with its own option names (the CLI's `--every`, Python's `every=`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OutputTooLarge {
+    /// Estimated bytes ([`output_bytes_estimate_values`]).
+    pub bytes: f64,
+    /// Estimated frames ([`frame_count_estimate`] plus the frames written before).
+    pub frames: f64,
+}
+
+/// The size rule of `run`, `resume`, `sweep` and Python's `run()`: a run of `n_beads` beads
+/// (frames of `values` stored numbers) from `t0` to `until` with interval `every`, after
+/// `frames_before` frames already written, is refused when its estimated output is above
+/// `limit` bytes.
+pub fn check_output_size(
+    (n_beads, values): (usize, u64),
+    (t0, until, every): (f64, f64, Option<f64>),
+    frames_before: usize,
+    limit: u64,
+) -> Result<(), OutputTooLarge> {
+    let frames = frame_count_estimate(t0, until, every) + frames_before as f64;
+    let bytes = output_bytes_estimate_values(n_beads, values as f64, frames);
+    if bytes > limit as f64 {
+        return Err(OutputTooLarge { bytes, frames });
+    }
+    Ok(())
+}
+
+/// A run that would write more frames than its `frames_max` cap ([`check_frames_max`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TooManyFrames {
+    /// Frames the run would write ([`frame_count`]).
+    pub count: f64,
+    /// The cap.
+    pub frames_max: u64,
+    /// The smallest `every` with which the run fits the cap.
+    pub every_that_fits: f64,
+}
+
+/// The `frames_max` rule of `run`, `resume` and Python's `run()`: a run to `until` with
+/// interval `every` that would write more than `frames_max` frames is refused (never thinned).
+pub fn check_frames_max(
+    frames_max: Option<u64>,
+    until: f64,
+    every: Option<f64>,
+) -> Result<(), TooManyFrames> {
+    let Some(k) = frames_max else {
+        return Ok(());
+    };
+    let count = frame_count(until, every);
+    if count <= k as f64 {
+        return Ok(());
+    }
+    Err(TooManyFrames {
+        count,
+        frames_max: k,
+        every_that_fits: every_that_fits(until, k),
+    })
+}
+
+/// The smallest `every` (to f64 rounding) with which a run to `until` writes at most `k ≥ 2`
+/// frames: `until/(k−1)`, stepped up by ulps until [`frame_count`] agrees.
+fn every_that_fits(until: f64, k: u64) -> f64 {
+    let mut dt = until / k.saturating_sub(1).max(1) as f64;
+    for _ in 0..64 {
+        if frame_count(until, Some(dt)) <= k as f64 {
+            break;
+        }
+        dt = f64::from_bits(dt.to_bits() + 1);
+    }
+    dt
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_max_refusal_names_count_and_every_that_fits() {
+        assert!(check_frames_max(None, 20.0, Some(1.0)).is_ok());
+        assert!(check_frames_max(Some(21), 20.0, Some(1.0)).is_ok());
+        let e = check_frames_max(Some(5), 20.0, Some(1.0)).unwrap_err();
+        assert_eq!(e.count, 21.0);
+        assert_eq!(e.every_that_fits, 5.0);
+        assert!(frame_count(20.0, Some(e.every_that_fits)) <= 5.0);
+    }
+
+    #[test]
+    fn output_size_refusal_above_limit_only() {
+        // 2 beads, first and last frame: far below 1 MiB; 1e6 frames of 1000 beads: above.
+        assert!(check_output_size((2, 4), (0.0, 1.0, None), 0, 1 << 20).is_ok());
+        let e = check_output_size((1000, 2000), (0.0, 1e6, Some(1.0)), 0, 1 << 30).unwrap_err();
+        assert_eq!(e.frames, 1e6 + 2.0);
+        assert!(e.bytes > 1.6e10, "{}", e.bytes);
+    }
+}
