@@ -97,6 +97,7 @@ fn radau_step(c: &mut Criterion) {
             },
             v_frame: 0.0,
             u_origin: 0.0,
+            dissipation: Default::default(),
         };
         let mut r = Radau5::new(m, tol, SolverKind::Auto);
         r.reset(&sys, 0.0, &u, &v);

@@ -97,6 +97,7 @@ fn radau_through_collision(gap: f64) -> Result<(), String> {
         scales: chain.scales(&[0.0, 0.0], &v),
         v_frame: 0.0,
         u_origin: 0.0,
+        dissipation: Default::default(),
     };
     let mut ig = Radau5::new(2, tol, SolverKind::Direct);
     ig.reset(&sys, 0.0, &u, &v);
