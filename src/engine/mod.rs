@@ -282,7 +282,7 @@ pub const BALANCE_WARNING: f64 = 1000.0;
 /// The warning of a run (or snapshot) that loses energy and whose relative balance error
 /// `|E + E_d − E_0|/S` is above [`BALANCE_WARNING`]` · rtol`; `None` otherwise.
 pub fn balance_note(balance: f64, rtol: f64) -> Option<String> {
-    (!(balance <= BALANCE_WARNING * rtol)).then(|| {
+    (balance.is_nan() || balance > BALANCE_WARNING * rtol).then(|| {
         format!(
             "energy balance error {balance:.3e} is {:.0}x rtol {rtol:e} (more than {BALANCE_WARNING}x): the dissipated energy is not resolved; rerun with a smaller --rtol or --method radau5 to check",
             balance / rtol

@@ -369,7 +369,7 @@ pub(crate) fn check_scale(ctx: &Ctx, scene: &crate::scene::Scene) -> Result<(), 
         DampingLaw::Viscoelastic => g / t,
         DampingLaw::LinearDashpot => g * t / mu,
     };
-    let too_strong = |z: f64| !(z <= MAX_DAMPING_RATIO);
+    let too_strong = |z: f64| z.is_nan() || z > MAX_DAMPING_RATIO;
     let advice = "a contact this overdamped sticks at first touch: give a smaller `damping`, \
                   or a [hard] contact with restitution = 0";
     let n = c.mass.len();
