@@ -5,39 +5,16 @@
 mod common;
 
 use beadchain::engine::checkpoint::EngineState;
-use beadchain::engine::{self, Control, EngineError, Observer, RunConfig};
+use beadchain::engine::{self, EngineError, RunConfig};
 use beadchain::integrate::Method;
 use beadchain::scene::{Engine as Kind, Scene};
 use beadchain::snapshot::ckpt::{read_checkpoint, write_checkpoint, CheckpointFile};
 use beadchain::snapshot::WriterMark;
 
-/// Keeps the first state offered after `at`.
-struct Grab {
-    at: f64,
-    state: Option<EngineState>,
-}
-
-impl Observer for Grab {
-    fn frame(&mut self, _t: f64, _u: &[f64], _v: &[f64]) -> Result<(), EngineError> {
-        Ok(())
-    }
-    fn control(&mut self, t: f64) -> Control {
-        if self.state.is_none() && t >= self.at {
-            Control::Checkpoint
-        } else {
-            Control::Continue
-        }
-    }
-    fn checkpoint(&mut self, s: &EngineState) -> Result<(), EngineError> {
-        self.state = Some(s.clone());
-        Ok(())
-    }
-}
-
 fn state_of(kind: Kind, method: Method) -> (Scene, RunConfig, EngineState) {
     let sc = common::striker(30, 2.5, 1.0, 1.0, 30.0);
     let cfg = common::config(kind, method, 1e-8, 1e-12, 30.0);
-    let mut g = Grab {
+    let mut g = common::Grab {
         at: 7.0,
         state: None,
     };

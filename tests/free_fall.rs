@@ -5,7 +5,7 @@
 
 mod common;
 
-use beadchain::engine::{self, Control, EngineError, Observer, Recorder};
+use beadchain::engine::{self, Recorder};
 use beadchain::integrate::Method;
 use beadchain::scene::{parse_str, Engine, Scene};
 use std::path::Path;
@@ -122,29 +122,6 @@ fn column_falling_onto_a_wall_is_as_accurate_as_the_tolerance() {
     }
 }
 
-/// Keeps the first state offered after `at`.
-struct Grab {
-    at: f64,
-    state: Option<engine::EngineState>,
-}
-
-impl Observer for Grab {
-    fn frame(&mut self, _t: f64, _u: &[f64], _v: &[f64]) -> Result<(), EngineError> {
-        Ok(())
-    }
-    fn control(&mut self, t: f64) -> Control {
-        if self.state.is_none() && t >= self.at {
-            Control::Checkpoint
-        } else {
-            Control::Continue
-        }
-    }
-    fn checkpoint(&mut self, s: &engine::EngineState) -> Result<(), EngineError> {
-        self.state = Some(s.clone());
-        Ok(())
-    }
-}
-
 /// A falling chain resumed from a checkpoint ends where the uninterrupted run ends, bit for bit
 /// (the free fall is derived from the chain, not saved).
 #[test]
@@ -152,7 +129,7 @@ fn falling_chain_resumes_bit_for_bit() {
     let sc = falling(100.0);
     for engine in ENGINES {
         let cfg = common::config(engine, Method::Auto, 1e-8, 1e-12, 40.0);
-        let mut g = Grab {
+        let mut g = common::Grab {
             at: 13.0,
             state: None,
         };

@@ -3,7 +3,9 @@
 
 pub mod npy;
 
-use beadchain::engine::{Recorder, RunConfig, RunOutcome};
+use beadchain::engine::{
+    Control, EngineError, EngineState, Observer, Recorder, RunConfig, RunOutcome,
+};
 use beadchain::integrate::Method;
 use beadchain::linalg::SolverKind;
 use beadchain::model::Chain;
@@ -142,5 +144,28 @@ impl Rng {
     /// Uniform in [lo, hi).
     pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.unit()
+    }
+}
+
+/// An observer that keeps the first engine state offered after `at` (a checkpoint there).
+pub struct Grab {
+    pub at: f64,
+    pub state: Option<EngineState>,
+}
+
+impl Observer for Grab {
+    fn frame(&mut self, _t: f64, _u: &[f64], _v: &[f64]) -> Result<(), EngineError> {
+        Ok(())
+    }
+    fn control(&mut self, t: f64) -> Control {
+        if self.state.is_none() && t >= self.at {
+            Control::Checkpoint
+        } else {
+            Control::Continue
+        }
+    }
+    fn checkpoint(&mut self, s: &EngineState) -> Result<(), EngineError> {
+        self.state = Some(s.clone());
+        Ok(())
     }
 }
