@@ -82,6 +82,19 @@ pub struct DenseEngine<'a> {
     fall: (f64, Option<Chain>),
 }
 
+/// Moves a state `z = (u, v)` at `t` between the free-falling frame and the lab frame
+/// (module docs): `sign = 1` to the lab, `u = w + ½ g t²`, `v = ẇ + g t`; `sign = −1` back.
+/// Nothing to do without a free fall (`g = 0`).
+fn shift_fall(g: f64, t: f64, z: &mut [f64], sign: f64) {
+    if g != 0.0 {
+        let n = z.len() / 2;
+        z[..n]
+            .iter_mut()
+            .for_each(|x| *x += sign * (0.5 * g * t * t));
+        z[n..].iter_mut().for_each(|x| *x += sign * (g * t));
+    }
+}
+
 /// The chain the integrator sees: the scene's, or the one relative to its free fall.
 fn frame_chain<'c>(scene: &'c Scene, fall: &'c Option<Chain>) -> &'c Chain {
     fall.as_ref().unwrap_or(&scene.chain)
@@ -145,17 +158,6 @@ impl<'a> DenseEngine<'a> {
         ChainRange::whole(frame_chain(self.scene, &self.fall.1))
     }
 
-    /// The integrated state `z = (w, ẇ)` at `t` in the lab frame, `u = w + ½ g t²`,
-    /// `v = ẇ + g t` (module docs); untouched without a free fall.
-    fn to_lab(&self, t: f64, z: &mut [f64]) {
-        let g = self.fall.0;
-        if g != 0.0 {
-            let n = z.len() / 2;
-            z[..n].iter_mut().for_each(|x| *x += 0.5 * g * t * t);
-            z[n..].iter_mut().for_each(|x| *x += g * t);
-        }
-    }
-
     /// Dissipated energy at `t` (within the last step).
     fn dissipated(&self, t: f64) -> f64 {
         self.diss_base + dissipated_at(&*self.integ, &self.sys(), t)
@@ -171,9 +173,7 @@ impl<'a> DenseEngine<'a> {
                 return Ok(None);
             }
             self.integ.dense(tf, &mut self.buf);
-            let mut z = std::mem::take(&mut self.buf);
-            self.to_lab(tf, &mut z);
-            self.buf = z;
+            shift_fall(self.fall.0, tf, &mut self.buf, 1.0);
             if self.scene.chain.loses_energy() {
                 obs.dissipated(tf, self.dissipated(tf))?;
             }
@@ -256,7 +256,7 @@ impl Engine for DenseEngine<'_> {
         } else {
             self.integ.dense(self.clock, &mut z);
         }
-        self.to_lab(self.clock, &mut z);
+        shift_fall(self.fall.0, self.clock, &mut z, 1.0);
         let v = z.split_off(n);
         State {
             t: self.clock,
@@ -291,11 +291,10 @@ impl Engine for DenseEngine<'_> {
         };
         self.integ = make_integrator(self.cfg, n, tol);
         // back to the free-falling frame (module docs)
-        let (t, g) = (self.clock, self.fall.0);
+        let mut z = [&s.u[..], v].concat();
+        shift_fall(self.fall.0, self.clock, &mut z, -1.0);
         let sys = ChainRange::whole(frame_chain(self.scene, &self.fall.1));
-        let w: Vec<f64> = s.u.iter().map(|x| x - 0.5 * g * t * t).collect();
-        let wv: Vec<f64> = v.iter().map(|x| x - g * t).collect();
-        self.integ.reset(&sys, t, &w, &wv);
+        self.integ.reset(&sys, self.clock, &z[..n], &z[n..]);
         Ok(())
     }
 
