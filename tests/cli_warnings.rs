@@ -211,7 +211,7 @@ fn physical_run_inspect_and_analyze_print_si_time_and_energy() {
 /// with δ_max = w sqrt(μ/(2a)); n = 2.5 against a quadrature of ∫₀¹ dx/√(1−xⁿ).
 #[test]
 fn collision_time_matches_the_closed_form_and_a_quadrature() {
-    use beadchain::scene::plausible::collision;
+    use beadchain::model::collision::collision;
     let (mu, w, a) = (0.5, 0.3, 1.7);
     let (d, tc) = collision(mu, w, 2.0, a);
     let d2 = w * (mu / (2.0 * a)).sqrt();

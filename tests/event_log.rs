@@ -271,7 +271,7 @@ fn half_duration_integral(n: f64) -> f64 {
 }
 
 /// Γ(x) for x ≥ 1/2: the library's Lanczos approximation (its known values are checked below).
-use beadchain::scene::plausible::gamma;
+use beadchain::model::collision::gamma;
 
 #[test]
 fn lanczos_gamma_is_exact_at_known_values() {

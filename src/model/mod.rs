@@ -18,6 +18,7 @@
 //! whole chain (dense engine) and a single contact cluster (hybrid engine). Contacts leaving the
 //! range are ignored, except walls, which act when the range contains the chain end.
 
+pub mod collision;
 pub mod damped;
 mod forces;
 pub mod law;
