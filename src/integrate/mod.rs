@@ -46,6 +46,7 @@
 
 pub mod auto;
 pub mod dop853;
+pub mod exact_pair;
 pub mod radau5;
 pub mod verlet;
 
@@ -349,6 +350,8 @@ pub struct IntegratorState {
     /// The method whose arrays `vecs` holds (for [`auto::Auto`], the active one): checked on
     /// load ([`check_state`]), so a state never continues in another method.
     pub method: Method,
+    /// The trajectory of an [`exact_pair::ExactPair`] (`None` for every other integrator).
+    pub exact: Option<exact_pair::PairState>,
 }
 
 /// The consistency check of [`Integrator::load`]: `s` was saved by `method` and its arrays
@@ -447,6 +450,11 @@ pub trait Integrator {
     /// number it produces is the new integrator's.
     fn renew(&mut self, _m: usize, _tol: Tolerances) -> bool {
         false
+    }
+    /// The exact two-body contact, where this integrator is one ([`exact_pair`]): its peak
+    /// and opening times are known in closed form. `None` for the integrating methods.
+    fn exact_pair(&self) -> Option<&exact_pair::ExactPair> {
+        None
     }
     /// The state needed to continue exactly (see [`IntegratorState`]).
     fn save(&self) -> IntegratorState;

@@ -227,6 +227,7 @@ impl Integrator for Verlet {
             auto: None,
             dissipated: (0.0, 0.0),
             method: super::Method::Verlet,
+            exact: None,
         }
     }
 

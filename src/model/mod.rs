@@ -22,6 +22,7 @@ pub mod collision;
 pub mod damped;
 mod forces;
 pub mod law;
+pub mod profile;
 pub mod restitution;
 
 pub use damped::{Damping, DampingLaw};

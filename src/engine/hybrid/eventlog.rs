@@ -73,13 +73,14 @@ impl Hybrid<'_> {
             let pre = chain.precompression.as_ref().map_or(0.0, |p| p[c]);
             let d = |t: f64| pre + cl.w_at(t, c) - cl.w_at(t, c + 1);
             let dd = |t: f64| cl.integ.dense_at(t, m + k) - cl.integ.dense_at(t, m + k + 1);
-            let p = match ends {
-                Some((z0, z1)) => {
+            let p = match (ends, cl.integ.exact_pair()) {
+                (_, Some(pair)) => pair.peak_over(ta, tb),
+                (Some((z0, z1)), None) => {
                     let end = pre + z1[k] - z1[k + 1];
                     let (sa, sb) = (z0[m + k] - z0[m + k + 1], z1[m + k] - z1[m + k + 1]);
                     step_max_from(end, sa, sb, d, dd, ta, tb)
                 }
-                None => step_max(d, dd, ta, tb),
+                (None, None) => step_max(d, dd, ta, tb),
             };
             if p > self.st.peak[c] {
                 self.st.peak[c] = p;

@@ -81,7 +81,7 @@ impl Hybrid<'_> {
         let mut vs: Vec<f64> = (lo..hi).map(|k| cl.v_at(t, k)).collect();
         vs[a - lo..b - lo].fill(v);
         self.recycle(cl);
-        self.make_cluster(lo, hi, t, (&us, &vs), None);
+        self.make_cluster(lo, hi, t, (&us, &vs), None, false);
     }
 
     /// The TC-model interval `t_c`.

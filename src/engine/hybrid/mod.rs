@@ -47,6 +47,7 @@ mod closing;
 pub mod cluster;
 pub mod detect;
 mod eventlog;
+mod exact;
 pub mod free;
 mod hard;
 mod kinks;
@@ -215,6 +216,8 @@ pub struct Hybrid<'a> {
     /// Integrators of removed clusters, renewed for the next clusters made
     /// ([`Integrator::renew`]): a gap event allocates nothing for them.
     spare: Vec<Box<dyn crate::integrate::Integrator>>,
+    /// Contact profiles of the exact pairs, by exponent (bits) ([`exact`]).
+    profiles: std::collections::HashMap<u64, std::rc::Rc<crate::model::profile::Profile>>,
 }
 
 impl<'a> Hybrid<'a> {
@@ -277,6 +280,7 @@ impl<'a> Hybrid<'a> {
             ev: vec![0.0; n],
             spare_mass: Vec::new(),
             spare: Vec::new(),
+            profiles: Default::default(),
         }
     }
 
@@ -396,7 +400,7 @@ impl<'a> Hybrid<'a> {
                     g: self.g[lo],
                 };
             } else {
-                self.make_cluster(lo, hi, t0, (&u0[lo..hi], &v0[lo..hi]), None);
+                self.make_cluster(lo, hi, t0, (&u0[lo..hi], &v0[lo..hi]), None, false);
             }
             lo = hi;
         }

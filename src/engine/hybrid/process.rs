@@ -15,7 +15,9 @@ const SPARE_INTEGRATORS: usize = 64;
 impl Hybrid<'_> {
     /// Creates a cluster of beads `lo..hi` at time `t` from global states `u`, `v`. Its first
     /// step is `h` where given (the step size of the cluster it comes from, see
-    /// [`Self::inherited_step`]), else the method's starting-step estimate.
+    /// [`Self::inherited_step`]), else the method's starting-step estimate. Two beads alone on
+    /// a conservative contact take the exact path ([`super::exact`]); `from_flight`: the state
+    /// is the free flight of two free beads that have just closed their contact.
     pub(super) fn make_cluster(
         &mut self,
         lo: usize,
@@ -23,6 +25,7 @@ impl Hybrid<'_> {
         t: f64,
         (u, v): (&[f64], &[f64]),
         h: Option<f64>,
+        from_flight: bool,
     ) {
         let m = hi - lo;
         let chain = self.chain;
@@ -67,10 +70,16 @@ impl Hybrid<'_> {
             }
         }
         let tol = self.cluster_tol(lo, hi, fv, t);
-        let mut integ = (self.spare.pop())
-            .and_then(|mut i| i.renew(m, tol).then_some(i))
-            .unwrap_or_else(|| make_integrator(self.cfg, m, tol));
         let rigid = self.st.stuck[lo..hi - 1].contains(&true);
+        let exact = (m == 2 && !absolute && !rigid)
+            .then(|| self.exact_law(lo))
+            .flatten();
+        let mut integ = match exact {
+            Some(law) => self.exact_pair(law, from_flight),
+            None => (self.spare.pop())
+                .and_then(|mut i| i.renew(m, tol).then_some(i))
+                .unwrap_or_else(|| make_integrator(self.cfg, m, tol)),
+        };
         let sys = ClusterSys {
             chain: self.fall.1.as_ref().unwrap_or(chain),
             lo,
@@ -201,6 +210,10 @@ impl Hybrid<'_> {
     /// Keeps the integrator and mass array of a removed cluster for the next cluster made (at most
     /// [`SPARE_INTEGRATORS`] are kept).
     pub(super) fn recycle(&mut self, cl: Cluster) {
+        if cl.integ.exact_pair().is_some() {
+            self.spare_mass.push(cl.mass);
+            return;
+        }
         if self.spare.len() < SPARE_INTEGRATORS {
             self.spare.push(cl.integ);
             self.spare_mass.push(cl.mass);
@@ -404,6 +417,7 @@ impl Hybrid<'_> {
                 self.settle_at(side, t)?;
             }
         }
+        let flight = self.st.owner[c] == FREE && self.st.owner[c + 1] == FREE;
         // a free bead joins with its whole rigid group
         let lo = match self.st.owner[c] {
             FREE => self.group_of(c).lo,
@@ -439,7 +453,7 @@ impl Hybrid<'_> {
             self.log(t, c, EventKind::Close, rel, 0.0);
             self.count_slow_closing(rel, &[c, c + 1]);
         }
-        self.make_cluster(lo, hi, t, (&u[..hi - lo], &v[..hi - lo]), None);
+        self.make_cluster(lo, hi, t, (&u[..hi - lo], &v[..hi - lo]), None, flight);
         (self.eu, self.ev) = (u, v);
         Ok(())
     }
@@ -483,7 +497,7 @@ impl Hybrid<'_> {
         self.log(t, i, EventKind::WallClose, v, 0.0);
         self.st.wall_in[side as usize] = true;
         self.count_slow_closing(v, &[i]);
-        self.make_cluster(i, i + 1, t, (&[u], &[v]), None);
+        self.make_cluster(i, i + 1, t, (&[u], &[v]), None, false);
     }
 
     /// Splits a cluster at every contact that opened (and frees a lone bead leaving a wall).
@@ -521,7 +535,10 @@ impl Hybrid<'_> {
                 let pre = self.pre(i);
                 let theta = self.theta;
                 let g = |x: f64| theta - (pre + cl.w_at(x, i) - cl.w_at(x, i + 1));
-                let t_open = super::detect::first_crossing(g, cl.integ.t_prev(), t).unwrap_or(t);
+                let t_open = match cl.integ.exact_pair().and_then(|p| p.leaving(theta)) {
+                    Some(te) => te.clamp(cl.integ.t_prev(), t),
+                    None => super::detect::first_crossing(g, cl.integ.t_prev(), t).unwrap_or(t),
+                };
                 let rel = cl.v_at(t_open, i) - cl.v_at(t_open, i + 1);
                 self.log(t_open, i, EventKind::Open, rel, self.st.peak[i]);
                 self.st.peak[i] = 0.0;
@@ -535,7 +552,7 @@ impl Hybrid<'_> {
                     self.free_rigid_piece(start, i + 1, t, &u[a..b], &v[a..b]);
                 } else {
                     let h = h.map(|h| self.piece_step(&cl, start, i + 1, h));
-                    self.make_cluster(start, i + 1, t, (&u[a..b], &v[a..b]), h);
+                    self.make_cluster(start, i + 1, t, (&u[a..b], &v[a..b]), h, false);
                 }
                 start = i + 1;
             }

@@ -71,7 +71,15 @@ impl Hybrid<'_> {
                 let Some(c) = c else { return Ok(None) };
                 let m = (c.hi - c.lo) as usize;
                 let tol = self.cluster_tol(c.lo as usize, c.hi as usize, c.frame.1, c.frame.2);
-                let mut integ = make_integrator(self.cfg, m, tol);
+                let mut integ = match (c.integ.exact.is_some(), m) {
+                    (true, 2) => {
+                        let law = self.exact_law(c.lo as usize).ok_or_else(|| {
+                            format!("cluster slot {k}: an exact pair on an ineligible contact")
+                        })?;
+                        self.exact_pair(law, false)
+                    }
+                    _ => make_integrator(self.cfg, m, tol),
+                };
                 integ
                     .load(&c.integ)
                     .map_err(|e| format!("cluster slot {k} (beads {}..{}): {e}", c.lo, c.hi))?;

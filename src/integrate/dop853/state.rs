@@ -73,6 +73,7 @@ impl Dop853 {
             auto: None,
             dissipated: self.diss,
             method: crate::integrate::Method::Dop853,
+            exact: None,
         }
     }
 

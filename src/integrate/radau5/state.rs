@@ -30,6 +30,7 @@ impl Radau5 {
             auto: None,
             dissipated: self.diss,
             method: Method::Radau5,
+            exact: None,
         }
     }
 

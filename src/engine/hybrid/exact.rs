@@ -1,0 +1,59 @@
+//! Exact two-body contacts ([`crate::integrate::exact_pair`]) in the hybrid engine.
+//!
+//! A cluster of two beads whose contact is a conservative power law (no damping, not hard, not
+//! a resting contact), with no wall at either bead and a field that accelerates both alike, is
+//! resolved in closed form instead of integrated: one step covers the whole contact, whatever
+//! the tolerance, and the event log's peak overlap and opening time are the profile's. A third
+//! body reaching the pair during the contact is found on the pair's exact continuous output
+//! like any closing (the pair's edge beads have monotone velocities, so their boundary gaps stay
+//! convex in time, [`super::detect`]), and the merge reads the pair's exact state at that moment:
+//! the merged cluster is integrated from there ("hand-over"). A wall contact of a lone bead is
+//! still integrated.
+
+use super::Hybrid;
+use crate::integrate::exact_pair::{ExactPair, PairLaw};
+use crate::integrate::Integrator;
+use crate::model::profile::Profile;
+use std::rc::Rc;
+
+impl Hybrid<'_> {
+    /// The law of contact `c` when the two beads `c`, `c + 1` alone may take the exact path
+    /// (module docs); `None` otherwise.
+    pub(super) fn exact_law(&self, c: usize) -> Option<PairLaw> {
+        let chain = self.chain;
+        let walls = (c == 0 && chain.left_wall.is_some())
+            || (c + 2 == self.n && chain.right_wall.is_some());
+        if walls
+            || chain.hard_restitution(c).is_some()
+            || chain.is_dissipative()
+            || self.st.stuck[c]
+        {
+            return None;
+        }
+        let (n, a) = (chain.exponent[c], chain.prefactor[c]);
+        if !(n > 1.0 && n.is_finite() && a > 0.0 && a.is_finite()) {
+            return None;
+        }
+        // the field of the integrated chain (less the free fall), per unit mass
+        let sys = self.fall.1.as_ref().unwrap_or(chain);
+        let accel = |i: usize| sys.field.as_ref().map_or(0.0, |w| w[i] / sys.mass[i]);
+        let g = accel(c);
+        (g == accel(c + 1)).then_some(PairLaw {
+            mass: [chain.mass[c], chain.mass[c + 1]],
+            n,
+            a,
+            pre: self.pre(c),
+            accel: g,
+        })
+    }
+
+    /// An exact pair for `law` (its exponent's profile computed once per run).
+    pub(super) fn exact_pair(&mut self, law: PairLaw, from_flight: bool) -> Box<dyn Integrator> {
+        let profile = self
+            .profiles
+            .entry(law.n.to_bits())
+            .or_insert_with(|| Rc::new(Profile::new(law.n)))
+            .clone();
+        Box::new(ExactPair::new(law, profile, from_flight))
+    }
+}
