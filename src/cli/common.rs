@@ -230,6 +230,13 @@ pub fn print_outcome(
             }
         )?;
     }
+    if out.exact_pairs[0] > 0 {
+        writeln!(
+            w,
+            "exact two-body contacts: {} ({} handed over to the integrator)",
+            out.exact_pairs[0], out.exact_pairs[1]
+        )?;
+    }
     if let Some(note) = out.slow_closings_note() {
         writeln!(w, "warning: {note}")?;
     }

@@ -150,6 +150,9 @@ pub struct HybridData {
     pub slow_closings: u64,
     /// Implicit steps of the clusters removed so far.
     pub implicit_steps: u64,
+    /// Exact two-body contacts started, and those of them handed over to the integrator when
+    /// a third body arrived (`engine::hybrid::exact`).
+    pub exact_pairs: [u64; 2],
     /// Last hard collision per contact / wall.
     pub last_hard: Vec<f64>,
     /// Wall pins.

@@ -219,6 +219,10 @@ pub struct RunOutcome {
     /// Accepted steps taken by an implicit method (Radau IIA); `stats.steps` minus this is the
     /// number of explicit steps.
     pub implicit_steps: u64,
+    /// Hybrid engine: two-body contacts resolved in closed form (no steps), and those of them
+    /// handed over to the integrator when a third body arrived during the contact.
+    #[serde(default)]
+    pub exact_pairs: [u64; 2],
     /// Final displacements.
     pub u: Vec<f64>,
     /// Final velocities.

@@ -74,6 +74,7 @@ pub struct ExactPair {
     s: PairState,
     /// `u₀, u₁, v₀, v₁` at `s.t`.
     z: [f64; 4],
+    /// Zero: an exact pair takes no integration steps (the engine counts the pairs).
     stats: Stats,
     /// The last state evaluated inside a step (frames read four components at one time).
     memo: Cell<(f64, [f64; 4])>,
@@ -276,8 +277,6 @@ impl Integrator for ExactPair {
         self.s.t_prev = self.s.t;
         self.s.t = t;
         self.z = self.eval(t);
-        self.stats.steps += 1;
-        self.stats.bead_steps += 2;
         Ok(t)
     }
 

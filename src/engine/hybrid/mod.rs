@@ -260,6 +260,7 @@ impl<'a> Hybrid<'a> {
                 late_merges: 0,
                 slow_closings: 0,
                 implicit_steps: 0,
+                exact_pairs: [0; 2],
                 last_hard: vec![f64::NEG_INFINITY; n + 1],
                 pinned: [false; 2],
                 stuck: vec![false; n.saturating_sub(1)],

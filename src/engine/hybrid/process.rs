@@ -75,7 +75,10 @@ impl Hybrid<'_> {
             .then(|| self.exact_law(lo))
             .flatten();
         let mut integ = match exact {
-            Some(law) => self.exact_pair(law, from_flight),
+            Some(law) => {
+                self.st.exact_pairs[0] += 1;
+                self.exact_pair(law, from_flight)
+            }
             None => (self.spare.pop())
                 .and_then(|mut i| i.renew(m, tol).then_some(i))
                 .unwrap_or_else(|| make_integrator(self.cfg, m, tol)),
@@ -437,6 +440,9 @@ impl Hybrid<'_> {
         for side in [self.st.owner[c], self.st.owner[c + 1]] {
             if side != FREE && self.clusters[side as usize].is_some() {
                 let cl = self.remove_cluster(side, t);
+                if cl.integ.exact_pair().is_some() {
+                    self.st.exact_pairs[1] += 1;
+                }
                 self.recycle(cl);
             }
         }

@@ -247,6 +247,7 @@ impl Engine for HybridEngine<'_> {
             late_merges: h.st.late_merges,
             slow_closings: h.st.slow_closings,
             implicit_steps,
+            exact_pairs: h.st.exact_pairs,
             dissipated: h.dissipated_at(h.st.t),
             ..outcome_at(self.scene, self.state(), self.start)
         }
