@@ -139,7 +139,7 @@ impl Profile {
         for _ in 0..50 {
             let f = self.near_sum(x) - tau;
             let dx = f * (1.0 - x.powf(self.n)).sqrt();
-            if !(dx > 2.0 * f64::EPSILON * x) {
+            if dx.is_nan() || dx <= 2.0 * f64::EPSILON * x {
                 return (x - dx.max(0.0)).max(0.0);
             }
             x -= dx;
@@ -155,7 +155,7 @@ impl Profile {
             let f = self.peak_sum(s) - rest;
             let slope = 2.0 / self.n * (1.0 - s * s).powf(1.0 / self.n - 1.0);
             let ds = f / slope;
-            if !(ds > 2.0 * f64::EPSILON * s) {
+            if ds.is_nan() || ds <= 2.0 * f64::EPSILON * s {
                 return (s - ds.max(0.0)).max(0.0);
             }
             s -= ds;
