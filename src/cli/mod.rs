@@ -4,6 +4,7 @@
 
 mod accuracy;
 mod analyze;
+mod analyze_gas;
 mod check;
 mod ckpt;
 mod common;
