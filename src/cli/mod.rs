@@ -10,6 +10,7 @@ mod ckpt;
 mod common;
 mod export;
 mod files;
+mod fragments;
 mod plot;
 mod run;
 mod scene;
