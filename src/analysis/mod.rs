@@ -17,7 +17,10 @@
 //! - [`timings`]: gap openings/closings at an interface from frames or the event log, and the
 //!   freeze / two-body exchange times `t1 … t5` (Sec. 3.1, Figs. 3–4).
 //! - [`state`]: the steady-state criterion of appendix A (also as a run stop condition) and
-//!   fragmentation statistics (open gaps, fragments and their velocities).
+//!   fragmentation statistics (open gaps, fragments and their velocities), and the final
+//!   fragments of a state where no pair can collide again (`run --stop-when-fragmented`).
+//! - [`gas`]: collision rate from the event log, kinetic temperature per frame, velocity
+//!   distribution (gases: `granular_gas`).
 //! - [`summary`]: the whole summary of a run's frames (`beadchain analyze`, Python's
 //!   `analyze()`): energies, the leading wave's speed and decay fit, the interface split.
 //!
@@ -29,6 +32,7 @@
 //! ratios once pulses are compared at like moments.
 
 pub mod fit;
+pub mod gas;
 pub mod interface;
 pub mod state;
 pub mod summary;
@@ -39,7 +43,9 @@ pub mod window;
 
 pub use fit::{fit_exponential, least_squares, ExpFit, LinearFit};
 pub use interface::{energy_split, velocity_ratio, EnergySplit, VelocityRatio};
-pub use state::{fragmentation, is_steady_state, Fragment, Fragmentation, SteadyStateStop};
+pub use state::{
+    final_fragments, fragmentation, is_steady_state, Fragment, Fragmentation, SteadyStateStop,
+};
 pub use summary::{summarize, Summary, SummaryError, SummaryOptions};
 pub use wave::{
     detect_pulses, leading_pulse, track_leading, wave_energy, Pulse, TrackPoint, WaveOptions,

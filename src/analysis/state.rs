@@ -11,6 +11,16 @@
 //! **Fragmentation**: a contact is an open gap when its overlap is below `−gap_tol` (beads that
 //! merely touch at rest are not a gap); fragments are the maximal runs of beads without an open
 //! gap, each with its mass and centre-of-mass velocity.
+//!
+//! **Final fragments** (the run stop `run --stop-when-fragmented`): without a field and walls, no
+//! pair can ever collide again when every contact is open or idle and the velocities do not
+//! decrease along the chain. Contact `i` (overlap `δ_i`, [`Chain::overlap`]) must have
+//! `δ_i < 0`, or `δ_i = 0` with `v_i = v_{i+1}` (touching, no force, not approaching), or `δ_i =
+//! 0` with `v_i < v_{i+1}` (separating), and `v_i ≤ v_{i+1}` for every `i`. Free beads then fly
+//! at constant velocity and every gap stays open or grows, exactly (no tolerance: a contact
+//! approaching at `10⁻¹⁷` still closes, some day). The fragments are the maximal runs of beads
+//! joined by touching contacts at equal velocity, each with its total mass and centre-of-mass
+//! velocity ([`final_fragments`]).
 
 use crate::engine::{Control, EngineError, EngineState, Observer};
 use crate::model::Chain;
@@ -103,16 +113,7 @@ pub fn fragmentation(chain: &Chain, u: &[f64], v: &[f64], gap_tol: f64) -> Fragm
     let n = v.len();
     let mut fragments = Vec::new();
     let mut first = 0;
-    let close = |first: usize, last: usize| {
-        let mass: f64 = chain.mass[first..=last].iter().sum();
-        let p: f64 = (first..=last).map(|i| chain.mass[i] * v[i]).sum();
-        Fragment {
-            first,
-            last,
-            mass,
-            velocity: p / mass,
-        }
-    };
+    let close = |first: usize, last: usize| fragment(chain, v, first, last);
     for c in 0..n.saturating_sub(1) {
         if chain.overlap(c, u[c], u[c + 1]) < -gap_tol {
             fragments.push(close(first, c));
@@ -125,6 +126,43 @@ pub fn fragmentation(chain: &Chain, u: &[f64], v: &[f64], gap_tol: f64) -> Fragm
     Fragmentation {
         gaps: fragments.len().saturating_sub(1),
         fragments,
+    }
+}
+
+/// The fragments of a state of a chain without field and walls in which no pair can ever
+/// collide again (module docs); `None` when some contact overlaps or approaches. The caller
+/// checks that the chain has no field and no walls (a field or a wall can always bring beads
+/// back).
+pub fn final_fragments(chain: &Chain, u: &[f64], v: &[f64]) -> Option<Vec<Fragment>> {
+    let n = v.len();
+    let mut fragments = Vec::new();
+    let mut first = 0;
+    for c in 0..n.saturating_sub(1) {
+        let delta = chain.overlap(c, u[c], u[c + 1]);
+        if delta > 0.0 || v[c] > v[c + 1] {
+            return None;
+        }
+        let joined = delta == 0.0 && v[c] == v[c + 1];
+        if !joined {
+            fragments.push(fragment(chain, v, first, c));
+            first = c + 1;
+        }
+    }
+    if n > 0 {
+        fragments.push(fragment(chain, v, first, n - 1));
+    }
+    Some(fragments)
+}
+
+/// Beads `first..=last` as one fragment: total mass and centre-of-mass velocity.
+fn fragment(chain: &Chain, v: &[f64], first: usize, last: usize) -> Fragment {
+    let mass: f64 = chain.mass[first..=last].iter().sum();
+    let p: f64 = (first..=last).map(|i| chain.mass[i] * v[i]).sum();
+    Fragment {
+        first,
+        last,
+        mass,
+        velocity: p / mass,
     }
 }
 
@@ -187,5 +225,22 @@ mod tests {
         let vel: Vec<_> = f.fragments.iter().map(|g| g.velocity).collect();
         assert_eq!(vel, vec![2.0, -0.5, 2.0]);
         assert_eq!(fragmentation(&c, &u, &v, 1e-6).gaps, 1);
+    }
+
+    #[test]
+    fn final_fragments_exact() {
+        let c = chain(5, 2.5);
+        // contact 0 touching at equal velocity (joined), 1 open, 2 touching but separating,
+        // 3 open: fragments 0..1, 2, 3, 4
+        let u = [0.0, 0.0, 0.5, 0.5, 1.0];
+        let v = [-1.0, -1.0, 0.0, 2.0, 2.0];
+        let f = final_fragments(&c, &u, &v).expect("fragmented");
+        let spans: Vec<_> = f.iter().map(|g| (g.first, g.last)).collect();
+        assert_eq!(spans, vec![(0, 1), (2, 2), (3, 3), (4, 4)]);
+        assert_eq!(f[0].mass, 2.0);
+        assert_eq!(f[0].velocity, -1.0);
+        // an approaching open contact, an overlapping one: not fragmented
+        assert!(final_fragments(&c, &u, &[-1.0, -1.0, 0.0, 2.0, 1.0]).is_none());
+        assert!(final_fragments(&c, &[0.0, 0.0, 0.5, 0.4, 1.0], &v).is_none());
     }
 }

@@ -2,7 +2,8 @@
 //! wave's speed and decay fit, the interface split), the per-frame leading-wave table with
 //! `--frames`, or everything as JSON with `--json`. The computation is the library's
 //! [`beadchain::analysis::summary`] ([`summarize`], also behind Python's `analyze()`); this file
-//! reads the snapshot and formats the result.
+//! reads the snapshot and formats the result; the collision rate and a gas's kinetic
+//! temperature are [`super::analyze_gas`]'s.
 //!
 //! Energies are shown as fractions of the reference `E_ref = max(|E0|, S)`, with `S` the gross
 //! energy scale of the first and last frames ([`beadchain::model::Chain::energy_scale`]: every
@@ -11,6 +12,7 @@
 //! energy, `E_ref = E0`. The text output never prints a non-finite number or an empty range:
 //! what cannot be computed is named with the reason.
 
+use super::analyze_gas::GasReport;
 use anyhow::{Context, Result};
 use beadchain::analysis::summary::{ratio, InterfaceSplit};
 use beadchain::analysis::{summarize, Summary, SummaryError, SummaryOptions};
@@ -39,6 +41,10 @@ pub struct AnalyzeArgs {
     /// ... and <= this bead [default: N - 10].
     #[arg(long)]
     pub fit_to: Option<f64>,
+    /// Also report the gas observables: kinetic temperature per frame, velocity distribution
+    /// [default: only for a scene with walls and gaps].
+    #[arg(long)]
+    pub gas: bool,
 }
 
 fn num(x: f64) -> String {
@@ -59,9 +65,9 @@ fn or_why(x: Option<f64>, prec: usize, why: &str) -> String {
 
 /// Runs `beadchain analyze`; returns the exit code.
 pub fn cmd_analyze(args: AnalyzeArgs) -> Result<i32> {
-    let (a, units) = analyze(&args)?;
+    let (a, units, gas) = analyze(&args)?;
     let o = if args.json {
-        json(&a)
+        json(&a, &super::analyze_gas::json(&gas))
     } else {
         let mut o = summary(&args, &a);
         if let Some(u) = units {
@@ -77,6 +83,7 @@ pub fn cmd_analyze(args: AnalyzeArgs) -> Result<i32> {
                 u.mass
             );
         }
+        o.push_str(&super::analyze_gas::text(&gas, args.frames));
         if args.frames {
             o.push_str(&frames_table(&a));
         } else {
@@ -88,8 +95,8 @@ pub fn cmd_analyze(args: AnalyzeArgs) -> Result<i32> {
     Ok(0)
 }
 
-/// Reads the snapshot (every bead, both fields) and summarizes its frames.
-fn analyze(args: &AnalyzeArgs) -> Result<(Summary, Option<UnitScales>)> {
+/// Reads the snapshot (every bead, both fields) and summarizes its frames and event log.
+fn analyze(args: &AnalyzeArgs) -> Result<(Summary, Option<UnitScales>, GasReport)> {
     let snap =
         Snapshot::open(&args.snapshot).with_context(|| format!("{}", args.snapshot.display()))?;
     for w in snap.warnings() {
@@ -116,7 +123,9 @@ fn analyze(args: &AnalyzeArgs) -> Result<(Summary, Option<UnitScales>)> {
         SummaryError::Interface { .. } => anyhow::anyhow!("--{e}"),
         other => anyhow::anyhow!("{}: {other}", args.snapshot.display()),
     })?;
-    Ok((summary, units))
+    let gas = args.gas || super::analyze_gas::is_gas(chain);
+    let gas = super::analyze_gas::report(&snap, &frames, gas);
+    Ok((summary, units, gas))
 }
 
 fn summary(args: &AnalyzeArgs, a: &Summary) -> String {
@@ -306,7 +315,7 @@ fn frames_table(a: &Summary) -> String {
     o
 }
 
-fn json(a: &Summary) -> String {
+fn json(a: &Summary, gas: &str) -> String {
     let mut o = String::from("{\n  \"leading_wave\": [");
     for (i, p) in a.track.iter().enumerate() {
         let _ = write!(
@@ -345,6 +354,7 @@ fn json(a: &Summary) -> String {
             let _ = write!(o, ",\n  \"decay_fit\": {{\"error\": \"{e}\"}}");
         }
     }
+    o.push_str(gas);
     o.push_str("\n}\n");
     o
 }

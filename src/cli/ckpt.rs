@@ -30,6 +30,8 @@ pub struct SnapshotSink {
     /// A resumed run: its checkpoint and temporary output predate this process and are kept
     /// when the run fails (the previous state stays resumable).
     resumed: bool,
+    /// Notes the driver adds to the snapshot's run summary (e.g. why the run ended early).
+    pub notes: Vec<String>,
 }
 
 impl SnapshotSink {
@@ -58,6 +60,7 @@ impl SnapshotSink {
             timing,
             wrote_checkpoint: false,
             resumed: false,
+            notes: Vec::new(),
         })
     }
 }
@@ -158,7 +161,9 @@ pub fn drive(
         Ok(out) => {
             let timing = sink.timing;
             let ckpt = sink.ckpt_path.clone();
-            sink.writer.finish(&[], &summary(&out, timing))?;
+            let mut done = summary(&out, timing);
+            done.notes.append(&mut sink.notes);
+            sink.writer.finish(&[], &done)?;
             if ckpt.exists() {
                 std::fs::remove_file(&ckpt)
                     .with_context(|| format!("removing the finished run's {}", ckpt.display()))?;

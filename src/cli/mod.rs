@@ -4,11 +4,13 @@
 
 mod accuracy;
 mod analyze;
+mod analyze_gas;
 mod check;
 mod ckpt;
 mod common;
 mod export;
 mod files;
+mod fragments;
 mod plot;
 mod run;
 mod scene;

@@ -43,6 +43,11 @@ pub struct RunArgs {
     pub limit: SizeLimit,
     #[command(flatten)]
     pub output: OutputArgs,
+    /// End the run at the first output frame at which no pair can ever collide again (every
+    /// contact open or touching at equal velocity, velocities non-decreasing along the chain)
+    /// and print the fragments; refused for a scene with a field or walls.
+    #[arg(long)]
+    pub stop_when_fragmented: bool,
 }
 
 /// Runs `beadchain run`; returns the exit code.
@@ -62,6 +67,9 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
     scene.run.until = cfg.until;
     scene.run.every = cfg.every;
     engine::check_config(&scene, &cfg).with_context(|| scene.name.clone())?;
+    if a.stop_when_fragmented {
+        super::fragments::check_scene(&a.common.scene, &scene)?;
+    }
     let out_path = a
         .out
         .clone()
@@ -91,10 +99,21 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
         a.timing,
     )?;
     let bar = RunProgress::new(a.common.quiet);
+    let mut fragmented = None;
     let done = ckpt::drive(sink, &a.common.scene, |s| {
-        let r = engine::run(&scene, &cfg, &mut bar.watch(s, 0.0, cfg.until, ""));
+        if !a.stop_when_fragmented {
+            let r = engine::run(&scene, &cfg, &mut bar.watch(s, 0.0, cfg.until, ""));
+            bar.finish();
+            return r;
+        }
+        let r = super::fragments::run(&scene, &cfg, &mut bar.watch(s, 0.0, cfg.until, ""));
         bar.finish();
-        r
+        let (out, f) = r?;
+        if let Some(f) = &f {
+            s.notes.push(super::fragments::note(f, cfg.until));
+        }
+        fragmented = Some(f);
+        Ok(out)
     })?;
     match done {
         Ok(out) => {
@@ -104,6 +123,9 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
             let (mut so, mut se) = (std::io::stdout().lock(), std::io::stderr().lock());
             let w: &mut dyn Write = if to_stream { &mut se } else { &mut so };
             print_outcome(w, &scene, &cfg, &out)?;
+            if let Some(f) = &fragmented {
+                super::fragments::print(w, &scene, &cfg, f.as_ref(), (&out.u, &out.v))?;
+            }
             writeln!(w, "wrote {}", out_path.display())?;
             w.flush()?;
             Ok(0)

@@ -129,6 +129,16 @@ static PRESETS: &[PresetInfo] = &[
         description: "Ten beads falling under gravity g = 1 onto a wall with viscoelastic contacts (pair restitution 0.6 at impact speed 1): they come to rest as a column",
         toml: include_str!("../../data/scenes/damped_column.toml"),
     },
+    PresetInfo {
+        name: "gapped_chain",
+        description: "Striker v = 1 into 1000 uniform beads (n = 2.5, a = m = 1) separated by gaps of 1 (precompression -1): every collision is an isolated two-body collision (velocity exchange), the pulse crosses the chain bead by bead",
+        toml: include_str!("../../data/scenes/gapped_chain.toml"),
+    },
+    PresetInfo {
+        name: "granular_gas",
+        description: "1-D soft granular gas: 1000 beads, random masses 1 +- 0.9 and velocities 0 +- 1 (uniform, seed 7), gaps of 1 (precompression -1), soft walls with the chain's law (n = 2.5): collision rate, kinetic temperature, velocity distribution",
+        toml: include_str!("../../data/scenes/granular_gas.toml"),
+    },
 ];
 
 /// Every preset, the default (`striker`) first.

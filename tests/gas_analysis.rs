@@ -1,0 +1,270 @@
+//! `beadchain analyze` reports the collision rate from the event log and, for a gas (walls and
+//! gaps) or with `--gas`, the kinetic temperature per frame and the velocity distribution
+//! (issue 33). Every number is checked against one computed here, independently, from the
+//! snapshot's frames and event log (read through the library's reader), with other formulas
+//! where there is one (the temperature as `(Σ m v² − (Σ m v)²/Σ m)/N`).
+
+mod common;
+
+use beadchain::engine::events::EventKind;
+use beadchain::snapshot::Snapshot;
+use common::{assert_ok, bc};
+use std::path::Path;
+
+/// A small gas: 60 beads, random masses and velocities (seeded), gaps of 1, soft walls.
+const GAS: &str = "[scene]\nname = \"gas\"\nseed = 3\n[chain]\nbeads = 60\n\
+    mass = { random = { mean = 1.0, eps = 0.9 } }\nprecompression = -1.0\n\
+    [initial]\nvelocity = { random = { mean = 0.0, eps = 1.0 } }\n\
+    [walls]\nleft = { precompression = -1.0 }\nright = { precompression = -1.0 }\n\
+    [run]\nuntil = 40.0\nevery = 1.0\n";
+
+/// `|a − b| ≤ abs + rel·|b|`.
+fn close(a: f64, b: f64, abs: f64, rel: f64) -> bool {
+    (a - b).abs() <= abs + rel * b.abs()
+}
+
+/// The text after `"key": ` in `s`, up to the next `,`, `}` or `]`.
+fn field<'a>(s: &'a str, key: &str) -> &'a str {
+    let pat = format!("\"{key}\": ");
+    let at = s.find(&pat).unwrap_or_else(|| panic!("no {key} in {s}")) + pat.len();
+    let rest = &s[at..];
+    let end = rest.find([',', '}', ']']).unwrap_or(rest.len());
+    rest[..end].trim()
+}
+
+fn num(s: &str, key: &str) -> f64 {
+    field(s, key)
+        .parse()
+        .unwrap_or_else(|_| panic!("{key}: {}", field(s, key)))
+}
+
+fn run_gas(dir: &Path, extra: &[&str]) -> Snapshot {
+    std::fs::write(dir.join("gas.toml"), GAS).unwrap();
+    let mut args = vec!["run", "gas.toml", "--out", "gas.snap", "-q"];
+    args.extend_from_slice(extra);
+    assert_ok(&bc(dir, &args));
+    Snapshot::open(&dir.join("gas.snap")).expect("snapshot")
+}
+
+fn analyze(dir: &Path, args: &[&str]) -> String {
+    let mut a = vec!["analyze", "gas.snap"];
+    a.extend_from_slice(args);
+    let o = bc(dir, &a);
+    assert_ok(&o);
+    String::from_utf8(o.stdout).expect("utf-8")
+}
+
+/// Independent velocity moments: mean, population std, excess kurtosis, 8-bin histogram with
+/// edges `mean + k·std`, `k = −3 … 3`.
+fn moments(v: &[f64]) -> (f64, f64, f64, Vec<u64>) {
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let var = v.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / n;
+    let std = var.sqrt();
+    let m4 = v.iter().map(|x| ((x - mean) / std).powi(4)).sum::<f64>() / n;
+    let mut hist = vec![0u64; 8];
+    for &x in v {
+        let above = (-3..=3).filter(|&k| x >= mean + k as f64 * std).count();
+        hist[above] += 1;
+    }
+    (mean, std, m4 - 3.0, hist)
+}
+
+#[test]
+fn analyze_reports_the_collision_rate_and_the_kinetic_temperature_of_a_gas() {
+    let d = tempfile::tempdir().unwrap();
+    let snap = run_gas(d.path(), &[]);
+    let json = analyze(d.path(), &["--json"]);
+    let n = snap.header().n_beads as usize;
+    let mass = snap.header().scene.chain.mass.clone();
+    let frames: Vec<_> = (0..snap.frame_count())
+        .map(|k| snap.frame(k).unwrap())
+        .collect();
+    let (t0, t1) = (frames[0].t, frames[frames.len() - 1].t);
+    // Collisions: close + hard_collision events in [t0, t1]; walls apart. Exact counts.
+    let ev = snap.events();
+    let pair = ev
+        .iter()
+        .filter(|e| matches!(e.kind, EventKind::Close | EventKind::HardCollision))
+        .filter(|e| e.t >= t0 && e.t <= t1)
+        .count();
+    let wall = ev.iter().filter(|e| e.kind == EventKind::WallClose).count();
+    assert!(pair > 50, "a gas collides: {pair} collisions");
+    let coll = &json[json.find("\"collisions\"").unwrap()..];
+    assert_eq!(field(coll, "pair"), pair.to_string());
+    assert_eq!(field(coll, "wall"), wall.to_string());
+    // Rate per unit time and per bead: abs 1e-12, rel 1e-12 (one division each).
+    let rate = pair as f64 / (t1 - t0);
+    assert!(close(num(coll, "rate"), rate, 1e-12, 1e-12), "{coll}");
+    let per_bead = rate / n as f64;
+    assert!(close(num(coll, "rate_per_bead"), per_bead, 1e-12, 1e-12));
+    // Temperature per frame: (Σ m v² − (Σ m v)²/Σ m)/N, abs 1e-12, rel 1e-10 (cancellation
+    // between the two sums of this form, not of the one analyze uses).
+    let gas = &json[json.find("\"gas\"").expect("a gas gets the gas part")..];
+    let rows: Vec<&str> = gas.split("{\"t\": ").skip(1).collect();
+    assert_eq!(rows.len(), frames.len());
+    let mut total = 0u64;
+    let mut prev = f64::NEG_INFINITY;
+    for (row, f) in rows.iter().zip(&frames) {
+        let t: f64 = row.split(',').next().unwrap().parse().unwrap();
+        assert_eq!(t, f.t);
+        let mv: f64 = mass.iter().zip(&f.v).map(|(m, v)| m * v).sum();
+        let mv2: f64 = mass.iter().zip(&f.v).map(|(m, v)| m * v * v).sum();
+        let m: f64 = mass.iter().sum();
+        let temp = (mv2 - mv * mv / m) / n as f64;
+        let got = num(row, "T_kin");
+        assert!(close(got, temp, 1e-12, 1e-10), "t = {t}: {got} vs {temp}");
+        // Collisions in (t_prev, t]: exact.
+        let c = ev
+            .iter()
+            .filter(|e| matches!(e.kind, EventKind::Close | EventKind::HardCollision))
+            .filter(|e| e.t > prev && e.t <= f.t)
+            .count();
+        assert_eq!(field(row, "collisions"), c.to_string(), "t = {t}");
+        total += c as u64;
+        prev = f.t;
+    }
+    assert_eq!(total, pair as u64, "the intervals add up to the total");
+    // Velocity distribution at the first and last frame: abs 1e-12, rel 1e-9; counts exact.
+    for (key, f) in [
+        ("velocity_first", &frames[0]),
+        ("velocity_last", &frames[rows.len() - 1]),
+    ] {
+        let s = &gas[gas.find(key).unwrap()..];
+        let (mean, std, kurt, hist) = moments(&f.v);
+        assert!(close(num(s, "mean"), mean, 1e-12, 1e-9), "{key} mean");
+        assert!(close(num(s, "std"), std, 1e-12, 1e-9), "{key} std");
+        assert!(close(num(s, "excess_kurtosis"), kurt, 1e-12, 1e-9), "{key}");
+        let h = &s[s.find('[').unwrap() + 1..s.find(']').unwrap()];
+        let got: Vec<u64> = h.split(", ").map(|x| x.parse().unwrap()).collect();
+        assert_eq!(got, hist, "{key} histogram");
+    }
+    // The uniform initial velocities: excess kurtosis near −1.2 (60 draws: abs 0.3).
+    let k0 = num(
+        &gas[gas.find("velocity_first").unwrap()..],
+        "excess_kurtosis",
+    );
+    assert!(close(k0, -1.2, 0.3, 0.0), "uniform draws: kurtosis {k0}");
+}
+
+#[test]
+fn analyze_text_names_units_and_shows_the_gas_part_only_for_gases_or_when_asked() {
+    let d = tempfile::tempdir().unwrap();
+    run_gas(d.path(), &[]);
+    let s = analyze(d.path(), &[]);
+    assert!(
+        s.contains("collisions (close and hard_collision events between beads, t = 0 to 40): "),
+        "{s}"
+    );
+    assert!(s.contains("per unit time"), "{s}");
+    assert!(s.contains("kinetic temperature T_kin = (1/N) sum_i m_i (v_i - v_cm)^2 (an energy, k_B = 1; computer units)"), "{s}");
+    assert!(s.contains("excess kurtosis"), "{s}");
+    let f = analyze(d.path(), &["--frames"]);
+    assert!(
+        f.contains("kinetic temperature and collisions per frame"),
+        "{f}"
+    );
+    // A striker chain is no gas: collision rate, no temperature unless --gas.
+    assert_ok(&bc(
+        d.path(),
+        &["run", "striker", "--out", "s.snap", "-q", "--until", "20"],
+    ));
+    let a = bc(d.path(), &["analyze", "s.snap"]);
+    let a = String::from_utf8_lossy(&a.stdout).to_string();
+    assert!(a.contains("collisions (close and hard_collision"), "{a}");
+    assert!(!a.contains("kinetic temperature"), "{a}");
+    let g = bc(d.path(), &["analyze", "s.snap", "--gas"]);
+    assert!(String::from_utf8_lossy(&g.stdout).contains("kinetic temperature T_kin"));
+    // The dense engine logs no events: the rate is not computed, and says why.
+    let dense = run_gas(d.path(), &["--engine", "dense", "--until", "2"]);
+    assert!(dense.events().is_empty());
+    let t = analyze(d.path(), &[]);
+    assert!(
+        t.contains("collisions: not computed (the dense engine logs no events"),
+        "{t}"
+    );
+    assert!(analyze(d.path(), &["--json"]).contains("\"rate\": null"));
+}
+
+/// A physical scene's rate is also printed per second: `R/β`, abs 0, rel 1e-6 (7 printed
+/// digits).
+#[test]
+fn analyze_prints_a_physical_scenes_collision_rate_in_si() {
+    let d = tempfile::tempdir().unwrap();
+    assert_ok(&bc(
+        d.path(),
+        &["run", "hertz_spheres_physical", "--out", "h.snap", "-q"],
+    ));
+    let beta = Snapshot::open(&d.path().join("h.snap"))
+        .unwrap()
+        .header()
+        .scene
+        .units
+        .expect("physical")
+        .time;
+    let o = bc(d.path(), &["analyze", "h.snap"]);
+    let s = String::from_utf8_lossy(&o.stdout).to_string();
+    let line = s.lines().find(|l| l.starts_with("collisions (")).expect(&s);
+    let after = |pat: &str| -> f64 {
+        let at = line.find(pat).unwrap_or_else(|| panic!("{pat}: {line}")) + pat.len();
+        line[at..]
+            .split_whitespace()
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let (rate, si) = (after("rate "), after("(SI: "));
+    assert!(rate > 0.0, "{line}");
+    assert!(close(si, rate / beta, 0.0, 1e-6), "{si} vs {}", rate / beta);
+}
+
+/// The `granular_gas` preset: T_kin at t = 0 is the scene's own `(1/N) Σ m (v − v_cm)²` (abs
+/// 1e-12, rel 1e-10), the run collides, and the walls are hit.
+#[test]
+fn granular_gas_preset_reports_its_initial_temperature() {
+    let scene = beadchain::scene::preset("granular_gas").expect("preset");
+    let n = scene.chain.len() as f64;
+    let m: f64 = scene.chain.mass.iter().sum();
+    let p: f64 = scene
+        .chain
+        .mass
+        .iter()
+        .zip(&scene.v0)
+        .map(|(a, b)| a * b)
+        .sum();
+    let vcm = p / m;
+    let t0: f64 = scene
+        .chain
+        .mass
+        .iter()
+        .zip(&scene.v0)
+        .map(|(a, v)| a * (v - vcm).powi(2))
+        .sum::<f64>()
+        / n;
+    let d = tempfile::tempdir().unwrap();
+    assert_ok(&bc(
+        d.path(),
+        &[
+            "run",
+            "granular_gas",
+            "--out",
+            "gas.snap",
+            "-q",
+            "--until",
+            "30",
+        ],
+    ));
+    let json = analyze(d.path(), &["--json"]);
+    let gas = &json[json.find("\"gas\"").unwrap()..];
+    assert!(
+        close(num(gas, "T_kin"), t0, 1e-12, 1e-10),
+        "{} vs {t0}",
+        num(gas, "T_kin")
+    );
+    let coll = &json[json.find("\"collisions\"").unwrap()..];
+    assert!(
+        num(coll, "pair") > 1000.0 && num(coll, "wall") > 0.0,
+        "{coll}"
+    );
+}
