@@ -20,6 +20,19 @@
 //! bead accelerates ever faster. A poor prediction costs what a closing costs without it: a
 //! closing found earlier in the step is landed on by a redone step as before.
 //!
+//! **The first step after a closing** is capped at the onset of the new contact's force
+//! ([`Hybrid::cap_onset_step`]): a contact closing at speed `w` has `δ ≈ wτ`, so its force
+//! `n a (wτ)^{n−1}` is not a polynomial in the step time (for non-integer `n`), and Hairer's
+//! starting-step estimate (HNW I, II.4), which sees only the state and one Euler step, where the
+//! force is still `≈ 0`, proposes steps far beyond what its onset allows. The velocity change
+//! that the force makes over a step `h` is `≈ a w^{n−1} hⁿ/μ`; holding it to `rtol·w` gives
+//! `h = (δ_max/w)·(2 rtol)^{1/n}` with `δ_max = (μw²/2a)^{1/n}` the contact's two-body peak
+//! overlap. On a chain with gaps of 0.1 (10⁴ beads, rtol 1e-8) every first step of a merged
+//! cluster was rejected 7 times (130 000 of 270 000 steps rejected; 60 000 with the cap); on
+//! `periodic_decay_2.5_2.555` the cap halves the rejections and the energy error falls 33× at
+//! rtol 1e-8 for 2 % fewer right-hand sides (1.24–1.27× fewer at equal energy error, and about
+//! 1.3× on `disorder_2.5_0.04`); the accepted steps were too long, not only the rejected ones.
+//!
 //! Only a free neighbour is predicted (a neighbouring cluster's output ends at its own time),
 //! only for DOP853 clusters (Radau IIA's continuous output is its collocation polynomial, not
 //! continued here), and not across hard contacts (their collisions are located and resolved
@@ -122,5 +135,21 @@ impl Hybrid<'_> {
         let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
         let (t1, t0) = (cl.integ.t(), cl.integ.t_prev());
         cl.integ.rate().is_some() && t1 > t0 && t1 - t <= NEAR_END * (t1 - t0)
+    }
+
+    /// Caps the first step of the cluster in `slot`, just made by a closing at approach speed
+    /// `w` of a contact with reduced mass `mu` and law `(n, a)`, at the onset of its force
+    /// (module docs). A method whose proposal is already shorter, or that takes no steps (an
+    /// exact pair), is not changed.
+    pub(super) fn cap_onset_step(&mut self, slot: u32, mu: f64, (n, a): (f64, f64), w: f64) {
+        if !(w > 0.0 && a > 0.0 && n > 1.0) {
+            return;
+        }
+        let d_max = (mu * w * w / (2.0 * a)).powf(1.0 / n);
+        let h = d_max / w * (2.0 * self.cfg.rtol).powf(1.0 / n);
+        let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
+        if h.is_finite() && h > 0.0 && cl.integ.step_size() > h {
+            cl.integ.set_step_size(h);
+        }
     }
 }

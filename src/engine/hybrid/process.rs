@@ -461,6 +461,11 @@ impl Hybrid<'_> {
         }
         self.make_cluster(lo, hi, t, (&u[..hi - lo], &v[..hi - lo]), None, flight);
         (self.eu, self.ev) = (u, v);
+        if self.chain.hard_restitution(c).is_none() {
+            let (m0, m1) = (self.chain.mass[c], self.chain.mass[c + 1]);
+            let law = (self.chain.exponent[c], self.chain.prefactor[c]);
+            self.cap_onset_step(self.st.owner[c], m0 * m1 / (m0 + m1), law, rel);
+        }
         Ok(())
     }
 
@@ -504,6 +509,11 @@ impl Hybrid<'_> {
         self.st.wall_in[side as usize] = true;
         self.count_slow_closing(v, &[i]);
         self.make_cluster(i, i + 1, t, (&[u], &[v]), None, false);
+        if let Some(w) = self.soft_wall(side) {
+            let law = (w.exponent, w.prefactor);
+            let speed = if side == 0 { -v } else { v };
+            self.cap_onset_step(self.st.owner[i], self.chain.mass[i], law, speed);
+        }
     }
 
     /// Splits a cluster at every contact that opened (and frees a lone bead leaving a wall).
