@@ -156,21 +156,7 @@ fn touching_beads_at_equal_velocity_are_one_fragment() {
     let d = tempfile::tempdir().unwrap();
     let toml = "[chain]\nbeads = 3\nmass = [1.0, 1.0, 2.0]\nprecompression = [-0.5, 0.0]\n\
                 [initial]\nvelocity = [-1.0, 0.0, 0.0]\n[run]\nuntil = 10.0\nevery = 1.0\n";
-    std::fs::write(d.path().join("c.toml"), toml).unwrap();
-    let o = bc(
-        d.path(),
-        &[
-            "run",
-            "c.toml",
-            "--out",
-            "c.snap",
-            "-q",
-            "--stop-when-fragmented",
-        ],
-    );
-    assert_ok(&o);
-    let out = String::from_utf8_lossy(&o.stdout);
-    let snap = Snapshot::open(&d.path().join("c.snap")).unwrap();
+    let (out, snap) = run_stop(d.path(), toml);
     assert_eq!(snap.frame_count(), 1);
     assert_eq!(
         printed(&out),
