@@ -98,16 +98,6 @@ impl ExactPair {
         }
     }
 
-    /// Restores a saved pair (checkpoints).
-    pub fn from_saved(law: PairLaw, profile: Rc<Profile>, s: &IntegratorState) -> Option<Self> {
-        let p = s.exact?;
-        let mut e = ExactPair::new(law, profile, false);
-        e.s = p;
-        e.stats = s.stats.clone();
-        e.z = e.eval(e.s.t);
-        Some(e)
-    }
-
     /// Time scale `δ_max/w₀` of the profile.
     fn scale(&self) -> f64 {
         self.s.d_max / self.s.w0
