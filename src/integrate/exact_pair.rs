@@ -98,6 +98,11 @@ impl ExactPair {
         }
     }
 
+    /// Makes this pair the one `new(law, profile, from_flight)` builds, keeping its allocation.
+    pub fn renew(&mut self, law: PairLaw, profile: Rc<Profile>, from_flight: bool) {
+        *self = ExactPair::new(law, profile, from_flight);
+    }
+
     /// Time scale `δ_max/w₀` of the profile.
     fn scale(&self) -> f64 {
         self.s.d_max / self.s.w0
@@ -295,6 +300,10 @@ impl Integrator for ExactPair {
     }
 
     fn exact_pair(&self) -> Option<&ExactPair> {
+        Some(self)
+    }
+
+    fn exact_pair_mut(&mut self) -> Option<&mut ExactPair> {
         Some(self)
     }
 

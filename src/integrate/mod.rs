@@ -456,6 +456,10 @@ pub trait Integrator {
     fn exact_pair(&self) -> Option<&exact_pair::ExactPair> {
         None
     }
+    /// [`Integrator::exact_pair`], mutable (an engine reusing a removed pair's allocation).
+    fn exact_pair_mut(&mut self) -> Option<&mut exact_pair::ExactPair> {
+        None
+    }
     /// The state needed to continue exactly (see [`IntegratorState`]).
     fn save(&self) -> IntegratorState;
     /// Restores a state saved by the same method for the same number of beads; any other

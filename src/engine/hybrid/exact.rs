@@ -47,13 +47,22 @@ impl Hybrid<'_> {
         })
     }
 
-    /// An exact pair for `law` (its exponent's profile computed once per run).
+    /// An exact pair for `law` (its exponent's profile computed once per run; a removed pair's
+    /// allocation reused where there is one).
     pub(super) fn exact_pair(&mut self, law: PairLaw, from_flight: bool) -> Box<dyn Integrator> {
         let profile = self
             .profiles
             .entry(law.n.to_bits())
             .or_insert_with(|| Rc::new(Profile::new(law.n)))
             .clone();
-        Box::new(ExactPair::new(law, profile, from_flight))
+        match self.spare_pairs.pop() {
+            Some(mut pair) => {
+                if let Some(p) = pair.exact_pair_mut() {
+                    p.renew(law, profile, from_flight);
+                }
+                pair
+            }
+            None => Box::new(ExactPair::new(law, profile, from_flight)),
+        }
     }
 }

@@ -216,6 +216,9 @@ pub struct Hybrid<'a> {
     /// Integrators of removed clusters, renewed for the next clusters made
     /// ([`Integrator::renew`]): a gap event allocates nothing for them.
     spare: Vec<Box<dyn crate::integrate::Integrator>>,
+    /// Exact pairs of removed clusters, renewed for the next pairs made (no allocation per
+    /// collision).
+    spare_pairs: Vec<Box<dyn crate::integrate::Integrator>>,
     /// Contact profiles of the exact pairs, by exponent (bits) ([`exact`]).
     profiles: std::collections::HashMap<u64, std::rc::Rc<crate::model::profile::Profile>>,
 }
@@ -281,6 +284,7 @@ impl<'a> Hybrid<'a> {
             ev: vec![0.0; n],
             spare_mass: Vec::new(),
             spare: Vec::new(),
+            spare_pairs: Vec::new(),
             profiles: Default::default(),
         }
     }

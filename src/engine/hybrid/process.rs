@@ -214,6 +214,9 @@ impl Hybrid<'_> {
     /// [`SPARE_INTEGRATORS`] are kept).
     pub(super) fn recycle(&mut self, cl: Cluster) {
         if cl.integ.exact_pair().is_some() {
+            if self.spare_pairs.len() < SPARE_INTEGRATORS {
+                self.spare_pairs.push(cl.integ);
+            }
             self.spare_mass.push(cl.mass);
             return;
         }
