@@ -137,8 +137,9 @@ impl Profile {
     fn invert_near(&self, tau: f64) -> f64 {
         let mut x = tau.min(self.x_star);
         for _ in 0..50 {
-            let f = self.near_sum(x) - tau;
-            let dx = f * (1.0 - x.powf(self.n)).sqrt();
+            let y = x.powf(self.n);
+            let f = x * series(&self.near, y) - tau;
+            let dx = f * (1.0 - y).sqrt();
             if dx.is_nan() || dx <= 2.0 * f64::EPSILON * x {
                 return (x - dx.max(0.0)).max(0.0);
             }

@@ -438,7 +438,12 @@ impl<'a> Hybrid<'a> {
     /// First closing of a cluster's boundary gap `g` over `[t0, tb]`: from the end values alone
     /// where the gap is convex in time (no field, no hard contacts: [`detect`] module docs),
     /// else by sampling.
-    fn boundary_crossing(&self, g: impl Fn(f64) -> f64, t0: f64, tb: f64) -> Option<f64> {
+    pub(super) fn boundary_crossing(
+        &self,
+        g: impl Fn(f64) -> f64,
+        t0: f64,
+        tb: f64,
+    ) -> Option<f64> {
         if self.chain.field.is_none() && !self.chain.has_hard() {
             detect::first_crossing_convex(g, t0, tb)
         } else {

@@ -319,7 +319,7 @@ impl Hybrid<'_> {
                 let pre = self.pre(c);
                 let f = self.st.free[i];
                 let g = |x: f64| pre + a.u_at(x, c) - f.at(x).0 - theta;
-                if let Some(tc) = super::detect::first_crossing(g, t, a.t_now) {
+                if let Some(tc) = self.boundary_crossing(g, t, a.t_now) {
                     found = Some((s, c, tc));
                 }
             }
@@ -333,7 +333,7 @@ impl Hybrid<'_> {
                 let pre = self.pre(c);
                 let f = self.st.free[i];
                 let g = |x: f64| pre + f.at(x).0 - a.u_at(x, i + 1) - theta;
-                if let Some(tc) = super::detect::first_crossing(g, t, a.t_now) {
+                if let Some(tc) = self.boundary_crossing(g, t, a.t_now) {
                     if found.is_none_or(|(_, _, te)| tc < te) {
                         found = Some((s, c, tc));
                     }
