@@ -5,6 +5,9 @@
 
 // Numerical kernels index several arrays in lock-step; index loops read closer to the formulas.
 #![allow(clippy::needless_range_loop)]
+// The AVX2 builds of hot kernels are `unsafe fn`s: every unsafe operation inside them still needs
+// its own `unsafe` block and SAFETY comment.
+#![deny(unsafe_op_in_unsafe_fn)]
 
 pub mod accuracy;
 pub mod analysis;

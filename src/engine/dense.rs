@@ -39,23 +39,6 @@ pub fn make_integrator(cfg: &RunConfig, m: usize, tol: Tolerances) -> Box<dyn In
     }
 }
 
-/// Runs the whole chain to `cfg.until`, from the start or from a checkpointed state.
-pub fn run_from(
-    scene: &Scene,
-    cfg: &RunConfig,
-    from: Option<&DenseState>,
-    obs: &mut dyn Observer,
-) -> Result<RunOutcome, EngineError> {
-    let mut e = DenseEngine::new(scene, cfg, from)?;
-    loop {
-        match e.advance(cfg.until, obs)? {
-            Stop::Reached { .. } => return Ok(e.outcome()),
-            Stop::Requested { t } => return Err(EngineError::Interrupted(t)),
-            Stop::Frame { .. } | Stop::Event { .. } => {}
-        }
-    }
-}
-
 /// The dense engine as an [`Engine`].
 pub struct DenseEngine<'a> {
     scene: &'a Scene,

@@ -47,11 +47,6 @@ pub fn npy_header_shape(shape: &[u64]) -> Vec<u8> {
     h
 }
 
-/// Size in bytes of the largest `.npz` entry (`u` or `v`) for `frames × beads`.
-pub fn npz_entry_bytes(frames: u64, beads: u64) -> u64 {
-    npy_header_shape(&[frames, beads]).len() as u64 + 8 * frames * beads
-}
-
 /// Size in bytes of the whole `.npz` for `frames × beads` (entries, headers, directory).
 pub fn npz_bytes(frames: u64, beads: u64) -> u64 {
     npz_bytes_of(frames, beads, &Selection::default())

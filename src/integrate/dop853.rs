@@ -166,12 +166,6 @@ impl Dop853 {
         &self.tol
     }
 
-    /// Replaces the tolerances (takes effect at the next step; call before [`Integrator::reset`]
-    /// for the initial step size to use them).
-    pub fn set_tolerances(&mut self, tol: Tolerances) {
-        self.tol = tol;
-    }
-
     /// Size proposed for the next step.
     pub fn step_size(&self) -> f64 {
         self.h

@@ -102,21 +102,6 @@ impl Chain {
         }
     }
 
-    /// Dissipated power `P` of beads `lo..lo+u.len()` (0 for a conservative chain).
-    pub fn dissipated_power(&self, lo: usize, u: &[f64], v: &[f64]) -> f64 {
-        match &self.damping {
-            None => 0.0,
-            Some(d) => {
-                let out = Out {
-                    acc: &mut [],
-                    kd: &mut [],
-                    kv: &mut [],
-                };
-                self.damped::<false>(d, lo, u, v, out)
-            }
-        }
-    }
-
     fn damped<const STIFF: bool>(
         &self,
         d: &Damping,

@@ -128,11 +128,6 @@ impl SnapshotWriter {
         &self.tmp
     }
 
-    /// Frames written so far.
-    pub fn frames_written(&self) -> u64 {
-        self.offsets.len() as u64
-    }
-
     /// Appends one frame (time `t`, displacements `u`, velocities `v` of every bead, each
     /// `n_beads` long; the frame stores the selected beads and fields).
     pub fn write_frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), SnapshotError> {

@@ -219,9 +219,4 @@ impl Cluster {
             rigid: self.rigid.then(|| &stuck[self.lo..self.hi - 1]),
         }
     }
-
-    /// Earliest time at which the continuous output is valid.
-    pub fn t_valid_from(&self) -> f64 {
-        self.integ.t_prev()
-    }
 }

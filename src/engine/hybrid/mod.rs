@@ -45,6 +45,7 @@
 
 mod closing;
 pub mod cluster;
+mod create;
 pub mod detect;
 mod eventlog;
 mod exact;
@@ -508,13 +509,7 @@ impl<'a> Hybrid<'a> {
             cl.t_now = t1;
             (cl.lo, t0, t1)
         };
-        self.st.steps_total += 1;
-
-        if let Some(max) = self.cfg.max_steps {
-            if self.st.steps_total >= max {
-                return Err(IntegrationError::Budget(max).into());
-            }
-        }
+        self.count_step()?;
         // Boundary closings over the known part of the step.
         let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
         let earliest = self.first_boundary_closing(cl, t0, t1);
@@ -561,6 +556,15 @@ impl<'a> Hybrid<'a> {
                 .push(Key::Cluster(slot), prio(t1, 2, lo, Key::Cluster(slot)));
         }
         Ok(())
+    }
+
+    /// Counts an accepted cluster step against the run's step budget (`max_steps`).
+    fn count_step(&mut self) -> Result<(), EngineError> {
+        self.st.steps_total += 1;
+        match self.cfg.max_steps {
+            Some(max) if self.st.steps_total >= max => Err(IntegrationError::Budget(max).into()),
+            _ => Ok(()),
+        }
     }
 
     /// Energy dissipated by damped contacts up to `t`: the ended integrations plus every live

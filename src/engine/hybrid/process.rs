@@ -1,10 +1,9 @@
 //! Event processing of the hybrid engine: merging on gap closing, splitting on gap opening, and
 //! the free-flight predictions that follow.
 
-use super::cluster::{Cluster, ClusterSys, PIN_MASS_FACTOR};
+use super::cluster::{Cluster, ClusterSys};
 use super::free::{first_upward_crossing, Free};
 use super::{prio, Hybrid, Key, FREE};
-use crate::engine::dense::make_integrator;
 use crate::engine::events::EventKind;
 use crate::engine::EngineError;
 use crate::integrate::Tolerances;
@@ -13,122 +12,6 @@ use crate::integrate::Tolerances;
 const SPARE_INTEGRATORS: usize = 64;
 
 impl Hybrid<'_> {
-    /// Creates a cluster of beads `lo..hi` at time `t` from global states `u`, `v`. Its first
-    /// step is `h` where given (the step size of the cluster it comes from, see
-    /// [`Self::inherited_step`]), else the method's starting-step estimate. Two beads alone on
-    /// a conservative contact take the exact path ([`super::exact`]); `from_flight`: the state
-    /// is the free flight of two free beads that have just closed their contact.
-    pub(super) fn make_cluster(
-        &mut self,
-        lo: usize,
-        hi: usize,
-        t: f64,
-        (u, v): (&[f64], &[f64]),
-        h: Option<f64>,
-        from_flight: bool,
-    ) {
-        let m = hi - lo;
-        let chain = self.chain;
-        let absolute =
-            (lo == 0 && chain.left_wall.is_some()) || (hi == self.n && chain.right_wall.is_some());
-        let (fu, fv) = if absolute {
-            (0.0, 0.0)
-        } else {
-            // centre of mass: a frame that does not depend on which end is "first", so mirror
-            // images of a cluster are integrated with mirror-image numbers
-            let mass = &chain.mass[lo..hi];
-            let p: f64 = mass.iter().zip(v).map(|(m, x)| m * x).sum();
-            let q: f64 = mass.iter().zip(u).map(|(m, x)| m * x).sum();
-            let mt: f64 = mass.iter().sum();
-            (q / mt, p / mt)
-        };
-        for i in 0..m {
-            self.bu[i] = u[i] - fu;
-            self.bv[i] = v[i] - fv;
-        }
-        let mut mass = self.spare_mass.pop().unwrap_or_default();
-        mass.clear();
-        mass.extend_from_slice(&chain.mass[lo..hi]);
-        let pinned = [
-            lo == 0 && self.st.pinned[0],
-            hi == self.n && self.st.pinned[1],
-        ];
-        // a pinned bead, and the rigid run of resting contacts holding it, are held at rest
-        let stuck = &self.st.stuck[lo..hi - 1];
-        let left_run = stuck.iter().take_while(|s| **s).count();
-        let right_run = stuck.iter().rev().take_while(|s| **s).count();
-        if pinned[0] {
-            for k in 0..=left_run {
-                mass[k] *= PIN_MASS_FACTOR;
-                self.bv[k] = 0.0;
-            }
-        }
-        if pinned[1] {
-            for k in m - 1 - right_run..m {
-                mass[k] *= PIN_MASS_FACTOR;
-                self.bv[k] = 0.0;
-            }
-        }
-        let tol = self.cluster_tol(lo, hi, fv, t);
-        let rigid = self.st.stuck[lo..hi - 1].contains(&true);
-        let exact = (m == 2 && !absolute && !rigid)
-            .then(|| self.exact_law(lo))
-            .flatten();
-        let mut integ = match exact {
-            Some(law) => {
-                self.st.exact_pairs[0] += 1;
-                self.exact_pair(law, from_flight)
-            }
-            None => (self.spare.pop())
-                .and_then(|mut i| i.renew(m, tol).then_some(i))
-                .unwrap_or_else(|| make_integrator(self.cfg, m, tol)),
-        };
-        let sys = ClusterSys {
-            chain: self.fall.1.as_ref().unwrap_or(chain),
-            lo,
-            mass: &mass,
-            pinned,
-            rigid: rigid.then(|| &self.st.stuck[lo..hi - 1]),
-        };
-        match h {
-            Some(h) => integ.restart(&sys, t, &self.bu[..m], &self.bv[..m], h),
-            None => integ.reset(&sys, t, &self.bu[..m], &self.bv[..m]),
-        }
-        let cl = Cluster {
-            lo,
-            hi,
-            frame_u: fu,
-            frame_v: fv,
-            frame_t: t,
-            // 0 with walls (the only clusters in the lab frame)
-            frame_g: self.fall.0,
-            integ,
-            t_now: t,
-            pending: None,
-            mass,
-            pinned,
-            rigid,
-        };
-        let slot = match self.st.spare_slots.pop() {
-            Some(s) => {
-                self.clusters[s as usize] = Some(cl);
-                s
-            }
-            None => {
-                self.clusters.push(Some(cl));
-                (self.clusters.len() - 1) as u32
-            }
-        };
-        for i in lo..hi {
-            self.st.owner[i] = slot;
-            self.st.version[i] += 1;
-        }
-        self.st.largest = self.st.largest.max(m as u64);
-        self.queue
-            .push(Key::Cluster(slot), prio(t, 2, lo, Key::Cluster(slot)));
-        self.unstick_around(lo, hi, t);
-    }
-
     /// The first step of the pieces of the cluster in `slot` when it splits: its step-size
     /// proposal, where it was stepping with an explicit method and its contact forces are C¹
     /// (every exponent ≥ 2); `None` (the method's starting-step estimate) otherwise. A piece moves
