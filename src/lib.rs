@@ -20,4 +20,5 @@ pub mod plot;
 pub mod progress;
 pub mod scene;
 pub mod snapshot;
+pub mod suggest;
 pub mod sweep;
