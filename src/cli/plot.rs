@@ -24,8 +24,9 @@ enum PlotKind {
         /// Snapshot file(s): one panel each.
         #[arg(required = true)]
         snapshots: Vec<PathBuf>,
-        /// Beads A:B (inclusive; `A:` or `:B` open) [default: all].
-        #[arg(long)]
+        /// Beads: one range A:B, half-open as in `run --beads` (beads A to B-1; `A:` to the
+        /// end, `:B` from 0) [default: all].
+        #[arg(long, value_name = "A:B")]
         beads: Option<BeadRange>,
         /// Time window T0:T1 (inclusive; either end optional) [default: the whole run].
         #[arg(long)]
@@ -48,8 +49,8 @@ enum PlotKind {
         /// Times, comma-separated (in the axis units).
         #[arg(long, value_delimiter = ',', required = true)]
         times: Vec<f64>,
-        /// Beads A:B (inclusive) [default: all].
-        #[arg(long)]
+        /// Beads: one range A:B, half-open as in `run --beads` (beads A to B-1) [default: all].
+        #[arg(long, value_name = "A:B")]
         beads: Option<BeadRange>,
         #[command(flatten)]
         units: UnitsArg,
@@ -60,9 +61,10 @@ enum PlotKind {
     Trace {
         /// Snapshot file.
         snapshot: PathBuf,
-        /// Bead indices, comma-separated.
-        #[arg(long, value_delimiter = ',', required = true)]
-        beads: Vec<usize>,
+        /// Beads, as `run --beads`: indices I, half-open ranges A:B (beads A to B-1) and
+        /// A:B:STEP, comma-separated, e.g. `48,49,50` or `48:52`.
+        #[arg(long, value_name = "LIST", required = true)]
+        beads: String,
         /// Time window T0:T1 (in the axis units) [default: the whole run].
         #[arg(long)]
         t: Option<TimeRange>,
@@ -267,8 +269,11 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             units,
             out,
         } => {
-            let opts = trace_options(beads, t, &units, &out)?;
-            chart(&snapshot, "trace", &out, |s| trace::trace(s, &opts))
+            let mut opts = trace_options(t, &units, &out)?;
+            chart(&snapshot, "trace", &out, |s| {
+                opts.beads = plot::bead_list(&beads, s.header().n_beads as usize)?;
+                trace::trace(s, &opts)
+            })
         }
         PlotKind::Energy {
             snapshot,
@@ -351,15 +356,10 @@ fn profile_options(
     })
 }
 
-/// Options of `plot trace`.
-fn trace_options(
-    beads: Vec<usize>,
-    t: Option<TimeRange>,
-    units: &UnitsArg,
-    out: &Out,
-) -> Result<plot::TraceOptions> {
+/// Options of `plot trace` (the beads are resolved against the snapshot).
+fn trace_options(t: Option<TimeRange>, units: &UnitsArg, out: &Out) -> Result<plot::TraceOptions> {
     Ok(plot::TraceOptions {
-        beads,
+        beads: Vec::new(),
         t: t.unwrap_or_default(),
         units: units.get(),
         size: out.size()?,
