@@ -73,14 +73,16 @@ enum PlotKind {
         #[command(flatten)]
         out: Out,
     },
-    /// Leading-wave energy (eq. 13) against its peak bead, with the fitted exponential.
+    /// Leading-wave energy (eq. 13) against its position, with the fitted exponential (the
+    /// decay rate `analyze` reports).
     Energy {
         /// Snapshot file.
         snapshot: PathBuf,
-        /// Fit from this peak bead on [default: 20; 0 for chains of at most 40 beads].
+        /// Fit from this leading-wave position on (its energy-weighted centre, in beads, as
+        /// `analyze`) [default: 20; 0 for chains of at most 40 beads].
         #[arg(long)]
         from: Option<usize>,
-        /// Fit up to this peak bead [default: N - 10; N - 1 for chains of at most 40 beads].
+        /// Fit up to this position [default: N - 10; N - 1 for chains of at most 40 beads].
         #[arg(long)]
         to: Option<usize>,
         /// Logarithmic energy axis (ticks at decades).
@@ -427,17 +429,16 @@ fn energy_plot(snapshot: &Path, opts: &EnergyOptions, out: &Out) -> Result<i32> 
     for s in &fig.fits {
         match &s.fit {
             Ok(f) => outln!(
-                "fit over peak beads {}..{}: gamma = {:.6e} +- {:.3e} ({} points, R^2 = {:.4})",
-                s.from,
-                s.to,
+                "decay fit over positions {}: gamma = {:.6e} +- {:.3e} ({} points, R^2 = {:.4})",
+                s.range,
                 f.gamma,
                 f.gamma_stderr,
                 f.n,
                 f.r2
             ),
             Err(e) => eprintln!(
-                "beadchain: warning: no exponential fit over peak beads {}..{}: {e}",
-                s.from, s.to
+                "beadchain: warning: no exponential fit over positions {}: {e}",
+                s.range
             ),
         }
     }
