@@ -1,6 +1,7 @@
-//! What the command line says when it is used wrongly (issue 36, item 7): the parser's whole
+//! What the command line says (issue 36): when it is used wrongly (item 7), the parser's whole
 //! message (missing arguments by name, the valid values, "did you mean", the usage line), the
-//! command list for a bare `beadchain`, and the nearest preset name for a misspelled one.
+//! command list for a bare `beadchain`, and the nearest preset name for a misspelled one; and
+//! `inspect` of a run without `--timing` (item 11).
 //!
 //! Before: main.rs kept only the first line of clap's message, so `beadchain` printed the
 //! description line, `run` "the following required arguments were not provided:" without
@@ -135,4 +136,45 @@ fn misspelled_preset_suggests_the_nearest_name() {
         "{}",
         stderr(&o)
     );
+}
+
+/// Before (item 11): `inspect` of a run without `--timing` printed "wall 0.000 s" and then
+/// "note: wall time not recorded".
+#[test]
+fn inspect_says_wall_time_not_recorded_once() {
+    let d = tempfile::tempdir().expect("tempdir");
+    let p = d.path();
+    let tiny = "[chain]\nbeads = 4\n[initial]\nstriker = 1.0\n[run]\nuntil = 2.0\n";
+    std::fs::write(p.join("s.toml"), tiny).expect("write");
+    for (args, timed) in [
+        (&["run", "s.toml", "-q", "--out", "a.snap"][..], false),
+        (
+            &["run", "s.toml", "-q", "--out", "b.snap", "--timing"],
+            true,
+        ),
+    ] {
+        let o = bc(p, args);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let o = bc(p, &["inspect", args[4]]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let out = String::from_utf8_lossy(&o.stdout);
+        let run = out
+            .lines()
+            .find(|l| l.starts_with("run:"))
+            .unwrap_or_else(|| panic!("no run line: {out}"));
+        if timed {
+            assert!(
+                run.contains(", wall ") && run.contains(" s, energy"),
+                "{run}"
+            );
+            assert!(!out.contains("not recorded"), "{out}");
+        } else {
+            assert!(
+                run.contains(", wall time not recorded (see --timing),"),
+                "{run}"
+            );
+            assert!(!out.contains("wall 0"), "{out}");
+            assert_eq!(out.matches("not recorded").count(), 1, "{out}");
+        }
+    }
 }
