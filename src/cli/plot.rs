@@ -226,6 +226,9 @@ fn check_out(path: &Path, kind: &str, input: &Path) -> Result<()> {
 
 fn written<F: plot::Figure>(fig: &F, out: &Path) -> Result<i32> {
     // the output rule is checked before any work is reported
+    for (f, _) in plot::output_paths(out)? {
+        super::files::clean_stale_temps(&f);
+    }
     let files = plot::write_figure(fig, out)?;
     if !font::font_available() {
         eprintln!(

@@ -89,6 +89,8 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
     );
     note_output_size(&a, &scene, &cfg, &sel);
     header.output = sel;
+    super::files::clean_stale_temps(&out_path);
+    super::files::clean_stale_temps(&ckpt::ckpt_path(&out_path));
     let writer = SnapshotWriter::create(&out_path, &header)?;
     let ckpt_file = ckpt::ckpt_path(&out_path);
     let sink = ckpt::SnapshotSink::new(
