@@ -17,8 +17,11 @@
 //! - **Cost**: wall time (median of `repeat` runs), accepted steps, rejected steps, right-hand
 //!   sides, events (hybrid), active bead-steps.
 //!
-//! Tolerances: each run uses `rtol` and `atol = atol_ratio · rtol` (in units of the characteristic
-//! scales, see [`crate::integrate`]). The fixed-step velocity Verlet method has no tolerance: its
+//! Tolerances: each run uses `rtol` and the `atol` that `beadchain run --rtol RTOL` would use
+//! ([`default_atol`]: the scene's `[run] atol`, else `rtol/10⁴`, at least 1e-15), so a row is
+//! what that run does; `atol_ratio` sets `atol = atol_ratio · rtol` instead (in units of the
+//! characteristic scales, see [`crate::integrate`]). (Issue 36: the study's default was
+//! `rtol/100`, so its "hybrid auto 1e-8" row took 707 steps where `run --rtol 1e-8` takes 920.) The fixed-step velocity Verlet method has no tolerance: its
 //! accuracy knob is the step, taken from `verlet_steps` in units of the characteristic time
 //! `τ = L/V` (`dt = s · τ`, passed as its `rtol`, see [`crate::integrate::verlet`]).
 //!
@@ -50,8 +53,9 @@ pub struct AccuracyOptions {
     pub rtols: Vec<f64>,
     /// Steps of the Verlet runs in units of `τ = L/V` (default 0.1, 0.03, 0.01, 0.003).
     pub verlet_steps: Vec<f64>,
-    /// `atol = atol_ratio · rtol` for every run (default 0.01).
-    pub atol_ratio: f64,
+    /// `atol = atol_ratio · rtol` for every run; `None` (default): `run`'s default
+    /// ([`default_atol`]).
+    pub atol_ratio: Option<f64>,
     /// End time (default: the scene's `until`).
     pub until: Option<f64>,
     /// Timed repetitions per run; the median wall time is reported (default 1).
@@ -75,7 +79,7 @@ impl Default for AccuracyOptions {
             methods: vec![Method::Auto, Method::Radau5, Method::Dop853, Method::Verlet],
             rtols: vec![1e-4, 1e-6, 1e-8, 1e-10],
             verlet_steps: vec![0.1, 0.03, 0.01, 0.003],
-            atol_ratio: 0.01,
+            atol_ratio: None,
             until: None,
             repeat: 1,
             reference_rtol: None,
@@ -297,8 +301,8 @@ fn check_options(opts: &AccuracyOptions) -> Result<(), AccuracyError> {
             ));
         }
     }
-    if !(opts.atol_ratio > 0.0 && opts.atol_ratio <= 1.0) {
-        return bad(format!("atol ratio {} must be in (0, 1]", opts.atol_ratio));
+    if let Some(r) = opts.atol_ratio.filter(|r| !(*r > 0.0 && *r <= 1.0)) {
+        return bad(format!("atol ratio {r} must be in (0, 1]"));
     }
     if opts.repeat == 0 {
         return bad("repeat must be at least 1".into());
@@ -309,6 +313,19 @@ fn check_options(opts: &AccuracyOptions) -> Result<(), AccuracyError> {
         }
     }
     Ok(())
+}
+
+/// The `atol` of a run at `rtol`: `ratio · rtol` (at most 0.5) when a ratio is given, else what
+/// `beadchain run --rtol RTOL` uses: the scene's `[run] atol`, else
+/// [`crate::integrate::default_atol`] (`rtol/10⁴`, at least 1e-15).
+pub fn default_atol(scene: &Scene, ratio: Option<f64>, rtol: f64) -> f64 {
+    match ratio {
+        Some(r) => (r * rtol).min(0.5),
+        None => scene
+            .run
+            .atol
+            .unwrap_or_else(|| crate::integrate::default_atol(rtol)),
+    }
 }
 
 /// Tolerances of the dense Radau reference (`--reference-rtol`, else the smallest `rtols`) and
@@ -345,7 +362,7 @@ pub fn accuracy_study(
         engine,
         method,
         rtol,
-        atol: (opts.atol_ratio * rtol).min(0.5),
+        atol: default_atol(scene, opts.atol_ratio, rtol),
         ..base.clone()
     };
 

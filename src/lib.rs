@@ -23,4 +23,5 @@ pub mod plot;
 pub mod progress;
 pub mod scene;
 pub mod snapshot;
+pub mod suggest;
 pub mod sweep;

@@ -1,8 +1,10 @@
 //! `beadchain` command line: run scenes, compare engines, export and inspect snapshots.
 //!
 //! Exit codes: 0 success; 1 `check` found the engines disagreeing beyond tolerance; 2 bad input
-//! (scene, snapshot or arguments) or a failed run. Errors are one line on standard error. No
-//! output file is left behind on failure.
+//! (scene, snapshot or arguments) or a failed run. Errors are one line on standard error, but
+//! for argument errors found by the parser, which keep clap's whole message (missing arguments,
+//! valid values, "did you mean", usage) after their `beadchain: error:` line; no command at all
+//! prints the command list (exit 2). No output file is left behind on failure.
 //!
 //! Standard output closed early (`beadchain scenes | head -1`, `export | head`): every write to
 //! standard output goes through [`outln!`]/[`out!`], which return the write error instead of
@@ -69,25 +71,41 @@ fn parse() -> Result<cli::Cli, clap::Error> {
 fn main() {
     let args = match parse() {
         Ok(a) => a,
-        Err(e) => {
-            use clap::error::ErrorKind;
-            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
-                let _ = e.print();
-                std::process::exit(0);
-            }
-            // clap's message is several lines (usage, hint): keep the first, as one line.
-            let text = e.to_string();
-            let first = text.lines().next().unwrap_or("invalid arguments");
-            let first = first.trim_start_matches("error: ");
-            eprintln!("beadchain: error: {first} (see `beadchain --help`)");
-            std::process::exit(2);
-        }
+        Err(e) => exit_on_parse_error(&e),
     };
     match cli::dispatch(args) {
         Ok(code) => std::process::exit(code),
         Err(e) if cli::is_broken_pipe(&e) => std::process::exit(0),
         Err(e) => {
             eprintln!("beadchain: error: {}", one_line(&e));
+            std::process::exit(2);
+        }
+    }
+}
+
+/// Prints a parser error the way clap means it and exits. Help and version go to standard
+/// output (exit 0). A missing command (bare `beadchain`, `beadchain plot`) prints that level's
+/// help, command list included, on standard error (exit 2, clap's usage-error code). Every
+/// other error is clap's whole message, first line `beadchain: error: …`, then clap's
+/// context: the missing arguments, the valid values, a "did you mean" tip, the usage line.
+fn exit_on_parse_error(e: &clap::Error) -> ! {
+    use clap::error::ErrorKind;
+    match e.kind() {
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+            let _ = e.print();
+            std::process::exit(0);
+        }
+        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            let _ = e.print();
+            std::process::exit(2);
+        }
+        _ => {
+            let text = e.to_string();
+            let body = text.strip_prefix("error: ").unwrap_or(&text);
+            eprint!("beadchain: error: {}", body);
+            if !body.ends_with('\n') {
+                eprintln!();
+            }
             std::process::exit(2);
         }
     }

@@ -2,7 +2,9 @@
 //!
 //! [`RunProgress`] is an [indicatif] bar showing the simulated time reached, the engine's
 //! events per second (hybrid: queue events, i.e. steps, closings, openings and frames; dense:
-//! steps) and an ETA. It is drawn only when standard error is a terminal and the user did not
+//! steps) and an ETA ([`eta_text`]: from the average rate since the start, and only once
+//! [`ETA_AFTER`] has passed and [`ETA_MIN_FRACTION`] of the span is done; indicatif's own
+//! estimate followed the recent rate and swung by orders of magnitude in the first seconds). It is drawn only when standard error is a terminal and the user did not
 //! ask for `-q/--quiet`; otherwise it is hidden and prints nothing.
 //!
 //! It is driven by [`Watch`], an [`Observer`] wrapped around the run's own observer: every
@@ -14,7 +16,7 @@
 
 use crate::engine::{Control, EngineError, EngineState, Observer};
 use crate::snapshot::EventRecord;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{HumanDuration, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 
@@ -24,6 +26,27 @@ pub const SAMPLE_CALLS: u64 = 256;
 pub const REDRAW: Duration = Duration::from_millis(100);
 /// Bar resolution: the simulated-time span is shown in this many steps.
 const TICKS: u64 = 1000;
+/// Wall time before the first ETA.
+pub const ETA_AFTER: Duration = Duration::from_secs(3);
+/// Fraction of the simulated span done before the first ETA.
+pub const ETA_MIN_FRACTION: f64 = 0.01;
+
+/// The ETA shown after `elapsed` wall time with `fraction` of the simulated span done:
+/// `elapsed·(1 − f)/f` (the average rate so far), as `eta 42s`, `eta 3m05s` or `eta 2h07m`;
+/// `eta --` before [`ETA_AFTER`] or [`ETA_MIN_FRACTION`], when one step's cost and the
+/// simulated time it covers still say little about the rest.
+pub fn eta_text(elapsed: Duration, fraction: f64) -> String {
+    if elapsed < ETA_AFTER || fraction.is_nan() || fraction < ETA_MIN_FRACTION {
+        return "eta --".into();
+    }
+    let left = elapsed.as_secs_f64() * (1.0 - fraction.min(1.0)) / fraction;
+    let s = left.round() as u64;
+    match s {
+        0..=59 => format!("eta {s}s"),
+        60..=3599 => format!("eta {}m{:02}s", s / 60, s % 60),
+        _ => format!("eta {}h{:02}m", s / 3600, s / 60 % 60),
+    }
+}
 
 /// A progress bar on standard error (hidden when not a terminal or when quiet).
 #[derive(Clone, Debug)]
@@ -47,7 +70,7 @@ impl RunProgress {
             ProgressDrawTarget::stderr_with_hz(10)
         };
         let bar = ProgressBar::with_draw_target(Some(TICKS), target);
-        if let Ok(style) = ProgressStyle::with_template("{bar:20} {msg} [{elapsed}, eta {eta}]") {
+        if let Ok(style) = ProgressStyle::with_template("{bar:20} {msg}") {
             bar.set_style(style);
         }
         Self { bar }
@@ -127,13 +150,16 @@ impl Watch<'_> {
             return;
         }
         self.last = now;
-        let secs = now.duration_since(self.start).as_secs_f64().max(1e-9);
-        let rate = self.calls as f64 / secs;
-        self.bar
-            .set_position((self.fraction(t) * TICKS as f64).round() as u64);
+        let elapsed = now.duration_since(self.start);
+        let rate = self.calls as f64 / elapsed.as_secs_f64().max(1e-9);
+        let f = self.fraction(t);
+        self.bar.set_position((f * TICKS as f64).round() as u64);
         self.bar.set_message(format!(
-            "{}t = {t:.4e} of {:.4e}, {rate:.2e} events/s",
-            self.label, self.until
+            "{}t = {t:.4e} of {:.4e}, {rate:.2e} events/s [{:#}, {}]",
+            self.label,
+            self.until,
+            HumanDuration(elapsed),
+            eta_text(elapsed, f)
         ));
     }
 }

@@ -129,3 +129,53 @@ fn analyze_summary_of_the_striker_run_fits_one_screen() {
     assert!(f.lines().count() > lines + 50, "{f}");
     assert!(f.contains("leading wave per frame"), "{f}");
 }
+
+/// The number after `key` in `s` (up to the next space, comma or parenthesis).
+fn number_after(s: &str, key: &str) -> f64 {
+    let rest = &s[s.find(key).unwrap_or_else(|| panic!("no {key:?} in:\n{s}")) + key.len()..];
+    let end = rest.find([' ', ',', ')']).unwrap_or(rest.len());
+    rest[..end]
+        .parse()
+        .unwrap_or_else(|_| panic!("{key:?}: not a number in:\n{s}"))
+}
+
+/// Before (issue 36): `analyze` fitted the energy-weighted position and `plot energy` the peak
+/// bead, so one snapshot had two decay rates (periodic_decay_2.5_2.555: 2.622215e-2 over 166
+/// points against 2.622790e-2 over 167). Now both fit the same points with one function.
+#[test]
+fn analyze_and_plot_energy_report_one_decay_rate() {
+    let d = tempfile::tempdir().unwrap();
+    let a = run_and_analyze(d.path(), "periodic_decay_2.5_2.555", "p.snap", &[]);
+    let line = a
+        .lines()
+        .find(|l| l.starts_with("decay fit E/E_ref"))
+        .unwrap_or_else(|| panic!("no decay fit in:\n{a}"));
+    let o = bc(d.path(), &["plot", "energy", "p.snap", "--out", "e.svg"]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let p = String::from_utf8(o.stdout).expect("utf-8");
+    assert!(p.contains("decay fit over positions 20 to 140:"), "{p}");
+    assert!(line.contains("over positions 20 to 140 ("), "{line}");
+    let points = |s: &str| -> usize {
+        let head = &s[..s
+            .find(" points")
+            .unwrap_or_else(|| panic!("no points in {s}"))];
+        head.rsplit('(')
+            .next()
+            .unwrap()
+            .parse()
+            .expect("point count")
+    };
+    let (pa, pp) = (points(line), points(&p));
+    assert_eq!(pa, pp, "points: analyze {line} / plot {p}");
+    let (ga, gp) = (number_after(line, "gamma = "), number_after(&p, "gamma = "));
+    // both print 7 significant digits of one number: equal to 1e-12 relative
+    assert!(
+        (ga - gp).abs() <= 1e-12 * ga.abs() && ga > 0.0,
+        "gamma: analyze {ga} ({line}) / plot {gp} ({p})"
+    );
+}

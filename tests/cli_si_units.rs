@@ -86,7 +86,11 @@ fn until_si_on_a_dimensionless_scene_is_refused() {
         d.path(),
         &["run", "striker", "--until-si", "1", "--until", "3"],
     );
-    refused(&o, "beadchain: error: the argument '--until-si <UNTIL_SI>' cannot be used with '--until <UNTIL>'");
+    // a parser error: its first line, then clap's usage (issue 36: the whole message is kept)
+    assert_eq!(o.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.starts_with("beadchain: error: the argument '--until-si <UNTIL_SI>' cannot be used with '--until <UNTIL>'\n"), "{e}");
+    assert!(e.contains("Usage: beadchain run"), "{e}");
     assert!(
         std::fs::read_dir(d.path()).unwrap().next().is_none(),
         "nothing written"

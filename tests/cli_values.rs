@@ -120,3 +120,84 @@ fn slow_closings_are_reported_by_run_and_inspect() {
     common::assert_ok(&quiet);
     assert!(!String::from_utf8_lossy(&quiet.stdout).contains("warning: "));
 }
+
+/// Before (issue 36): `accuracy` defaulted to atol = rtol/100 while `run` uses rtol/10⁴, so the
+/// study's "hybrid auto 1e-8" row (707 steps on striker) was not what `run --rtol 1e-8` does
+/// (920 steps). Now a row's atol and step count are the run's.
+#[test]
+fn accuracy_rows_use_the_atol_and_steps_of_run() {
+    let d = tempfile::tempdir().expect("tempdir");
+    let o = beadchain(
+        d.path(),
+        &[
+            "accuracy",
+            "striker",
+            "--until",
+            "20",
+            "--engines",
+            "hybrid",
+            "--methods",
+            "auto",
+            "--rtols",
+            "1e-6,1e-8",
+            "--out",
+            "acc",
+            "-q",
+        ],
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let csv = std::fs::read_to_string(d.path().join("acc/accuracy.csv")).expect("csv");
+    let header: Vec<&str> = csv.lines().next().expect("header").split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
+    for rtol in ["1e-6", "1e-8"] {
+        let row: Vec<&str> = csv
+            .lines()
+            .map(|l| l.split(',').collect::<Vec<_>>())
+            .find(|r| r[0] == "hybrid" && r[1] == "auto" && r[2].parse() == rtol.parse::<f64>())
+            .unwrap_or_else(|| panic!("no hybrid auto {rtol} row in\n{csv}"));
+        let o = beadchain(
+            d.path(),
+            &[
+                "run", "striker", "--until", "20", "--engine", "hybrid", "--method", "auto",
+                "--rtol", rtol, "--out", "r.snap", "-q",
+            ],
+        );
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        // "striker: 100 beads, engine hybrid, method auto, rtol 1e-8, atol 1e-12"
+        let atol: f64 = out
+            .split("atol ")
+            .nth(1)
+            .and_then(|s| s.split_whitespace().next())
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("no atol in {out}"));
+        // "t = 20 in 0.0100 s: 920 steps (3 rejected), ..."
+        let steps: u64 = out
+            .split(" steps (")
+            .next()
+            .and_then(|s| s.rsplit(' ').next())
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("no steps in {out}"));
+        let row_atol: f64 = row[col("atol")].parse().expect("atol");
+        // the same number, written by two formatters: equal to 1e-12 relative
+        assert!(
+            (row_atol - atol).abs() <= 1e-12 * atol,
+            "rtol {rtol}: atol {row_atol} vs run's {atol}"
+        );
+        assert_eq!(
+            row[col("steps")],
+            steps.to_string(),
+            "rtol {rtol}: steps vs run's\n{out}"
+        );
+    }
+}

@@ -264,3 +264,34 @@ fn presets_run_as_written_give_no_plausibility_warning() {
         assert!(w.is_empty(), "{}: {w:?}", p.name);
     }
 }
+
+/// Before (issue 36): `[run] every = 5` with `until = 2` warned, `--every 5` did not. Now the
+/// option gets the key's warning, named; the scene's own values still warn once, and a
+/// `--until` below the scene's `every` (a quick look at a preset) is not warned about.
+#[test]
+fn every_option_past_until_warns_like_the_toml_key() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let base = "[chain]\nbeads = 4\n[initial]\nstriker = 1.0\n[run]\nuntil = 2.0\n";
+    std::fs::write(dir.path().join("t.toml"), base).expect("write");
+    std::fs::write(dir.path().join("e.toml"), format!("{base}every = 1.5\n")).expect("write");
+    std::fs::write(dir.path().join("k.toml"), format!("{base}every = 5\n")).expect("write");
+    let run = |args: &[&str]| {
+        let o = bc(dir.path(), args);
+        assert_ok(&o);
+        stderr_lines(&o)
+    };
+    assert_eq!(
+        run(&["run", "k.toml", "-q", "--out", "k.snap"]),
+        ["beadchain: warning: k: [run].every: 5 > until 2: only the first and last frame"]
+    );
+    assert_eq!(
+        run(&["run", "t.toml", "-q", "--out", "t.snap", "--every", "5"]),
+        ["beadchain: warning: t: --every: 5 > until 2: only the first and last frame"]
+    );
+    assert_eq!(
+        run(&["run", "e.toml", "-q", "--out", "e.snap", "--until", "1", "--every", "3"]),
+        ["beadchain: warning: e: --every: 3 > --until 1: only the first and last frame"]
+    );
+    assert!(run(&["run", "e.toml", "-q", "--out", "f.snap", "--until", "1"]).is_empty());
+    assert!(run(&["run", "t.toml", "-q", "--out", "u.snap", "--every", "0.5"]).is_empty());
+}

@@ -309,6 +309,44 @@ fn stale_temp_of_a_dead_process_is_removed() {
     assert!(!p.join(".x.csv.tmp-4294967295-1").exists());
 }
 
+/// Before (issue 36, item 11): a later run removed a killed run's `.NAME.tmp-PID-K`
+/// silently. Now each removal is a note on stderr naming the file and the process.
+#[test]
+fn stale_temp_removal_is_said() {
+    let d = tempfile::tempdir().expect("tempdir");
+    let p = d.path();
+    std::fs::write(p.join("s.toml"), TINY).unwrap();
+    let dead = ".o.snap.tmp-4294967295-0";
+    std::fs::write(p.join(dead), b"partial").unwrap();
+    let o = bc(p, &["run", "s.toml", "--out", "o.snap", "-q"]);
+    assert_eq!(o.status.code(), Some(0), "{}", err(&o));
+    assert!(!p.join(dead).exists(), "stale temporary kept");
+    let want = format!(
+        "beadchain: note: removed ./{dead}, the partial output of an interrupted run (process 4294967295, no longer running)"
+    );
+    assert_eq!(err(&o).trim_end(), want);
+    // nothing to remove: nothing said
+    let o = bc(p, &["run", "s.toml", "--out", "o.snap", "-q"]);
+    assert_eq!(err(&o), "");
+    // export and plot say it too
+    std::fs::write(p.join(".x.csv.tmp-4294967295-1"), b"partial").unwrap();
+    let o = bc(p, &["export", "o.snap", "--out", "x.csv"]);
+    assert_eq!(o.status.code(), Some(0), "{}", err(&o));
+    assert!(
+        err(&o).contains("removed ./.x.csv.tmp-4294967295-1"),
+        "{}",
+        err(&o)
+    );
+    std::fs::write(p.join(".e.svg.tmp-4294967295-2"), b"partial").unwrap();
+    let o = bc(p, &["plot", "spacetime", "o.snap", "--out", "e.svg"]);
+    assert_eq!(o.status.code(), Some(0), "{}", err(&o));
+    assert!(
+        err(&o).contains("removed ./.e.svg.tmp-4294967295-2"),
+        "{}",
+        err(&o)
+    );
+}
+
 /// Runs `BIN args | true` with the program started 0.3 s after the reader (`true`) has exited,
 /// so its first write meets a closed pipe, as with `| head` once head has what it wants.
 /// Returns the program's exit code (bash `PIPESTATUS`) on stdout and its stderr.

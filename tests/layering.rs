@@ -28,6 +28,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("integrate", 2),   // Radau IIA, DOP853, Verlet, auto
     ("scene", 3),       // TOML scenes → Scene (model + run settings)
     ("engine", 4),      // dense and hybrid engines, observers
+    ("suggest", 4),     // "did you mean": nearest preset names (reads scene's preset list)
     ("snapshot", 5),    // binary format: header (scene, run config), frames, events, checkpoints
     ("analysis", 6),    // observables from states, frames and event logs
     ("export", 6),      // snapshot → CSV/NPY/NPZ, `inspect`

@@ -218,7 +218,11 @@ fn profile_trace_energy() {
         },
     )
     .expect("energy");
-    assert_eq!((e.fits.len(), e.fits[0].from, e.fits[0].to), (1, 10, 50));
+    assert_eq!(e.fits.len(), 1);
+    assert_eq!(
+        e.fits[0].range,
+        beadchain::analysis::FitRange::inclusive(10.0, 50.0)
+    );
     let fit = e.fits[0].fit.as_ref().expect("fit");
     // a uniform chain conserves the solitary wave: |γ| below 1e-3 per bead (absolute)
     assert!(fit.gamma.abs() < 1e-3, "{fit:?}");
@@ -248,8 +252,9 @@ fn snapshot_selection_errors_name_the_problem() {
         .unwrap_err()
         .to_string()
     };
-    assert!(st("5:40", ":").contains("bead 40"));
-    assert!(st("9:3", ":").contains("empty"));
+    // half-open A:B, as `run --beads` (5:40 is beads 5 to 39, the chain's last)
+    assert!(st("5:41", ":").contains("'5:41' is out of range"));
+    assert!(st("9:3", ":").contains("selects no bead"));
     assert!(st(":", "100:200").contains("outside the run"));
     let e = trace::trace(
         &snap,
@@ -379,13 +384,92 @@ fn marching_squares_on_analytic_fields() {
     assert!(s.is_empty());
 }
 
+/// Before (issue 36): `--beads 0:40` was half-open for `run`, inclusive for `plot spacetime`
+/// ("bead 40 is out of range" on this 40-bead chain) and refused by `plot trace` (comma list
+/// only: "invalid digit found in string"). Now every command reads `run --beads`' grammar.
+#[test]
+fn plot_beads_take_the_run_grammar() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (path, _) = snapshot(dir.path(), &two_strikers());
+    let snap = path.to_string_lossy().into_owned();
+    let bc = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_beadchain"))
+            .args(args)
+            .current_dir(dir.path())
+            .output()
+            .expect("run beadchain")
+    };
+    for args in [
+        &[
+            "plot",
+            "spacetime",
+            &snap,
+            "--beads",
+            "0:40",
+            "--out",
+            "s.svg",
+        ][..],
+        &[
+            "plot", "profile", &snap, "--times", "5", "--beads", "0:40", "--out", "p.svg",
+        ],
+        &["plot", "trace", &snap, "--beads", "0:3", "--out", "t.svg"],
+        &[
+            "plot",
+            "trace",
+            &snap,
+            "--beads",
+            "1,20:40:10",
+            "--out",
+            "u.svg",
+        ],
+    ] {
+        let o = bc(args);
+        assert!(
+            o.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    // A:B is beads A to B-1 in every plot
+    let s = Snapshot::open(&path).expect("open");
+    let st = |b: &str| {
+        let opts = SpacetimeOptions {
+            beads: b.parse().unwrap(),
+            ..Default::default()
+        };
+        Spacetime::from_snapshot(&s, &opts).map(|f| f.x.n)
+    };
+    assert_eq!(st("0:40").unwrap(), N);
+    assert_eq!(st("5:15").unwrap(), 10);
+    assert_eq!(
+        plot::bead_list("0:3", N).unwrap(),
+        [0, 1, 2],
+        "trace beads 0:3"
+    );
+    let o = bc(&[
+        "plot",
+        "spacetime",
+        &snap,
+        "--beads",
+        "0:40:2",
+        "--out",
+        "x.svg",
+    ]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(e.contains("one contiguous range A:B"), "{e}");
+}
+
 #[test]
 fn cli_errors_are_one_line_and_leave_no_file() {
     let dir = tempfile::tempdir().expect("tempdir");
     let (path, _) = snapshot(dir.path(), &two_strikers());
     let snap = path.to_string_lossy().into_owned();
     let cases: &[(&[&str], &str)] = &[
-        (&["plot", "spacetime", &snap, "--beads", "3:99"], "bead 99"),
+        (
+            &["plot", "spacetime", &snap, "--beads", "3:99"],
+            "'3:99' is out of range",
+        ),
         (&["plot", "spacetime", "missing.snap"], "missing.snap"),
         (&["plot", "spacetime", &snap, "--out", "x.jpg"], ".jpg"),
         (&["plot", "trace", &snap, "--beads", "1,50"], "bead 50"),

@@ -85,7 +85,7 @@ fn axis_labels_name_units_on_every_plot_kind() {
         (
             &["plot", "energy", "ts.snap", "--out", "e.svg"],
             &[
-                "peak bead i of the leading wave",
+                "position x of the leading wave (energy-weighted, beads)",
                 "energy ratio E_wave / E_0 (dimensionless)",
             ],
         ),

@@ -7,6 +7,7 @@
 mod common;
 mod plot_support;
 
+use beadchain::analysis::FitRange;
 use beadchain::plot::{self, energy, EnergyOptions};
 use beadchain::snapshot::Snapshot;
 use plot_support::*;
@@ -24,14 +25,14 @@ fn energy_interface_fits_each_side_separately() {
         ..Default::default()
     };
     let e = energy::energy(&snap, &opts).expect("energy");
-    // defaults 20..50 split at the interface: beads 20..29 and 30..50
+    // defaults 20..50 split at the interface: positions 20 to below 30, and 30 to 50
     assert_eq!(e.fits.len(), 2);
-    assert_eq!((e.fits[0].from, e.fits[0].to), (20, 29));
-    assert_eq!((e.fits[1].from, e.fits[1].to), (30, 50));
+    assert_eq!(e.fits[0].range, FitRange::below(20.0, 30.0));
+    assert_eq!(e.fits[1].range, FitRange::inclusive(30.0, 50.0));
     for (s, g) in e.fits.iter().zip([g1, g2]) {
         let f = s.fit.as_ref().expect("fit");
         // exact exponentials: γ to 1e-9 absolute (5e-8 relative)
-        assert!((f.gamma - g).abs() < 1e-9, "{}..{}: {f:?}", s.from, s.to);
+        assert!((f.gamma - g).abs() < 1e-9, "{}: {f:?}", s.range);
     }
     assert_eq!(
         (
@@ -53,12 +54,12 @@ fn energy_interface_fits_each_side_separately() {
     if let Some(l) = texts(&e_out) {
         assert!(
             l.iter()
-                .any(|s| s.starts_with("fit beads 20..29: γ = 2.0000e-2")),
+                .any(|s| s.starts_with("fit x 20 to below 30: γ = 2.0000e-2")),
             "{l:?}"
         );
         assert!(
             l.iter()
-                .any(|s| s.starts_with("fit beads 30..50: γ = 8.0000e-2")),
+                .any(|s| s.starts_with("fit x 30 to 50: γ = 8.0000e-2")),
             "{l:?}"
         );
     }
@@ -77,11 +78,11 @@ fn energy_interface_fits_each_side_separately() {
     common::assert_ok(&o);
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(
-        out.contains("peak beads 20..29: gamma = 2.000000e-2"),
+        out.contains("decay fit over positions 20 to below 30: gamma = 2.000000e-2"),
         "{out}"
     );
     assert!(
-        out.contains("peak beads 30..50: gamma = 8.000000e-2"),
+        out.contains("decay fit over positions 30 to 50: gamma = 8.000000e-2"),
         "{out}"
     );
 }

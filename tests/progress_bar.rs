@@ -241,3 +241,26 @@ fn progress_bar_is_drawn_on_a_terminal_unless_quiet() {
     );
     assert!(quiet.contains("wrote t.snap"), "{quiet:?}");
 }
+
+/// Before (issue 36): the bar showed indicatif's `{eta}`, which follows the recent rate and
+/// swung wildly in the first seconds of a run. Now the ETA is withheld for the first
+/// `ETA_AFTER` and the first `ETA_MIN_FRACTION` of the span, then taken from the average rate.
+#[test]
+fn eta_is_withheld_until_the_estimate_settles() {
+    use beadchain::progress::{eta_text, ETA_AFTER, ETA_MIN_FRACTION};
+    let s = Duration::from_secs_f64;
+    assert_eq!(ETA_AFTER, Duration::from_secs(3));
+    assert_eq!(ETA_MIN_FRACTION, 0.01);
+    // the first second: no estimate, however little or much is done
+    assert_eq!(eta_text(s(0.2), 0.001), "eta --");
+    assert_eq!(eta_text(s(1.0), 0.5), "eta --");
+    // later, but less than 1 % done: still none
+    assert_eq!(eta_text(s(30.0), 0.005), "eta --");
+    assert_eq!(eta_text(s(30.0), f64::NAN), "eta --");
+    // then elapsed·(1 − f)/f
+    assert_eq!(eta_text(s(10.0), 0.5), "eta 10s");
+    assert_eq!(eta_text(s(60.0), 0.25), "eta 3m00s");
+    assert_eq!(eta_text(s(3.0), 0.01), "eta 4m57s");
+    assert_eq!(eta_text(s(3600.0), 0.4), "eta 1h30m");
+    assert_eq!(eta_text(s(5.0), 1.0), "eta 0s");
+}

@@ -86,7 +86,8 @@ def accuracy(scene: Scene, engines: Optional[list] = None, methods: Optional[lis
     Radau IIA reference (docs/benchmarks.md). None keeps the CLI's default: ``engines``
     ["hybrid", "dense"], ``methods`` ["radau5", "dop853", "verlet"], ``rtols`` [1e-4, 1e-6,
     1e-8, 1e-10], ``verlet_steps`` [0.1, 0.03, 0.01, 0.003] (in tau = L/V), ``atol_ratio``
-    0.01, ``until`` the scene's, ``repeat`` 1, ``reference_rtol`` the smallest rtol.
+    none (each run's atol is what ``run`` uses at that rtol: the scene's, else rtol/1e4),
+    ``until`` the scene's, ``repeat`` 1, ``reference_rtol`` the smallest rtol.
 
     Returns ``rows`` (columns ``engine``, ``method``, ``rtol``, ``atol``, ``err_u``, ``err_v``,
     ``error``, ``energy_error``, ``wall_seconds``, ``steps``, ...: ``pandas.DataFrame(r["rows"])``),

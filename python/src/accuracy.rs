@@ -45,7 +45,7 @@ pub fn accuracy<'py>(
     }
     o.rtols = rtols.unwrap_or(o.rtols);
     o.verlet_steps = verlet_steps.unwrap_or(o.verlet_steps);
-    o.atol_ratio = atol_ratio.unwrap_or(o.atol_ratio);
+    o.atol_ratio = atol_ratio.or(o.atol_ratio);
     o.until = until;
     o.repeat = repeat.unwrap_or(o.repeat);
     o.reference_rtol = reference_rtol;

@@ -178,8 +178,7 @@ fn summary(out: &RunOutcome) -> RunSummary {
             .slow_closings_note()
             .into_iter()
             .chain(std::iter::once(
-                "wall time not recorded (identical inputs give identical bytes; see --timing)"
-                    .into(),
+                beadchain::snapshot::WALL_NOT_RECORDED.into(),
             ))
             .collect(),
     }

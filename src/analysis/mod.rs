@@ -8,6 +8,8 @@
 //!   (eq. 13), leading-wave tracking over frames.
 //! - [`interface`]: reflected/transmitted energy split at an interface bead, peak-velocity ratio
 //!   `|v_out/v_in|` (Sec. 5.1, Fig. 18).
+//! - [`decay`]: the leading wave's decay rate `γ`, one definition for `analyze` and `plot
+//!   energy`.
 //! - [`fit`]: least-squares exponential decay `E(x) = a e^{−γx}` (Sec. 5.2, eq. 20 ff.) and
 //!   ordinary multilinear least squares (the Table 2 fit, eq. 21).
 //! - [`window`]: windowed wave energy behind the front, its decay and periods (Sec. 4,
@@ -31,6 +33,7 @@
 //! potential part of a wave (about 30-40 % of a solitary wave's energy at any instant), not the
 //! ratios once pulses are compared at like moments.
 
+pub mod decay;
 pub mod fit;
 pub mod gas;
 pub mod interface;
@@ -41,6 +44,7 @@ pub mod wave;
 pub mod wavelength;
 pub mod window;
 
+pub use decay::{decay_fit, FitRange};
 pub use fit::{fit_exponential, least_squares, ExpFit, LinearFit};
 pub use interface::{energy_split, velocity_ratio, EnergySplit, VelocityRatio};
 pub use state::{

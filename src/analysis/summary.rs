@@ -13,7 +13,8 @@
 //!   unit time), over the frames whose position lies in the fit range `[fit_from, fit_to]`
 //!   (defaults: 20, or `k + 10` with an interface `k`, to `N − 10`).
 //! - **Decay**: `E/E_ref = a exp(−γ x)` over the same points (Sec. 5.2, eq. 20 ff.), at least
-//!   [`MIN_FIT_POINTS`] of them.
+//!   [`MIN_FIT_POINTS`] of them: [`super::decay::decay_fit`], the definition `plot energy`
+//!   shares.
 //! - **Incoming energy**: the leading wave's energy once developed (position ≥ 10 beads, or
 //!   `k/2`), in the last frame before it reaches the interface `k` (the first such frame
 //!   without one).
@@ -25,14 +26,14 @@
 //! What cannot be computed is an `Err` naming the reason (never a NaN): a fit range that is
 //! empty or reversed, too few points, a chain at rest, a leading wave that never develops.
 
+use super::decay::{decay_fit, points_in, too_few, FitRange};
 use super::{
-    detect_pulses, energy_split, fit_exponential, fragmentation, is_steady_state, track_leading,
-    velocity_ratio, wave_energy, ExpFit, Fragmentation, Pulse, TrackPoint, WaveOptions,
+    detect_pulses, energy_split, fragmentation, is_steady_state, track_leading, velocity_ratio,
+    wave_energy, ExpFit, Fragmentation, Pulse, TrackPoint, WaveOptions,
 };
 use crate::model::Chain;
 
-/// Fewest leading-wave points for the speed and decay fits.
-pub const MIN_FIT_POINTS: usize = 3;
+pub use super::decay::MIN_FIT_POINTS;
 
 /// Relative tolerance of the steady-state criterion applied to the final frame.
 pub const STEADY_REL: f64 = 1e-5;
@@ -316,32 +317,13 @@ fn fits(
     if let Some(w) = range_problem((x0, x1), e_ref, n) {
         return (Err(w.clone()), Err(w));
     }
-    let pts: Vec<&TrackPoint> = track
-        .iter()
-        .filter(|p| p.position >= x0 && p.position <= x1)
-        .collect();
-    if pts.len() < MIN_FIT_POINTS {
-        let w = format!(
-            "the leading wave is in positions {x0} to {x1} in {} of {} frames with a leading wave, fewer than {MIN_FIT_POINTS}",
-            pts.len(),
-            track.len()
-        );
+    let range = FitRange::inclusive(x0, x1);
+    let pts = points_in(track, &range);
+    if let Some(w) = too_few(&range, pts.len(), track.len()) {
         return (Err(w.clone()), Err(w));
     }
+    let fit = decay_fit(track, &range, e_ref);
     let x: Vec<f64> = pts.iter().map(|p| p.position).collect();
-    let e: Vec<f64> = pts.iter().map(|p| p.energy / e_ref).collect();
-    let fit = fit_exponential(&x, &e)
-        .map_err(|e| e.to_string())
-        .and_then(|f| {
-            if [f.a, f.gamma, f.gamma_stderr, f.r2]
-                .iter()
-                .all(|v| v.is_finite())
-            {
-                Ok(f)
-            } else {
-                Err("the log-linear fit is degenerate (all points at one position)".into())
-            }
-        });
     let t: Vec<f64> = pts.iter().map(|p| p.t).collect();
     let speed = slope(&t, &x).map(|value| Speed {
         value,

@@ -27,15 +27,17 @@ pub struct AccuracyArgs {
         default_value = "auto,radau5,dop853,verlet"
     )]
     pub methods: Vec<MethodArg>,
-    /// Relative tolerances of the adaptive methods (atol = atol-ratio * rtol).
+    /// Relative tolerances of the adaptive methods (atol: as `run --rtol RTOL`, see
+    /// --atol-ratio).
     #[arg(long, value_delimiter = ',', default_value = "1e-4,1e-6,1e-8,1e-10")]
     pub rtols: Vec<f64>,
     /// Verlet steps in units of the characteristic time L/V (dt = s * L/V).
     #[arg(long, value_delimiter = ',', default_value = "0.1,0.03,0.01,0.003")]
     pub verlet_steps: Vec<f64>,
-    /// atol = atol-ratio * rtol.
-    #[arg(long, default_value_t = 0.01)]
-    pub atol_ratio: f64,
+    /// atol = atol-ratio * rtol [default: what `run --rtol RTOL` uses: the scene's `[run]
+    /// atol`, else rtol/10^4, at least 1e-15].
+    #[arg(long)]
+    pub atol_ratio: Option<f64>,
     /// Tolerance of the dense radau5 reference [default: the smallest --rtols].
     #[arg(long)]
     pub reference_rtol: Option<f64>,

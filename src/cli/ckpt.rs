@@ -124,9 +124,7 @@ pub fn summary(out: &RunOutcome, timing: bool) -> RunSummary {
         notes.push(note);
     }
     if !timing {
-        notes.push(
-            "wall time not recorded (identical inputs give identical bytes; see --timing)".into(),
-        );
+        notes.push(beadchain::snapshot::WALL_NOT_RECORDED.into());
     }
     RunSummary {
         stats: out.stats.clone(),

@@ -97,11 +97,23 @@ pub fn load_scene(spec: &str) -> Result<Scene> {
 
 /// [`load_scene`], with the SI bead material of a physical scene (for [`warn_implausible`]).
 pub fn load_scene_with_material(spec: &str) -> Result<(Scene, Option<BeadMaterial>)> {
-    let (scene, material) = scene::load_with_material(spec)?;
+    let (scene, material) = scene::load_with_material(spec).map_err(not_found_hint)?;
     for w in scene::validate(&scene)? {
         eprintln!("beadchain: warning: {w}");
     }
     Ok((scene, material))
+}
+
+/// A scene that is neither a file nor a preset: the nearest preset names instead of the whole
+/// list ([`beadchain::suggest::preset_hint`]); other errors unchanged.
+fn not_found_hint(e: scene::SceneError) -> anyhow::Error {
+    match e {
+        scene::SceneError::NotFound { spec, .. } => anyhow::anyhow!(
+            "{spec}: no such scene file, and no preset of that name{}",
+            beadchain::suggest::preset_hint(&spec)
+        ),
+        other => other.into(),
+    }
 }
 
 /// Prints the warnings of [`scene::plausible`] (a physical scene whose plain numbers look like

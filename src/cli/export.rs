@@ -126,7 +126,10 @@ pub fn cmd_export(a: ExportArgs) -> Result<i32> {
         }
     }
     match &a.out {
-        Some(p) if !to_stdout => beadchain::snapshot::write_atomically(p, write)?,
+        Some(p) if !to_stdout => {
+            super::files::clean_stale_temps(p);
+            beadchain::snapshot::write_atomically(p, write)?
+        }
         _ => {
             if format != Format::Csv && !a.events && a.out.is_none() {
                 bail!("--format {} needs --out PATH (binary output is not written to a terminal; `--out -` writes it to standard output)", if format == Format::Npy { "npy" } else { "npz" });

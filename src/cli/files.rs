@@ -10,6 +10,9 @@
 //!   ([`beadchain::snapshot::size`]: frames × (16 N + 48) bytes plus the header). Above
 //!   `--max-output-bytes` (default [`DEFAULT_MAX_OUTPUT_BYTES`] = 10 GiB) the run is refused with
 //!   the size, the frame count and the keys to change; `--force` lifts the limit.
+//! - **Stale temporaries.** Before an output is written, the hidden `.<name>.tmp-<pid>-<k>` a
+//!   killed run left beside it is removed ([`beadchain::files::remove_stale_temps`]) and each
+//!   removal is said on standard error ([`clean_stale_temps`]; it used to be silent).
 
 use anyhow::{bail, Result};
 use beadchain::files::same_file;
@@ -136,4 +139,26 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
         c.downcast_ref::<std::io::Error>()
             .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
     })
+}
+
+/// Removes the stale temporaries of the output `path` (a killed run's hidden
+/// `.<name>.tmp-<pid>-<k>`, not one its checkpoint continues) and says so for each, on standard
+/// error. Call before the output is written (the writer's own cleanup then finds nothing).
+pub fn clean_stale_temps(path: &Path) {
+    use beadchain::files::{classify_output, parse_temp_name, OutputKind};
+    if !matches!(classify_output(path), Ok(OutputKind::File)) {
+        return;
+    }
+    for tmp in beadchain::snapshot::remove_stale_temps(path) {
+        let pid = tmp
+            .file_name()
+            .and_then(|n| n.to_str())
+            .zip(path.file_name().and_then(|n| n.to_str()))
+            .and_then(|(t, n)| parse_temp_name(t, n))
+            .map_or(String::new(), |(pid, _)| format!("process {pid}, "));
+        eprintln!(
+            "beadchain: note: removed {}, the partial output of an interrupted run ({pid}no longer running)",
+            tmp.display()
+        );
+    }
 }

@@ -24,8 +24,9 @@ enum PlotKind {
         /// Snapshot file(s): one panel each.
         #[arg(required = true)]
         snapshots: Vec<PathBuf>,
-        /// Beads A:B (inclusive; `A:` or `:B` open) [default: all].
-        #[arg(long)]
+        /// Beads: one range A:B, half-open as in `run --beads` (beads A to B-1; `A:` to the
+        /// end, `:B` from 0) [default: all].
+        #[arg(long, value_name = "A:B")]
         beads: Option<BeadRange>,
         /// Time window T0:T1 (inclusive; either end optional) [default: the whole run].
         #[arg(long)]
@@ -48,8 +49,8 @@ enum PlotKind {
         /// Times, comma-separated (in the axis units).
         #[arg(long, value_delimiter = ',', required = true)]
         times: Vec<f64>,
-        /// Beads A:B (inclusive) [default: all].
-        #[arg(long)]
+        /// Beads: one range A:B, half-open as in `run --beads` (beads A to B-1) [default: all].
+        #[arg(long, value_name = "A:B")]
         beads: Option<BeadRange>,
         #[command(flatten)]
         units: UnitsArg,
@@ -60,9 +61,10 @@ enum PlotKind {
     Trace {
         /// Snapshot file.
         snapshot: PathBuf,
-        /// Bead indices, comma-separated.
-        #[arg(long, value_delimiter = ',', required = true)]
-        beads: Vec<usize>,
+        /// Beads, as `run --beads`: indices I, half-open ranges A:B (beads A to B-1) and
+        /// A:B:STEP, comma-separated, e.g. `48,49,50` or `48:52`.
+        #[arg(long, value_name = "LIST", required = true)]
+        beads: String,
         /// Time window T0:T1 (in the axis units) [default: the whole run].
         #[arg(long)]
         t: Option<TimeRange>,
@@ -71,14 +73,16 @@ enum PlotKind {
         #[command(flatten)]
         out: Out,
     },
-    /// Leading-wave energy (eq. 13) against its peak bead, with the fitted exponential.
+    /// Leading-wave energy (eq. 13) against its position, with the fitted exponential (the
+    /// decay rate `analyze` reports).
     Energy {
         /// Snapshot file.
         snapshot: PathBuf,
-        /// Fit from this peak bead on [default: 20; 0 for chains of at most 40 beads].
+        /// Fit from this leading-wave position on (its energy-weighted centre, in beads, as
+        /// `analyze`) [default: 20; 0 for chains of at most 40 beads].
         #[arg(long)]
         from: Option<usize>,
-        /// Fit up to this peak bead [default: N - 10; N - 1 for chains of at most 40 beads].
+        /// Fit up to this position [default: N - 10; N - 1 for chains of at most 40 beads].
         #[arg(long)]
         to: Option<usize>,
         /// Logarithmic energy axis (ticks at decades).
@@ -222,6 +226,9 @@ fn check_out(path: &Path, kind: &str, input: &Path) -> Result<()> {
 
 fn written<F: plot::Figure>(fig: &F, out: &Path) -> Result<i32> {
     // the output rule is checked before any work is reported
+    for (f, _) in plot::output_paths(out)? {
+        super::files::clean_stale_temps(&f);
+    }
     let files = plot::write_figure(fig, out)?;
     if !font::font_available() {
         eprintln!(
@@ -267,8 +274,11 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             units,
             out,
         } => {
-            let opts = trace_options(beads, t, &units, &out)?;
-            chart(&snapshot, "trace", &out, |s| trace::trace(s, &opts))
+            let mut opts = trace_options(t, &units, &out)?;
+            chart(&snapshot, "trace", &out, |s| {
+                opts.beads = plot::bead_list(&beads, s.header().n_beads as usize)?;
+                trace::trace(s, &opts)
+            })
         }
         PlotKind::Energy {
             snapshot,
@@ -351,15 +361,10 @@ fn profile_options(
     })
 }
 
-/// Options of `plot trace`.
-fn trace_options(
-    beads: Vec<usize>,
-    t: Option<TimeRange>,
-    units: &UnitsArg,
-    out: &Out,
-) -> Result<plot::TraceOptions> {
+/// Options of `plot trace` (the beads are resolved against the snapshot).
+fn trace_options(t: Option<TimeRange>, units: &UnitsArg, out: &Out) -> Result<plot::TraceOptions> {
     Ok(plot::TraceOptions {
-        beads,
+        beads: Vec::new(),
         t: t.unwrap_or_default(),
         units: units.get(),
         size: out.size()?,
@@ -427,17 +432,16 @@ fn energy_plot(snapshot: &Path, opts: &EnergyOptions, out: &Out) -> Result<i32> 
     for s in &fig.fits {
         match &s.fit {
             Ok(f) => outln!(
-                "fit over peak beads {}..{}: gamma = {:.6e} +- {:.3e} ({} points, R^2 = {:.4})",
-                s.from,
-                s.to,
+                "decay fit over positions {}: gamma = {:.6e} +- {:.3e} ({} points, R^2 = {:.4})",
+                s.range,
                 f.gamma,
                 f.gamma_stderr,
                 f.n,
                 f.r2
             ),
             Err(e) => eprintln!(
-                "beadchain: warning: no exponential fit over peak beads {}..{}: {e}",
-                s.from, s.to
+                "beadchain: warning: no exponential fit over positions {}: {e}",
+                s.range
             ),
         }
     }

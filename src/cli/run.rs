@@ -64,9 +64,10 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
     if let Some(dt) = a.every_si {
         cfg.every = Some(super::common::si_time(&scene, "--every-si", dt)?);
     }
+    engine::check_config(&scene, &cfg).with_context(|| scene.name.clone())?;
+    warn_every_past_until(&a, &scene, &cfg);
     scene.run.until = cfg.until;
     scene.run.every = cfg.every;
-    engine::check_config(&scene, &cfg).with_context(|| scene.name.clone())?;
     if a.stop_when_fragmented {
         super::fragments::check_scene(&a.common.scene, &scene)?;
     }
@@ -88,6 +89,8 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
     );
     note_output_size(&a, &scene, &cfg, &sel);
     header.output = sel;
+    super::files::clean_stale_temps(&out_path);
+    super::files::clean_stale_temps(&ckpt::ckpt_path(&out_path));
     let writer = SnapshotWriter::create(&out_path, &header)?;
     let ckpt_file = ckpt::ckpt_path(&out_path);
     let sink = ckpt::SnapshotSink::new(
@@ -132,6 +135,35 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
         }
         Err(code) => Ok(code),
     }
+}
+
+/// `--every`/`--every-si` longer than the run gets the warning the scene's `[run].every` key
+/// gets (issue 36: `--every 5` with `until` 2 was silent). Only an interval given on the
+/// command line: the scene's own `every` was checked against its `until` by validation, and a
+/// shorter `--until` (a quick look at a preset) is not warned about.
+fn warn_every_past_until(a: &RunArgs, scene: &Scene, cfg: &RunConfig) {
+    let every_key = match (a.every, a.every_si) {
+        (Some(_), _) => "--every",
+        (None, Some(_)) => "--every-si",
+        _ => return,
+    };
+    let Some(every) = cfg.every.filter(|&e| e > cfg.until) else {
+        return;
+    };
+    let until_key = match (a.common.until, a.common.until_si) {
+        (Some(_), _) => "--until",
+        (None, Some(_)) => "--until-si",
+        _ => "until",
+    };
+    let si = if every_key.ends_with("-si") || until_key.ends_with("-si") {
+        " (computer units)"
+    } else {
+        ""
+    };
+    eprintln!(
+        "beadchain: warning: {}: {every_key}: {every} > {until_key} {}{si}: only the first and last frame",
+        scene.name, cfg.until
+    );
 }
 
 /// Everything `run` checks before it touches a file: the checkpoint interval, the output is no

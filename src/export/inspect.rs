@@ -4,7 +4,7 @@
 
 use super::Num;
 use crate::model::Chain;
-use crate::snapshot::{Frame, Snapshot, FORMAT_VERSION};
+use crate::snapshot::{Frame, Snapshot, FORMAT_VERSION, WALL_NOT_RECORDED};
 use std::fmt::Write as _;
 
 /// Reads every frame (verifying its section header, length, checksum and time): the frames
@@ -172,11 +172,17 @@ fn run_lines(s: &mut String, snap: &Snapshot) {
     match snap.summary() {
         Some(r) => {
             let st = &r.stats;
+            // a run without --timing stores 0 s and a note: say "not recorded" once, here
+            let untimed = r.notes.iter().any(|n| n == WALL_NOT_RECORDED);
+            let wall = if untimed {
+                "wall time not recorded (see --timing)".to_string()
+            } else {
+                format!("wall {:.3} s", r.wall_seconds)
+            };
             let _ = writeln!(
                 s,
-                "run:         t_end {}, wall {:.3} s, energy {} -> {}, momentum {} -> {}",
+                "run:         t_end {}, {wall}, energy {} -> {}, momentum {} -> {}",
                 Num(r.t_end),
-                r.wall_seconds,
                 Num(r.energy_initial),
                 Num(r.energy_final),
                 Num(r.momentum_initial),
@@ -203,7 +209,7 @@ fn run_lines(s: &mut String, snap: &Snapshot) {
                 let _ = writeln!(s, "events by kind: {}", kinds.join(", "));
             }
             let _ = writeln!(s, "largest cluster: {}", r.largest_cluster);
-            for note in &r.notes {
+            for note in r.notes.iter().filter(|n| *n != WALL_NOT_RECORDED) {
                 let _ = writeln!(s, "note:        {note}");
             }
         }

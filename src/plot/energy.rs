@@ -1,27 +1,29 @@
-//! Leading-wave energy against its peak bead with the fitted exponential (paper Sec. 5.2,
+//! Leading-wave energy against its position with the fitted exponential (paper Sec. 5.2,
 //! Fig. 21): per frame, the leading wave of [`crate::analysis::track_leading`] (beads above 0.1 %
-//! of its peak `|v|`, energy eq. 13) gives a point `(peak bead, E_wave/E₀)` with `E₀` the total
-//! energy of the first frame; [`crate::analysis::fit_exponential`] fits `E = a e^{−γ i}` over
-//! the points with `from ≤ peak bead ≤ to`, drawn dashed with `γ ± s.e.` in the legend.
+//! of its peak `|v|`, energy eq. 13) gives a point `(x, E_wave/E₀)` with `x` its energy-weighted
+//! position in beads and `E₀` the total energy of the first frame;
+//! [`crate::analysis::decay_fit`] fits `E = a e^{−γ x}` over the points with `from ≤ x ≤ to`,
+//! drawn dashed with `γ ± s.e.` in the legend. The fit is the one `beadchain analyze` reports
+//! (same points, same `γ`; only `a` differs, by the energy each divides by).
 //!
 //! **Interfaces** (`--interface K`, paper Sec. 5: the decay differs on either side of an
-//! interface at bead `K`): the points are split into beads `< K` and `≥ K` and each side is fitted
-//! on its own (`from ≤ i ≤ K−1` and `K ≤ i ≤ to`); no fit ever spans the interface, whose
+//! interface at bead `K`): the points are split into positions `< K` and `≥ K` and each side is
+//! fitted on its own (`from ≤ x < K` and `K ≤ x ≤ to`); no fit ever spans the interface, whose
 //! energy jump (reflection) would otherwise read as decay. Both fits are drawn and printed.
 
 use super::lines::{LineChart, Series, Style};
 use super::select::require_frames;
 use super::units::{AxisUnits, Units};
 use super::PlotError;
-use crate::analysis::{fit_exponential, track_leading, ExpFit, WaveOptions};
+use crate::analysis::{decay_fit, track_leading, ExpFit, FitRange, TrackPoint, WaveOptions};
 use crate::snapshot::{Frame, Snapshot};
 
 /// What to draw.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnergyOptions {
-    /// Fit from this peak bead on [default: 20, or 0 for chains of at most 40 beads].
+    /// Fit from this leading-wave position on [default: 20, or 0 for chains of at most 40 beads].
     pub from: Option<usize>,
-    /// ... up to this peak bead [default: N − 10, or N − 1 for chains of at most 40 beads].
+    /// ... up to this position [default: N − 10, or N − 1 for chains of at most 40 beads].
     pub to: Option<usize>,
     /// Logarithmic energy axis.
     pub log: bool,
@@ -46,13 +48,11 @@ impl Default for EnergyOptions {
     }
 }
 
-/// One exponential fit over a range of peak beads.
+/// One exponential fit over a range of leading-wave positions.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SideFit {
-    /// First peak bead of the range.
-    pub from: usize,
-    /// Last peak bead of the range (inclusive).
-    pub to: usize,
+    /// The positions fitted.
+    pub range: FitRange,
     /// The fit, or why there is none.
     pub fit: Result<ExpFit, String>,
 }
@@ -66,8 +66,8 @@ pub struct EnergyPlot {
     pub fits: Vec<SideFit>,
 }
 
-/// The fit ranges: `[(from, to)]`, or split at the interface.
-fn fit_ranges(n: usize, opts: &EnergyOptions) -> Result<Vec<(usize, usize)>, PlotError> {
+/// The fit ranges of positions: `from ≤ x ≤ to`, or split at the interface.
+fn fit_ranges(n: usize, opts: &EnergyOptions) -> Result<Vec<FitRange>, PlotError> {
     let small = n <= 40;
     let mut from = opts.from.unwrap_or(if small { 0 } else { 20 });
     let mut to = opts
@@ -101,32 +101,35 @@ fn fit_ranges(n: usize, opts: &EnergyOptions) -> Result<Vec<(usize, usize)>, Plo
             "fit range --from {from} --to {to} is empty"
         )));
     }
+    let (from, to) = (from as f64, to as f64);
     match opts.interface {
-        None => Ok(vec![(from, to)]),
-        Some(k) if from >= k || to < k => Err(PlotError::Input(format!(
+        None => Ok(vec![FitRange::inclusive(from, to)]),
+        Some(k) if from >= k as f64 || to < k as f64 => Err(PlotError::Input(format!(
             "--interface {k}: the fit range --from {from} --to {to} must contain beads on both \
              sides (from < {k} <= to)"
         ))),
-        Some(k) => Ok(vec![(from, k - 1), (k, to)]),
+        Some(k) => Ok(vec![
+            FitRange::below(from, k as f64),
+            FitRange::inclusive(k as f64, to),
+        ]),
     }
 }
 
-/// The fit of the points with peak bead in `from..=to`, and its dashed curve.
-fn side_fit(pts: &[(f64, f64)], (from, to): (usize, usize)) -> (SideFit, Option<Series>) {
-    let (fx, fe): (Vec<f64>, Vec<f64>) = pts
-        .iter()
-        .filter(|p| p.0 >= from as f64 && p.0 <= to as f64)
-        .copied()
-        .unzip();
-    let fit = fit_exponential(&fx, &fe).map_err(|e| e.to_string());
+/// The fit of the track points in `range` ([`decay_fit`], energies over `e0`) and its dashed
+/// curve.
+fn side_fit(track: &[TrackPoint], range: FitRange, e0: f64) -> (SideFit, Option<Series>) {
+    let fit = decay_fit(track, &range, e0);
     let curve = fit.as_ref().ok().map(|fit| {
-        let (x0, x1) = (
-            fx.iter().cloned().fold(f64::INFINITY, f64::min),
-            fx.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
-        );
+        let xs = track
+            .iter()
+            .map(|p| p.position)
+            .filter(|&x| range.contains(x));
+        let (x0, x1) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
         Series {
             name: format!(
-                "fit beads {from}..{to}: γ = {:.4e} ± {:.2e} ({} points)",
+                "fit x {range}: γ = {:.4e} ± {:.2e} ({} points)",
                 fit.gamma, fit.gamma_stderr, fit.n
             ),
             points: (0..=100)
@@ -138,7 +141,7 @@ fn side_fit(pts: &[(f64, f64)], (from, to): (usize, usize)) -> (SideFit, Option<
             style: Style::Fit,
         }
     });
-    (SideFit { from, to, fit }, curve)
+    (SideFit { range, fit }, curve)
 }
 
 /// Builds the energy chart of `snap` (frames streamed one at a time).
@@ -150,15 +153,17 @@ pub fn energy(snap: &Snapshot, opts: &EnergyOptions) -> Result<EnergyPlot, PlotE
     let wave = WaveOptions::default();
     let mut f = Frame::default();
     let mut e0 = f64::NAN;
-    let mut pts = Vec::new();
+    let mut track = Vec::new();
     for k in 0..snap.frame_count() {
         snap.read_frame_into(k, &mut f)?;
         if k == 0 {
             e0 = chain.energy(&f.u, &f.v);
         }
-        for p in track_leading(chain, std::iter::once((f.t, &f.u[..], &f.v[..])), &wave) {
-            pts.push((p.pulse.peak_bead as f64, p.energy / e0));
-        }
+        track.extend(track_leading(
+            chain,
+            std::iter::once((f.t, &f.u[..], &f.v[..])),
+            &wave,
+        ));
     }
     if !(e0 > 0.0 && e0.is_finite()) {
         return Err(PlotError::Input(format!(
@@ -166,7 +171,7 @@ pub fn energy(snap: &Snapshot, opts: &EnergyOptions) -> Result<EnergyPlot, PlotE
             snap.path().display()
         )));
     }
-    if pts.is_empty() {
+    if track.is_empty() {
         return Err(PlotError::Input(format!(
             "{}: no leading wave in any frame",
             snap.path().display()
@@ -175,23 +180,23 @@ pub fn energy(snap: &Snapshot, opts: &EnergyOptions) -> Result<EnergyPlot, PlotE
     let mut fits = Vec::with_capacity(ranges.len());
     let mut curves = Vec::new();
     for r in ranges {
-        let (f, c) = side_fit(&pts, r);
+        let (f, c) = side_fit(&track, r, e0);
         fits.push(f);
         curves.extend(c);
     }
     let mut series = vec![Series {
         name: "leading wave (one point per frame)".into(),
-        points: pts,
+        points: track.iter().map(|p| (p.position, p.energy / e0)).collect(),
         style: Style::Markers,
     }];
     series.append(&mut curves);
     Ok(EnergyPlot {
         chart: LineChart {
             title: format!(
-                "{}: leading-wave energy, E = a exp(-γ i)",
+                "{}: leading-wave energy, E = a exp(-γ x)",
                 snap.header().scene.name
             ),
-            x_desc: "peak bead i of the leading wave".into(),
+            x_desc: "position x of the leading wave (energy-weighted, beads)".into(),
             y_desc: "energy ratio E_wave / E_0 (dimensionless)".into(),
             series,
             log_y: opts.log,

@@ -46,7 +46,7 @@ pub use energy::{EnergyOptions, EnergyPlot, SideFit};
 pub use map::{Map, MapOptions};
 pub use panels::Panels;
 pub use profile::{Profile, ProfileOptions};
-pub use select::{BeadRange, TimeRange};
+pub use select::{bead_list, BeadRange, TimeRange};
 pub use spacetime::{Scale, Spacetime, SpacetimeOptions};
 pub use trace::{Trace, TraceOptions};
 pub use units::{AxisUnits, Labels, Units};

@@ -1,18 +1,23 @@
-//! Selections in a snapshot: inclusive bead ranges `A:B`, time windows `T0:T1`, bead lists and
-//! frames nearest given times. Every error names the bead or time and the snapshot's extent.
+//! Selections in a snapshot: bead ranges and lists, time windows `T0:T1`, frames nearest given
+//! times. Every error names the bead or time and the snapshot's extent.
+//!
+//! **Beads** use the one grammar of `run --beads` ([`parse_beads`], docs in
+//! [`crate::scene::selection`]): indices `I`, half-open ranges `A:B` (beads `A` to `B−1`; `A:`
+//! to the end, `:B` from bead 0) and stepped ranges `A:B:STEP`, comma-separated. `plot
+//! spacetime` and `plot profile` draw one contiguous run of beads ([`BeadRange`]: a selection
+//! with gaps is refused); `plot trace` takes any selection ([`bead_list`]).
 
 use super::PlotError;
+use crate::scene::selection::parse_beads;
 use crate::snapshot::Snapshot;
 use std::ops::Range;
 use std::str::FromStr;
 
-/// Inclusive bead range `A:B` (`A:` to the last bead, `:B` from bead 0, `:` or absent = all).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// A contiguous bead range in the `--beads` grammar (`A:B` half-open, `A:`, `:B`; absent = all).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct BeadRange {
-    /// First bead (default 0).
-    pub first: Option<usize>,
-    /// Last bead, inclusive (default N − 1).
-    pub last: Option<usize>,
+    /// The `--beads` text; `None` for every bead.
+    spec: Option<String>,
 }
 
 /// Splits `A:B` into optional halves.
@@ -29,42 +34,47 @@ fn halves(s: &str) -> Result<(Option<&str>, Option<&str>), String> {
 
 impl FromStr for BeadRange {
     type Err = String;
+    /// Keeps the text; it is checked against the chain in [`BeadRange::resolve`] (the bead
+    /// count is known only there).
     fn from_str(s: &str) -> Result<Self, String> {
-        let (a, b) = halves(s)?;
-        let bead = |x: &str| {
-            x.parse::<usize>()
-                .map_err(|_| format!("`{x}` in `{s}` is not a bead index"))
-        };
+        if s.trim().is_empty() {
+            return Err("empty selection: give a range A:B (beads A to B-1)".into());
+        }
         Ok(BeadRange {
-            first: a.map(bead).transpose()?,
-            last: b.map(bead).transpose()?,
+            spec: Some(s.trim().to_string()),
         })
     }
 }
 
+/// The beads `spec` selects in a chain of `n` beads (the `--beads` grammar), in increasing
+/// order; errors name `--beads`.
+pub fn bead_list(spec: &str, n: usize) -> Result<Vec<usize>, PlotError> {
+    match parse_beads(spec, n as u64) {
+        Ok(Some(list)) => Ok(list.into_iter().map(|b| b as usize).collect()),
+        Ok(None) => Ok((0..n).collect()),
+        Err(e) => Err(PlotError::Input(format!("--beads {spec}: {e}"))),
+    }
+}
+
 impl BeadRange {
-    /// The inclusive range `(first, last)` in a chain of `n` beads; an empty range or a bead
-    /// beyond the chain is an error naming it.
+    /// The inclusive range `(first, last)` in a chain of `n` beads; a selection that is empty,
+    /// beyond the chain or not one contiguous range is an error naming it.
     pub fn resolve(&self, n: usize) -> Result<(usize, usize), PlotError> {
         if n == 0 {
             return Err(PlotError::Input("the snapshot has no beads".into()));
         }
-        let a = self.first.unwrap_or(0);
-        let b = self.last.unwrap_or(n - 1);
-        for x in [a, b] {
-            if x >= n {
-                return Err(PlotError::Input(format!(
-                    "--beads: bead {x} is out of range (the chain has {n} beads, 0..={})",
-                    n - 1
-                )));
-            }
-        }
-        if a > b {
+        let Some(spec) = &self.spec else {
+            return Ok((0, n - 1));
+        };
+        let list = bead_list(spec, n)?;
+        let (first, last) = (list[0], list[list.len() - 1]);
+        if last - first + 1 != list.len() {
             return Err(PlotError::Input(format!(
-                "--beads {a}:{b} is empty (the first bead is after the last)"
+                "--beads {spec}: this plot needs one contiguous range A:B (beads A to B-1), \
+                 not a list or a stepped range"
             )));
         }
-        Ok((a, b))
+        Ok((first, last))
     }
 }
 
@@ -193,22 +203,33 @@ mod tests {
 
     #[test]
     fn bead_ranges() {
+        // half-open, as `run --beads`
         let r: BeadRange = "3:7".parse().unwrap();
-        assert_eq!(r.resolve(10).unwrap(), (3, 7));
+        assert_eq!(r.resolve(10).unwrap(), (3, 6));
         let r: BeadRange = "3:".parse().unwrap();
         assert_eq!(r.resolve(10).unwrap(), (3, 9));
         let r: BeadRange = ":".parse().unwrap();
         assert_eq!(r.resolve(10).unwrap(), (0, 9));
+        let r: BeadRange = "0:10".parse().unwrap();
+        assert_eq!(r.resolve(10).unwrap(), (0, 9));
+        assert_eq!(BeadRange::default().resolve(10).unwrap(), (0, 9));
         let e = "3:12"
             .parse::<BeadRange>()
             .unwrap()
             .resolve(10)
             .unwrap_err();
-        assert!(e.to_string().contains("bead 12"), "{e}");
+        assert!(
+            e.to_string().contains("range '3:12' is out of range"),
+            "{e}"
+        );
         let e = "7:3".parse::<BeadRange>().unwrap().resolve(10).unwrap_err();
-        assert!(e.to_string().contains("empty"), "{e}");
-        assert!("x:3".parse::<BeadRange>().unwrap_err().contains("`x`"));
-        assert!("5".parse::<BeadRange>().is_err());
+        assert!(e.to_string().contains("selects no bead"), "{e}");
+        let e = "x:3".parse::<BeadRange>().unwrap().resolve(10).unwrap_err();
+        assert!(e.to_string().contains("'x:3'"), "{e}");
+        let e = "0:10:2".parse::<BeadRange>().unwrap().resolve(10);
+        assert!(e.unwrap_err().to_string().contains("contiguous"));
+        assert!("".parse::<BeadRange>().is_err());
+        assert_eq!(bead_list("1,5:7", 10).unwrap(), [1, 5, 6]);
     }
 
     #[test]

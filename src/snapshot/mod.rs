@@ -255,12 +255,17 @@ pub struct Frame {
     pub dissipated: Option<f64>,
 }
 
+/// The note of a [`RunSummary`] whose wall time was not stored (`run` without `--timing`; its
+/// `wall_seconds` is then 0).
+pub const WALL_NOT_RECORDED: &str =
+    "wall time not recorded (identical inputs give identical bytes; see --timing)";
+
 /// Statistics of a finished run.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct RunSummary {
     /// Integrator counters (summed over clusters).
     pub stats: Stats,
-    /// Wall-clock time of the run in seconds.
+    /// Wall-clock time of the run in seconds (0 when not recorded: [`WALL_NOT_RECORDED`]).
     pub wall_seconds: f64,
     /// Time the run stopped at.
     pub t_end: f64,

@@ -241,13 +241,9 @@ fn base_scene(spec: &str, dir: &Path) -> Result<(String, PathBuf), String> {
     match presets::presets().iter().find(|p| p.name == spec) {
         Some(p) => Ok((p.toml.to_string(), PathBuf::from("."))),
         None => Err(format!(
-            "no scene file {} and no preset of that name (presets: {})",
+            "no scene file {} and no preset of that name{}",
             path.display(),
-            presets::presets()
-                .iter()
-                .map(|p| p.name)
-                .collect::<Vec<_>>()
-                .join(", ")
+            crate::suggest::preset_hint(spec)
         )),
     }
 }
