@@ -1,5 +1,5 @@
-//! 2-D parameter maps from a CSV (paper Fig. 7: reflected energy over `(n1, n2)`; Fig. 25:
-//! the transition contour): a heatmap on the grid of distinct `x` and `y` values (cells centred
+//! 2-D parameter maps from a CSV (the paper's Fig. 7, reflected energy over `(n1, n2)`, and
+//! Fig. 25, composite interfaces with their transition contour): a heatmap on the grid of distinct `x` and `y` values (cells centred
 //! on the values themselves, edges halfway between neighbours, so uneven spacing is kept), the
 //! sequential colour map with a colour bar ticked at round values
 //! ([`super::ticks::colorbar_ticks`]), and an optional level line ([`super::contour`]). Axes and

@@ -1,4 +1,4 @@
-//! Space–time velocity map (paper Figs. 3, 5, 10, 13): bead index on x, time on y (upwards), one
+//! Space–time velocity map (paper Figs. 4, 6, 10, 13): bead index on x, time on y (upwards), one
 //! cell per (bead, frame) coloured by the signed velocity with the diverging map of
 //! [`super::colormap`], normalised by the largest `|v|` of the selection.
 //!

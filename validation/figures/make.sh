@@ -14,7 +14,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 run() { "$bc" run "$1" --out "$tmp/$1.snap" "${@:2}" > /dev/null; }
 
-# Interfaces (paper Figs. 3-5).
+# Interfaces (paper Figs. 4-6).
 run interface_3.0_3.5 --every 100
 "$bc" plot spacetime "$tmp/interface_3.0_3.5.snap" --scale log --out "$here/interface_3.0_3.5_spacetime_log.png"
 "$bc" plot trace "$tmp/interface_3.0_3.5.snap" --beads 48,49,50,51 --t 5000:50000 --out "$here/interface_3.0_3.5_trace.png"
