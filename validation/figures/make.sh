@@ -48,5 +48,7 @@ run disorder_2.5_0.04
 awk -F, 'NR == 1 { print $0 ",log2_mass_ratio"; next } { print $0 "," log($2) / log(2) }' \
   "$here/../data/composite.csv" > "$tmp/composite.csv"
 "$bc" plot map "$tmp/composite.csv" --x dn --y log2_mass_ratio --z e_refl --contour 0.01 \
+  --title "Composite interfaces: reflected energy over (Δn, m2/m1)" \
+  --xlabel "Δn = n2 − n1" --ylabel "log2(m2/m1)" --zlabel "E_refl / E_in" \
   --out "$here/composite_map.png"
 echo "figures written to $here"
