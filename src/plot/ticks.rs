@@ -34,8 +34,9 @@ pub const N_BAR_TICKS: usize = 7;
 /// (`hi > lo`, both finite).
 pub fn nice_step(lo: f64, hi: f64, max: usize) -> f64 {
     let span = hi - lo;
-    let mut k = (span / max as f64).log10().floor() as i32 - 1;
-    loop {
+    let k0 = (span / max.max(1) as f64).log10().floor() as i32 - 1;
+    // at most 3 decades above the first guess (one suffices; the bound only guards odd input)
+    for k in k0..=k0.saturating_add(3) {
         for m in [1.0, 2.0, 5.0] {
             let step = m * 10f64.powi(k);
             let (a, b) = bounds(lo, hi, step);
@@ -43,8 +44,8 @@ pub fn nice_step(lo: f64, hi: f64, max: usize) -> f64 {
                 return step;
             }
         }
-        k += 1;
     }
+    span
 }
 
 /// The multiples `j · step` in `lo..=hi` (relative slack `1e-9` of the span at both ends), each
@@ -71,6 +72,10 @@ pub fn colorbar_ticks(lo: f64, hi: f64, log: bool) -> Vec<(f64, f64)> {
     if !(lo.is_finite() && hi.is_finite()) || hi <= lo {
         let v = if log { 10f64.powf(lo) } else { lo };
         return vec![(0.5, v)];
+    }
+    if !(hi - lo).is_finite() {
+        // a range wider than f64 (±1e308): its ends and middle, unrounded
+        return vec![(0.0, lo), (0.5, lo / 2.0 + hi / 2.0), (1.0, hi)];
     }
     let place = |v: f64| {
         let x = if log { v.log10() } else { v };
@@ -253,6 +258,10 @@ mod tests {
         assert_eq!(t.len(), 6);
         assert_eq!((t[0].0, t[0].1), (0.0, 1e-6));
         assert_eq!(colorbar_ticks(1.0, 1.0, false), vec![(0.5, 1.0)]);
+        // wider than f64 (the ±1e308 of tests/input_bounds.rs): the ends, no endless search
+        let t = colorbar_ticks(-1e308, 1e308, false);
+        assert_eq!((t[0].1, t[2].1), (-1e308, 1e308));
+        assert_eq!(nice_step(0.0, 1e-300, 7), 2e-301);
     }
 
     #[test]
