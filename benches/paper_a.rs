@@ -1,5 +1,5 @@
-//! Experiments for `validation/REPORT.md` items Fig. 2 (wavelength), Figs. 3–4 (interface
-//! timings), Figs. 15/17 (impurity examples), appendices A and B. Included from
+//! Experiments for `validation/REPORT.md` items Fig. 2 (wavelength), Figs. 4–5 (gap timings),
+//! Figs. 16–17 (impurity examples, collective impurity beads), appendices A and B. Included from
 //! `paper_validation.rs`; subcommands `wavelength`, `timings`, `impurity_examples`, `appendix_a`,
 //! `appendix_b`. Each prints a report (redirect to `validation/out_<name>.txt`) and writes
 //! `validation/data/<name>.csv` (header row; written to a temporary file and renamed).

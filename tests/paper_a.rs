@@ -1,4 +1,4 @@
-//! Reduced versions of `benches/paper_a.rs` (paper Fig. 2, Figs. 3–4, Fig. 17, appendices A and
+//! Reduced versions of `benches/paper_a.rs` (paper Fig. 2, Figs. 4–5, Fig. 17, appendices A and
 //! B) that assert the physics; a few seconds in release (`cargo test --release --test paper_a`).
 
 use beadchain::experiments::appendix::{energy_error, perturbed_interface};

@@ -1,6 +1,8 @@
 //! The work–precision plot: error against wall time on log–log axes, one line per
 //! engine/method (points joined in the order of the tolerance list), drawn with `plotters` as SVG
-//! and PNG.
+//! and PNG. The method sets the colour ([`crate::plot::lines::line_color`]: auto, radau5, dop853,
+//! verlet), the engine the line: hybrid solid with round markers, dense dashed with square ones;
+//! lines and legend swatches are 3 px wide, so every pair reads apart (issue 36).
 //!
 //! Text (title, axis labels, legend) needs a TrueType font: `plotters` is built with its
 //! `ab_glyph` renderer (no system font discovery), and the font file is read at run time from
@@ -9,6 +11,9 @@
 //! numbers) and [`write_plots`] says so.
 
 use super::{AccuracyError, AccuracyReport};
+use crate::integrate::Method;
+use crate::plot::lines::line_color;
+use crate::scene::Engine;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -19,7 +24,23 @@ use crate::plot::font::{font_available, FAMILY};
 /// One line of the plot.
 struct Line {
     name: String,
+    engine: Engine,
+    method: Method,
     points: Vec<(f64, f64)>,
+}
+
+/// Width of lines and legend swatches, in pixels.
+const WIDTH: u32 = 3;
+
+/// The colour of a method's lines (both engines).
+fn method_color(m: Method) -> RGBAColor {
+    let k = match m {
+        Method::Auto => 0,
+        Method::Radau5 => 1,
+        Method::Dop853 => 2,
+        Method::Verlet => 3,
+    };
+    line_color(k).to_rgba()
 }
 
 /// Successful runs with a positive error and wall time, grouped by engine/method (row order).
@@ -39,6 +60,8 @@ fn lines(report: &AccuracyReport) -> Vec<Line> {
             Some(l) => l.points.push((r.wall_seconds, r.error)),
             None => out.push(Line {
                 name,
+                engine: r.engine,
+                method: r.method,
                 points: vec![(r.wall_seconds, r.error)],
             }),
         }
@@ -99,22 +122,40 @@ where
         mesh.x_labels(0).y_labels(0);
     }
     mesh.draw().map_err(err)?;
-    for (k, l) in data.iter().enumerate() {
-        let color = Palette99::pick(k).to_rgba();
-        let series = chart
-            .draw_series(LineSeries::new(
-                l.points.iter().copied(),
-                color.stroke_width(2),
-            ))
-            .map_err(err)?;
-        if text {
-            series
-                .label(l.name.clone())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
+    for l in &data {
+        let color = method_color(l.method);
+        let line = color.stroke_width(WIDTH);
+        let pts = l.points.iter().copied();
+        if l.engine == Engine::Dense {
+            let series = chart
+                .draw_series(DashedLineSeries::new(pts, 10, 6, line))
+                .map_err(err)?;
+            if text {
+                series.label(l.name.clone()).legend(move |(x, y)| {
+                    EmptyElement::at((x, y))
+                        + PathElement::new(vec![(0, 0), (7, 0)], line)
+                        + PathElement::new(vec![(13, 0), (20, 0)], line)
+                        + Rectangle::new([(6, -4), (14, 4)], color.filled())
+                });
+            }
+            chart
+                .draw_series(l.points.iter().map(|&p| {
+                    EmptyElement::at(p) + Rectangle::new([(-4, -4), (4, 4)], color.filled())
+                }))
+                .map_err(err)?;
+        } else {
+            let series = chart.draw_series(LineSeries::new(pts, line)).map_err(err)?;
+            if text {
+                series.label(l.name.clone()).legend(move |(x, y)| {
+                    EmptyElement::at((x, y))
+                        + PathElement::new(vec![(0, 0), (20, 0)], line)
+                        + Circle::new((10, 0), 5, color.filled())
+                });
+            }
+            chart
+                .draw_series(l.points.iter().map(|&p| Circle::new(p, 5, color.filled())))
+                .map_err(err)?;
         }
-        chart
-            .draw_series(l.points.iter().map(|&p| Circle::new(p, 4, color.filled())))
-            .map_err(err)?;
     }
     if text {
         chart

@@ -5,7 +5,7 @@
 //!   `0..k−1`, and right of it, beads `k..N` and contacts `k..N−1`; the straddling contact `k−1`
 //!   (beads `k−1`, `k`) counts half to each side. Once the reflected and transmitted pulses have
 //!   separated (no force across contact `k−1`, nothing crossing the interface any more) this is
-//!   the paper's `E_refl` and `E_trans` (Sec. 3.2, Fig. 6), up to the small energy left in beads
+//!   the paper's `E_refl` and `E_trans` (Sec. 3.2, Fig. 7), up to the small energy left in beads
 //!   that rest near the interface.
 //! - [`velocity_ratio`]: `|v_out/v_in|` of Sec. 5.1 / Fig. 18: `v_in` the largest forward
 //!   velocity and `v_out` the largest backward velocity of the beads `lo..k−margin` over all

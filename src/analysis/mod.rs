@@ -17,7 +17,7 @@
 //! - [`wavelength`]: the continuum solitary wave (Nesterenko) and a measured profile's widths
 //!   and fitted wavelength (Sec. 2, Fig. 2).
 //! - [`timings`]: gap openings/closings at an interface from frames or the event log, and the
-//!   freeze / two-body exchange times `t1 … t5` (Sec. 3.1, Figs. 3–4).
+//!   freeze / two-body exchange times `t1 … t5` (Sec. 3.1, Figs. 4–5).
 //! - [`state`]: the steady-state criterion of appendix A (also as a run stop condition) and
 //!   fragmentation statistics (open gaps, fragments and their velocities), and the final
 //!   fragments of a state where no pair can collide again (`run --stop-when-fragmented`).

@@ -1,5 +1,5 @@
 //! Gap openings/closings at an interface and the freeze / two-body exchange times `t1 … t5` of
-//! the paper's Sec. 3.1 (Figs. 3–4, interface `n1 = 3.0 → n2 = 3.5` at bead `k = 50`).
+//! the paper's Sec. 3.1 (Figs. 4–5, interface `n1 = 3.0 → n2 = 3.5` at bead `k = 50`).
 //!
 //! The paper's text defines the times; with contact `c` between beads `c` and `c+1` (contact
 //! `k−1` = beads 49|50 is the last `n1` contact), we read them as:

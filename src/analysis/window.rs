@@ -13,7 +13,7 @@
 //!   widths, the peak inside the window, and (optionally) velocity traces of a range of beads;
 //!   it stops the run when the front reaches a given bead.
 //! - [`windowed_decay`]: `E_w/E_0` against the front position, log-linear fit of
-//!   `E = a e^{−γ x}` (Sec. 5.2, the fit below Fig. 21) — the paper's decay rate of Figs. 12,
+//!   `E = a e^{−γ x}` (Sec. 5.2, the fit below Fig. 21) — the paper's decay rate of Fig. 12,
 //!   measured on the window.
 //! - [`dominant_periods`]: periodogram of the window's peak velocity against the distance the
 //!   front travelled, for the breathing period of the confined waves (Figs. 13–14).

@@ -18,7 +18,7 @@ pub struct PlotArgs {
 
 #[derive(Subcommand, Debug)]
 enum PlotKind {
-    /// Space-time velocity map: bead index x time, signed velocity (paper Figs. 3, 5, 10, 13);
+    /// Space-time velocity map: bead index x time, signed velocity (paper Figs. 4, 6, 10, 13);
     /// several snapshots give side-by-side panels with one shared colour scale.
     Spacetime {
         /// Snapshot file(s): one panel each.
@@ -118,6 +118,9 @@ enum PlotKind {
         /// Colour map: viridis, gray, coolwarm or bwr.
         #[arg(long, default_value = "viridis")]
         cmap: String,
+        /// Colour-bar label [default: the z column's readable name].
+        #[arg(long)]
+        zlabel: Option<String>,
         #[command(flatten)]
         out: Out,
     },
@@ -307,6 +310,7 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             log_z,
             contour,
             cmap,
+            zlabel,
             out,
         } => {
             let opts = MapOptions {
@@ -318,7 +322,7 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
                 cmap: Cmap::parse(&cmap)?,
                 size: out.size()?,
             };
-            map(&csv, &opts, &out)
+            map(&csv, &opts, zlabel, &out)
         }
     }
 }
@@ -386,7 +390,7 @@ where
 }
 
 /// `plot map`: the CSV's heatmap, its skipped rows warned about.
-fn map(csv: &Path, opts: &MapOptions, out: &Out) -> Result<i32> {
+fn map(csv: &Path, opts: &MapOptions, zlabel: Option<String>, out: &Out) -> Result<i32> {
     let path = out.path(csv, "map");
     check_out(&path, "CSV file", csv)?;
     let mut fig = Map::from_csv(csv, opts)?;
@@ -395,6 +399,9 @@ fn map(csv: &Path, opts: &MapOptions, out: &Out) -> Result<i32> {
     }
     out.labels()
         .apply(&mut fig.title, &mut fig.x_desc, &mut fig.y_desc);
+    if let Some(z) = zlabel {
+        fig.z_desc = z;
+    }
     written(&fig, &path)
 }
 

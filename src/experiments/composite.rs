@@ -8,7 +8,7 @@
 //! `m2/m1 < 1`), which it reads as the set where the right-hand quasi-particle's mass equals
 //! `m1`.
 //!
-//! `E_refl` is measured as in the `(n1, n2)` grid of Fig. 6 ([`super::paper::reflection_grid`]):
+//! `E_refl` is measured as in the `(n1, n2)` grid of Fig. 7 ([`super::paper::reflection_grid`]):
 //! the energy left of bead `k` ([`crate::analysis::energy_split`]) when the front (furthest bead above
 //! 0.1 % of `max |v|`) has reached bead `N − 12` and at least the time the incoming wave needs
 //! for `N − 12 − k` beads of the left medium has passed since it reached `k`, minus the same quantity for the uniform chain (the

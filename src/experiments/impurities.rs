@@ -1,10 +1,10 @@
-//! Impurity examples and collective impurity beads (paper Sec. 5.1, Figs. 15 and 17).
+//! Impurity examples and collective impurity beads (paper Sec. 5.1, Figs. 16 and 17).
 //!
 //! - [`census`]: the pulses of a frame with their peak velocity relative to the incoming peak and
 //!   their share of the energy (eq. 13 with ½, see the [module docs](super)), classified as
 //!   reflected (moving left, peak in `2..k`: beads 0–1 carry the striker's rebound, present in a
 //!   uniform chain too), transmitted (moving right, peak beyond the impurity) or other.
-//! - [`impurity_example`]: Fig. 15 (`s = 1`, `n = 3.0`, `n_imp = 3.5` and `2.5`).
+//! - [`impurity_example`]: Fig. 16 (`s = 1`, `n = 3.0`, `n_imp = 3.5` and `2.5`).
 //! - [`collective_impurity`]: Fig. 17 (`n = 4`, `s = 1`, `δn = −0.25` vs `−1.5`): how far the
 //!   `s + 1` impurity beads `k..=k+s` are from moving as one body while they carry the wave —
 //!   the largest velocity spread `max_j v_j − min_j v_j` over the frames where the fastest

@@ -8,8 +8,8 @@
 //! - [`periodic`]: periodic chains with the windowed tracker (Sec. 4, Figs. 10–14).
 //! - [`transfer`]: bead-to-bead energy transfer ratio in disordered chains (Sec. 5.2, Fig. 23).
 //! - [`composite`]: composite mass–exponent interfaces (Sec. 6, Fig. 25).
-//! - [`wavelength`], [`timings`], [`impurities`], [`appendix`]: Fig. 2 wave width, the Fig. 4
-//!   gap timings, Figs. 15/17 impurities, appendices A and B.
+//! - [`wavelength`]: Fig. 2 wave width; [`timings`]: the Fig. 5 gap timings;
+//!   [`impurities`]: Figs. 16–17; [`appendix`]: appendices A and B.
 
 pub mod appendix;
 pub mod composite;

@@ -2,7 +2,7 @@
 //! `beadchain validate`): generated scenes of Table 1 steel beads in the paper's units (eqs. 3–4,
 //! 10–11; striker 0.11 m/s, eq. 8), run with the hybrid engine and analysed on the fly.
 //!
-//! - [`interface_run`]: exponent interface at bead `k` (Sec. 3, Figs. 3–7).
+//! - [`interface_run`]: exponent interface at bead `k` (Sec. 3, Figs. 4–8).
 //! - [`impurity_ratio`]: `|v_out/v_in|` of an impurity of `s` contacts (Sec. 5.1, Fig. 18).
 //! - [`disorder_gamma`]: decay rate of the leading wave for random exponents (eq. 19, Sec. 5.2).
 //! - [`collapse_point`]: the point `p` for which `E_refl` is best a function of
@@ -349,7 +349,7 @@ pub fn collapse_point(points: &[(f64, f64, f64)]) -> Option<(f64, f64)> {
 }
 
 /// Residual standard deviation of the cubic fit `E_refl = c0 + c1 ln ζ + c2 ln²ζ + c3 ln³ζ`,
-/// `ζ = (n1 − p)/(n2 − p)` (paper Fig. 7), over the points with Δn < 0 (`None` with fewer than 5
+/// `ζ = (n1 − p)/(n2 − p)` (paper Fig. 8), over the points with Δn < 0 (`None` with fewer than 5
 /// such points or a singular fit). [`collapse_point`] minimises it over `p`.
 pub fn collapse_residual(points: &[(f64, f64, f64)], p: f64) -> Option<f64> {
     let neg: Vec<_> = points.iter().filter(|q| q.0 > q.1).collect();

@@ -70,14 +70,14 @@ fn reflection_and_impurity(out: &mut Vec<Check>) -> Result<(), PaperError> {
         .fold(0.0, f64::max);
     let f = fb(&r.info.hybrid_failure);
     out.push(check(
-        "3.0->2.5: reflected pulse energy / E (Fig. 5)",
+        "3.0->2.5: reflected pulse energy / E (Fig. 6)",
         refl,
         "significant reflection".into(),
         (0.3, 0.7),
         f,
     ));
     out.push(check(
-        "3.0->2.5: near-rectangular transmitted pulse, beads (Fig. 5)",
+        "3.0->2.5: near-rectangular transmitted pulse, beads (Fig. 6)",
         r.plateau.map_or(0.0, |p| p.1 as f64),
         "8-9 beads".into(),
         (7.0, 10.0),
@@ -112,14 +112,14 @@ fn secondary_pulses_and_long_impurity(out: &mut Vec<Check>) -> Result<(), PaperE
         .map(|(p, _)| p.peak_velocity)
         .fold(0.0, f64::max);
     out.push(check(
-        "3.0->3.5: secondary transmitted / primary peak v (Fig. 3)",
+        "3.0->3.5: secondary transmitted / primary peak v (Fig. 4)",
         secondary / primary,
         "about 1/10".into(),
         (0.02, 0.3),
         f,
     ));
     out.push(check(
-        "3.0->3.5: reflected / primary transmitted peak v (Fig. 3)",
+        "3.0->3.5: reflected / primary transmitted peak v (Fig. 4)",
         r.v_out / primary,
         "about 1/10".into(),
         (0.01, 0.3),

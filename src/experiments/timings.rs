@@ -1,4 +1,4 @@
-//! The gap timings of the paper's Sec. 3.1 (Figs. 3–4, interface `n1 = 3.0 → n2 = 3.5` at bead
+//! The gap timings of the paper's Sec. 3.1 (Figs. 4–5, interface `n1 = 3.0 → n2 = 3.5` at bead
 //! `k = 50`), measured: [`Window`] records the overlaps around the interface and the hybrid
 //! engine's events during a run, [`timing_run`] runs it and reads `t1 … t5` with
 //! [`crate::analysis::timings`] (where the times are defined) from both sources.

@@ -1,7 +1,7 @@
 //! Colour maps of the plots.
 //!
 //! - [`diverging`]: signed values in `[−1, 1]` (the velocities of the space–time maps, paper
-//!   Figs. 3, 5, 10, 13): Moreland's "smooth cool–warm" map (K. Moreland, *Diverging Color Maps
+//!   Figs. 4, 6, 10, 13): Moreland's "smooth cool–warm" map (K. Moreland, *Diverging Color Maps
 //!   for Scientific Visualization*, ISVC 2009), built by interpolating in his Msh space (polar
 //!   CIELAB) from blue `(59, 76, 192)` through a neutral light grey to red `(180, 4, 38)`. The
 //!   lightness rises monotonically to the centre and falls after it, so equal steps in value are

@@ -3,12 +3,35 @@
 //! over whole decades, ticked and labelled at decades ([`super::ticks::log_decades`];
 //! non-positive values are left out); linear axes get the common tick format of
 //! [`super::ticks::TickFmt`]. A constant series gets a padded range (never zero-width).
+//! Series are coloured from [`LINE_COLORS`], every one of which stands out on white.
 
 use super::layout::{safe_range, Layout};
 use super::ticks::{decade_label, log_decades, TickFmt, N_LABELS};
 use super::{de, font::FAMILY, Figure};
 use plotters::coord::Shift;
 use plotters::prelude::*;
+
+/// The colours of successive series (then again from the first): a blue, red, green, orange,
+/// purple, teal, brown, magenta, olive and navy, each with a contrast of at least 3:1 against
+/// the white background (WCAG 2.1 for graphics; plotters' `Palette99` had yellow third, 1.3:1).
+/// Black is left for fits and axes.
+pub const LINE_COLORS: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(200, 100, 0),
+    RGBColor(148, 103, 189),
+    RGBColor(0, 128, 128),
+    RGBColor(140, 86, 75),
+    RGBColor(190, 40, 160),
+    RGBColor(128, 128, 0),
+    RGBColor(0, 0, 128),
+];
+
+/// The colour of series `k` ([`LINE_COLORS`], cyclically).
+pub fn line_color(k: usize) -> RGBColor {
+    LINE_COLORS[k % LINE_COLORS.len()]
+}
 
 /// How a series is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -170,7 +193,7 @@ impl Figure for LineChart {
             let pts = self.plotted(s);
             let color = match s.style {
                 Style::Fit => BLACK.to_rgba(),
-                Style::Line | Style::Markers => Palette99::pick(k).to_rgba(),
+                Style::Line | Style::Markers => line_color(k).to_rgba(),
             };
             let series = match s.style {
                 Style::Line => chart.draw_series(LineSeries::new(pts, color.stroke_width(2))),

@@ -1,7 +1,10 @@
-//! 2-D parameter maps from a CSV (paper Fig. 16: reflected energy over `(n1, n2)`; Fig. 25:
-//! the transition contour): a heatmap on the grid of distinct `x` and `y` values (cells centred
+//! 2-D parameter maps from a CSV (the paper's Fig. 7, reflected energy over `(n1, n2)`, and
+//! Fig. 25, composite interfaces with their transition contour): a heatmap on the grid of distinct `x` and `y` values (cells centred
 //! on the values themselves, edges halfway between neighbours, so uneven spacing is kept), the
-//! sequential colour map with a colour bar, and an optional level line ([`super::contour`]).
+//! sequential colour map with a colour bar ticked at round values
+//! ([`super::ticks::colorbar_ticks`]), and an optional level line ([`super::contour`]). Axes and
+//! colour bar are labelled with the columns' readable names ([`super::keys::readable`]:
+//! `exponent n (segment 0)` for `chain.exponent.segments.0.value`).
 //!
 //! Rows whose `z` is empty or not a number (or not positive with `--log-z`) are skipped with a
 //! warning naming the line; rows sharing `(x, y)` are averaged (with a warning); grid points
@@ -10,8 +13,9 @@
 use super::cmap::Cmap;
 use super::contour::{marching_squares, Segment};
 use super::csvtable::Table;
+use super::keys::readable;
 use super::layout::{num_label, Layout};
-use super::ticks::{TickFmt, N_LABELS};
+use super::ticks::{colorbar_ticks, TickFmt, N_LABELS};
 use super::{de, font::FAMILY, Figure, PlotError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -43,10 +47,12 @@ pub struct Map {
     pub title: String,
     /// Column names `(x, y, z)`.
     pub names: (String, String, String),
-    /// x axis label (the x column's name unless overridden).
+    /// x axis label (the x column's readable name unless overridden).
     pub x_desc: String,
     /// y axis label.
     pub y_desc: String,
+    /// Colour-bar label (the z column's readable name, `(log scale)` added with `--log-z`).
+    pub z_desc: String,
     /// Colour map.
     pub cmap: Cmap,
     /// Distinct x values, ascending.
@@ -118,10 +124,8 @@ impl Map {
         }
         let mut map = Map::from_points(&points, opts)?;
         map.title = format!(
-            "{} over ({}, {}): {}",
-            opts.z,
-            opts.x,
-            opts.y,
+            "{}: {}",
+            readable(&opts.z),
             path.file_name()
                 .map_or(String::new(), |f| f.to_string_lossy().into_owned())
         );
@@ -190,11 +194,17 @@ impl Map {
                 Some((level, marching_squares(&xs, &ys, &z, l)))
             }
         };
+        let z_desc = if opts.log_z {
+            format!("{} (log scale)", readable(&opts.z))
+        } else {
+            readable(&opts.z)
+        };
         Ok(Map {
-            title: format!("{} over ({}, {})", opts.z, opts.x, opts.y),
+            title: readable(&opts.z),
             names: (opts.x.clone(), opts.y.clone(), opts.z.clone()),
-            x_desc: opts.x.clone(),
-            y_desc: opts.y.clone(),
+            x_desc: readable(&opts.x),
+            y_desc: readable(&opts.y),
+            z_desc,
             cmap: opts.cmap,
             xs,
             ys,
@@ -243,38 +253,33 @@ pub fn edges(c: &[f64]) -> Vec<f64> {
 }
 
 impl Map {
-    /// The colour bar's five ticks (at 0, 1/4, …, 1 of the `z` range `lo..hi`; powers of ten on
-    /// a log scale) and its label.
-    fn colorbar_ticks(&self, lo: f64, hi: f64) -> (Vec<(f64, String)>, String) {
-        let vals: Vec<f64> = (0..=4)
-            .map(|k| {
-                let v = lo + k as f64 / 4.0 * (hi - lo);
-                if self.log_z {
-                    10f64.powf(v)
-                } else {
-                    v
-                }
-            })
-            .collect();
-        let ticks: Vec<(f64, String)> = if self.log_z {
-            vals.iter()
-                .enumerate()
-                .map(|(k, &v)| (k as f64 / 4.0, num_label(v)))
-                .collect()
-        } else {
-            let f = TickFmt::for_values(&vals, hi - lo, 1e-3);
-            vals.iter()
-                .enumerate()
-                .map(|(k, &v)| (k as f64 / 4.0, f.label(v)))
-                .collect()
-        };
-        let label = if self.log_z {
-            format!("{} (log)", self.names.2)
-        } else {
-            self.names.2.clone()
-        };
-        (ticks, label)
+    /// The colour bar's ticks at round values of the coloured range `lo..hi` (`log₁₀ z` with
+    /// `--log-z`), as `(place on the bar, label)`.
+    pub fn colorbar_ticks(&self, lo: f64, hi: f64) -> Vec<(f64, String)> {
+        let ticks = colorbar_ticks(lo, hi, self.log_z);
+        if self.log_z {
+            return ticks.iter().map(|&(s, v)| (s, num_label(v))).collect();
+        }
+        let vals: Vec<f64> = ticks.iter().map(|t| t.1).collect();
+        let f = TickFmt::for_values(&vals, hi - lo, 1e-9);
+        ticks.iter().map(|&(s, v)| (s, f.label(v))).collect()
     }
+}
+
+/// `text` in lines of at most `width` characters, broken at spaces (a longer word stays whole):
+/// the colour bar's label has the strip's width only.
+fn wrap(text: &str, width: usize) -> String {
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split(' ') {
+        match lines.last_mut() {
+            Some(l) if l.chars().count() + 1 + word.chars().count() <= width => {
+                l.push(' ');
+                l.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    lines.join("\n")
 }
 
 impl Figure for Map {
@@ -343,7 +348,8 @@ impl Figure for Map {
                 )
                 .map_err(de)?;
             if text {
-                s.label(format!("{} = {}", self.names.2, num_label(*level)))
+                let name = self.z_desc.trim_end_matches(" (log scale)");
+                s.label(format!("{name} = {}", num_label(*level)))
                     .legend(|(x, y)| {
                         PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(3))
                     });
@@ -358,7 +364,8 @@ impl Figure for Map {
             }
         }
         lay.title(root, &self.title, text)?;
-        let (ticks, label) = self.colorbar_ticks(lo, hi);
+        let ticks = self.colorbar_ticks(lo, hi);
+        let label = wrap(&self.z_desc, 17);
         lay.colorbar(root, &|s| self.cmap.at(s), &ticks, &label, text)
     }
 }

@@ -1,11 +1,12 @@
 //! `beadchain plot`: figures of snapshots and result tables, as PNG and SVG (issue 6, "Plots").
 //!
-//! - [`spacetime`]: space–time velocity map, bead index × time (paper Figs. 3, 5, 10, 13).
-//! - [`profile`]: velocity against bead index at chosen times (paper Fig. 4).
-//! - [`trace`]: velocity against time of chosen beads (paper Figs. 10–13, bottom panels).
+//! - [`spacetime`]: space–time velocity map, bead index × time (paper Figs. 4, 6, 10, 13).
+//! - [`profile`]: velocity against bead index at chosen times (paper Figs. 4–5).
+//! - [`trace`]: velocity against time of chosen beads (paper Figs. 10, 11, 13, 14, bottom panels).
 //! - [`energy`]: leading-wave energy (eq. 13) against its peak bead with the fitted exponential
 //!   `E = a e^{−γ i}` (paper Sec. 5.2, Fig. 21).
-//! - [`map`]: 2-D parameter map (heatmap and level contour) from any CSV (paper Figs. 16, 25).
+//! - [`map`]: 2-D parameter map (heatmap and level contour) from any CSV (paper Figs. 7, 25), its
+//!   axes and colour bar named by [`keys`] (readable names of sweep columns).
 //! - [`panels`]: space–time maps side by side with one shared colour scale.
 //!
 //! Axes: [`units`] (computer units, or SI for physical scenes), [`ticks`] (readable tick
@@ -24,6 +25,7 @@ pub mod contour;
 pub mod csvtable;
 pub mod energy;
 pub mod font;
+pub mod keys;
 pub mod layout;
 pub mod lines;
 pub mod map;

@@ -1,4 +1,4 @@
-//! Side-by-side space–time maps (issue 14: the paper's multi-panel figures, e.g. Figs. 10–13):
+//! Side-by-side space–time maps (issue 14: the paper's multi-panel figures, e.g. Figs. 10, 11, 13, 14):
 //! `beadchain plot spacetime A.snap B.snap …` draws one panel per snapshot in a row, with one
 //! **shared colour scale**: every panel is normalised by the largest `|v|` over all panels (in
 //! the axis units), and a single colour bar right of the last panel states it. Each panel keeps

@@ -1,4 +1,4 @@
-//! Velocity profiles `v_i` against bead index `i` at chosen times (paper Fig. 4): one line per
+//! Velocity profiles `v_i` against bead index `i` at chosen times (paper Figs. 4–5): one line per
 //! time, taken from the frame nearest that time (the legend gives the frame's own time).
 
 use super::layout::Layout;

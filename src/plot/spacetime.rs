@@ -1,4 +1,4 @@
-//! Space–time velocity map (paper Figs. 3, 5, 10, 13): bead index on x, time on y (upwards), one
+//! Space–time velocity map (paper Figs. 4, 6, 10, 13): bead index on x, time on y (upwards), one
 //! cell per (bead, frame) coloured by the signed velocity with the diverging map of
 //! [`super::colormap`], normalised by the largest `|v|` of the selection.
 //!
@@ -21,7 +21,7 @@ use super::cmap::Cmap;
 use super::colormap::NO_DATA;
 use super::layout::{num_label, Layout};
 use super::select::{require_frames, BeadRange, TimeRange};
-use super::ticks::{TickFmt, N_LABELS};
+use super::ticks::{colorbar_ticks, TickFmt, N_LABELS};
 use super::units::{AxisUnits, Units};
 use super::{de, font::FAMILY, Figure, PlotError};
 use crate::snapshot::{Frame, Snapshot};
@@ -319,20 +319,21 @@ impl Spacetime {
         }
         match self.scale {
             Scale::Linear => {
-                let s = [-1.0, -0.5, 0.0, 0.5, 1.0];
-                let v: Vec<f64> = s.iter().map(|s| s * self.vmax).collect();
-                let f = TickFmt::for_values(&v, 2.0 * self.vmax, 1e-3);
-                s.iter()
-                    .zip(&v)
-                    .map(|(&s, &v)| (pos(s), f.label(v)))
-                    .collect()
+                // round values of v in -max|v| … max|v| (0 among them)
+                let t = colorbar_ticks(-self.vmax, self.vmax, false);
+                let v: Vec<f64> = t.iter().map(|p| p.1).collect();
+                let f = TickFmt::for_values(&v, 2.0 * self.vmax, 1e-9);
+                t.iter().map(|&(s, v)| (s, f.label(v))).collect()
             }
             Scale::Log => {
-                // |v|/max|v| = 1, 0.1, 0.01, 0.001 (the 0.1 % wave threshold); 1e-4 maps to 0
+                // each half of the bar runs over |v|/max|v| = 1e-4 … 1 (1e-4 at the centre): the
+                // round |v| there (decades), placed on the half; none next to the centre's `0`
+                let hi = self.vmax.log10();
                 let mut t = vec![(0.5, "0".to_string())];
-                for k in 0..=3 {
-                    let s = (4 - k) as f64 / 4.0;
-                    let v = self.vmax * 10f64.powi(-k);
+                for (s, v) in colorbar_ticks(hi - 4.0, hi, true) {
+                    if s < 0.1 {
+                        continue;
+                    }
                     t.push((pos(s), num_label(v)));
                     t.push((pos(-s), num_label(-v)));
                 }

@@ -1,4 +1,4 @@
-//! Velocity traces `v_i(t)` of chosen beads (paper Figs. 10–13, bottom panels: beads 71–74).
+//! Velocity traces `v_i(t)` of chosen beads (paper Figs. 10, 11, 13, 14, bottom panels).
 
 use super::layout::Layout;
 use super::lines::{LineChart, Series, Style};

@@ -52,7 +52,7 @@
 //! engine events: contact closings/openings, collisions), then the `[measure]` columns:
 //! - `left_fraction` (`interface = K`): energy of beads `0..K` over the total at the final frame,
 //!   [`crate::analysis::energy_split`]. It contains the striker's rebound; the paper's reflected
-//!   energy (Fig. 6) is `left_fraction − left_fraction(n2 = n1)` (the uniform run of the grid).
+//!   energy (Fig. 7) is `left_fraction − left_fraction(n2 = n1)` (the uniform run of the grid).
 //! - `gamma`, `gamma_se` (`decay`): fit `E/E0 = a e^{−γ x}` of the leading-wave energy (eq. 13)
 //!   against its peak bead `x ≥ from`, `E0` at the first frame with peak `≥ e0_bead`, up to the first
 //!   jump by more than `jump` between frames (as [`crate::experiments::paper::decay_gamma`], Sec. 5.2,

@@ -14,7 +14,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 run() { "$bc" run "$1" --out "$tmp/$1.snap" "${@:2}" > /dev/null; }
 
-# Interfaces (paper Figs. 3-5).
+# Interfaces (paper Figs. 4-6).
 run interface_3.0_3.5 --every 100
 "$bc" plot spacetime "$tmp/interface_3.0_3.5.snap" --scale log --out "$here/interface_3.0_3.5_spacetime_log.png"
 "$bc" plot trace "$tmp/interface_3.0_3.5.snap" --beads 48,49,50,51 --t 5000:50000 --out "$here/interface_3.0_3.5_trace.png"
@@ -48,5 +48,7 @@ run disorder_2.5_0.04
 awk -F, 'NR == 1 { print $0 ",log2_mass_ratio"; next } { print $0 "," log($2) / log(2) }' \
   "$here/../data/composite.csv" > "$tmp/composite.csv"
 "$bc" plot map "$tmp/composite.csv" --x dn --y log2_mass_ratio --z e_refl --contour 0.01 \
+  --title "Composite interfaces: reflected energy over (Δn, m2/m1)" \
+  --xlabel "Δn = n2 − n1" --ylabel "log2(m2/m1)" --zlabel "E_refl / E_in" \
   --out "$here/composite_map.png"
 echo "figures written to $here"
