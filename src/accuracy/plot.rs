@@ -123,39 +123,7 @@ where
     }
     mesh.draw().map_err(err)?;
     for l in &data {
-        let color = method_color(l.method);
-        let line = color.stroke_width(WIDTH);
-        let pts = l.points.iter().copied();
-        if l.engine == Engine::Dense {
-            let series = chart
-                .draw_series(DashedLineSeries::new(pts, 10, 6, line))
-                .map_err(err)?;
-            if text {
-                series.label(l.name.clone()).legend(move |(x, y)| {
-                    EmptyElement::at((x, y))
-                        + PathElement::new(vec![(0, 0), (7, 0)], line)
-                        + PathElement::new(vec![(13, 0), (20, 0)], line)
-                        + Rectangle::new([(6, -4), (14, 4)], color.filled())
-                });
-            }
-            chart
-                .draw_series(l.points.iter().map(|&p| {
-                    EmptyElement::at(p) + Rectangle::new([(-4, -4), (4, 4)], color.filled())
-                }))
-                .map_err(err)?;
-        } else {
-            let series = chart.draw_series(LineSeries::new(pts, line)).map_err(err)?;
-            if text {
-                series.label(l.name.clone()).legend(move |(x, y)| {
-                    EmptyElement::at((x, y))
-                        + PathElement::new(vec![(0, 0), (20, 0)], line)
-                        + Circle::new((10, 0), 5, color.filled())
-                });
-            }
-            chart
-                .draw_series(l.points.iter().map(|&p| Circle::new(p, 5, color.filled())))
-                .map_err(err)?;
-        }
+        draw_line(&mut chart, l, text)?;
     }
     if text {
         chart
@@ -168,6 +136,55 @@ where
             .map_err(err)?;
     }
     root.present().map_err(err)?;
+    Ok(())
+}
+
+/// One method's line on the chart: solid with circles for the hybrid engine, dashed with
+/// squares for the dense one (and its legend swatch where text is drawn).
+fn draw_line<'a, DB: DrawingBackend + 'a>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>,
+    l: &Line,
+    text: bool,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let color = method_color(l.method);
+    let line = color.stroke_width(WIDTH);
+    let pts = l.points.iter().copied();
+    if l.engine == Engine::Dense {
+        let series = chart
+            .draw_series(DashedLineSeries::new(pts, 10, 6, line))
+            .map_err(err)?;
+        if text {
+            series.label(l.name.clone()).legend(move |(x, y)| {
+                EmptyElement::at((x, y))
+                    + PathElement::new(vec![(0, 0), (7, 0)], line)
+                    + PathElement::new(vec![(13, 0), (20, 0)], line)
+                    + Rectangle::new([(6, -4), (14, 4)], color.filled())
+            });
+        }
+        chart
+            .draw_series(
+                l.points.iter().map(|&p| {
+                    EmptyElement::at(p) + Rectangle::new([(-4, -4), (4, 4)], color.filled())
+                }),
+            )
+            .map_err(err)?;
+    } else {
+        let series = chart.draw_series(LineSeries::new(pts, line)).map_err(err)?;
+        if text {
+            series.label(l.name.clone()).legend(move |(x, y)| {
+                EmptyElement::at((x, y))
+                    + PathElement::new(vec![(0, 0), (20, 0)], line)
+                    + Circle::new((10, 0), 5, color.filled())
+            });
+        }
+        chart
+            .draw_series(l.points.iter().map(|&p| Circle::new(p, 5, color.filled())))
+            .map_err(err)?;
+    }
     Ok(())
 }
 

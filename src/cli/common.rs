@@ -217,6 +217,39 @@ pub fn print_outcome(
         s.newton_failures,
         out.largest_cluster
     )?;
+    print_counts(w, cfg, out)?;
+    if out.dissipated != 0.0 {
+        if let Some(note) = beadchain::engine::balance_note(out.relative_energy_error(), cfg.rtol) {
+            eprintln!("beadchain: warning: {}: {note}", scene.name);
+        }
+        writeln!(
+            w,
+            "energy {:.12e} -> {:.12e}, dissipated {:.12e} (balance error {:.3e}); momentum {:.12e} -> {:.12e}",
+            out.energy_initial,
+            out.energy_final,
+            out.dissipated,
+            out.relative_energy_error(),
+            out.momentum_initial,
+            out.momentum_final
+        )?;
+        return si_line(w, scene, out);
+    }
+    writeln!(
+        w,
+        "energy {:.12e} -> {:.12e} (relative change {:.3e}); momentum {:.12e} -> {:.12e}",
+        out.energy_initial,
+        out.energy_final,
+        out.relative_energy_error(),
+        out.momentum_initial,
+        out.momentum_final
+    )?;
+    si_line(w, scene, out)
+}
+
+/// The run summary's counts past the step line: `auto`'s split between its methods, the events
+/// by kind, the exact two-body contacts and the slow-closings warning.
+fn print_counts(w: &mut dyn Write, cfg: &RunConfig, out: &RunOutcome) -> Result<()> {
+    let s = &out.stats;
     if cfg.method == Method::Auto {
         writeln!(
             w,
@@ -252,32 +285,7 @@ pub fn print_outcome(
     if let Some(note) = out.slow_closings_note() {
         writeln!(w, "warning: {note}")?;
     }
-    if out.dissipated != 0.0 {
-        if let Some(note) = beadchain::engine::balance_note(out.relative_energy_error(), cfg.rtol) {
-            eprintln!("beadchain: warning: {}: {note}", scene.name);
-        }
-        writeln!(
-            w,
-            "energy {:.12e} -> {:.12e}, dissipated {:.12e} (balance error {:.3e}); momentum {:.12e} -> {:.12e}",
-            out.energy_initial,
-            out.energy_final,
-            out.dissipated,
-            out.relative_energy_error(),
-            out.momentum_initial,
-            out.momentum_final
-        )?;
-        return si_line(w, scene, out);
-    }
-    writeln!(
-        w,
-        "energy {:.12e} -> {:.12e} (relative change {:.3e}); momentum {:.12e} -> {:.12e}",
-        out.energy_initial,
-        out.energy_final,
-        out.relative_energy_error(),
-        out.momentum_initial,
-        out.momentum_final
-    )?;
-    si_line(w, scene, out)
+    Ok(())
 }
 
 /// A physical scene's end time and energies in SI (time `t β`, energy `E m0/β²`, paper eq. 10).

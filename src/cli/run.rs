@@ -6,12 +6,12 @@ use super::common::{config, load_scene_with_material, print_outcome, Common, Eng
 use super::files::SizeLimit;
 use super::select::OutputArgs;
 use anyhow::{bail, Context, Result};
-use beadchain::engine::{self, RunConfig};
+use beadchain::engine::{self, RunConfig, RunOutcome};
 use beadchain::progress::RunProgress;
 use beadchain::scene::Scene;
 use beadchain::snapshot::{Header, Selection, SnapshotWriter};
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `beadchain run`.
 #[derive(clap::Args, Debug)]
@@ -120,21 +120,33 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
     })?;
     match done {
         Ok(out) => {
-            // A snapshot written to a stream (`--out /dev/stdout`) must not get the text too.
-            let to_stream = beadchain::files::classify_output(&out_path)
-                .is_ok_and(|k| k == beadchain::files::OutputKind::Stream);
-            let (mut so, mut se) = (std::io::stdout().lock(), std::io::stderr().lock());
-            let w: &mut dyn Write = if to_stream { &mut se } else { &mut so };
-            print_outcome(w, &scene, &cfg, &out)?;
-            if let Some(f) = &fragmented {
-                super::fragments::print(w, &scene, &cfg, f.as_ref(), (&out.u, &out.v))?;
-            }
-            writeln!(w, "wrote {}", out_path.display())?;
-            w.flush()?;
+            report(&out_path, (&scene, &cfg), &out, fragmented.as_ref())?;
             Ok(0)
         }
         Err(code) => Ok(code),
     }
+}
+
+/// The finished run's summary (and fragments, with `--stop-when-fragmented`) and the file
+/// written, on standard output, or on standard error when the snapshot itself went to a stream
+/// (`--out /dev/stdout` must not get the text too).
+fn report(
+    out_path: &Path,
+    (scene, cfg): (&Scene, &RunConfig),
+    out: &RunOutcome,
+    fragmented: Option<&Option<super::fragments::Fragmented>>,
+) -> Result<()> {
+    let to_stream = beadchain::files::classify_output(out_path)
+        .is_ok_and(|k| k == beadchain::files::OutputKind::Stream);
+    let (mut so, mut se) = (std::io::stdout().lock(), std::io::stderr().lock());
+    let w: &mut dyn Write = if to_stream { &mut se } else { &mut so };
+    print_outcome(w, scene, cfg, out)?;
+    if let Some(f) = fragmented {
+        super::fragments::print(w, scene, cfg, f.as_ref(), (&out.u, &out.v))?;
+    }
+    writeln!(w, "wrote {}", out_path.display())?;
+    w.flush()?;
+    Ok(())
 }
 
 /// `--every`/`--every-si` longer than the run gets the warning the scene's `[run].every` key

@@ -298,6 +298,34 @@ impl Radau5 {
         self.stats.steps += 1;
         self.stats.bead_steps += m as u64;
     }
+
+    /// Takes the accepted step `t → t_new` of size `h_abs` with error `err_norm` (and
+    /// dissipated energy `d_step`), and proposes `h_abs · factor` next; a step clipped to land
+    /// on the bound keeps at least the proposal it replaced (`keep`).
+    fn accept(
+        &mut self,
+        sys: &dyn System,
+        (t, t_new): (f64, f64),
+        (h_abs, factor): (f64, f64),
+        (err_norm, d_step): (f64, f64),
+        keep: Option<f64>,
+    ) -> Result<f64, IntegrationError> {
+        if sys.dissipative() {
+            self.diss = (self.diss.1, self.diss.1 + d_step);
+        }
+        self.advance(sys, t, t_new);
+        self.h_abs_old = Some(h_abs);
+        self.err_old = Some(err_norm);
+        self.h_abs = h_abs * factor;
+        if let Some(h_request) = keep {
+            // A step clipped to land on t_bound says nothing against the proposal it replaced.
+            self.h_abs = self.h_abs.max(h_request);
+        }
+        if !self.z.iter().all(|x| x.is_finite()) {
+            return Err(IntegrationError::NonFinite { t: self.t });
+        }
+        Ok(self.t)
+    }
 }
 
 /// Smallest previous error the predictive controller extrapolates from (Hairer's RADAU5 stores
@@ -420,21 +448,14 @@ impl Integrator for Radau5 {
             if rejected {
                 factor = factor.min(1.0);
             }
-            if sys.dissipative() {
-                self.diss = (self.diss.1, self.diss.1 + d_step);
-            }
-            self.advance(sys, t, t_new);
-            self.h_abs_old = Some(h_abs);
-            self.err_old = Some(err_norm);
-            self.h_abs = h_abs * factor;
-            if t_new == t_bound && !rejected {
-                // A step clipped to land on t_bound says nothing against the proposal it replaced.
-                self.h_abs = self.h_abs.max(h_request);
-            }
-            if !self.z.iter().all(|x| x.is_finite()) {
-                return Err(IntegrationError::NonFinite { t: self.t });
-            }
-            return Ok(self.t);
+            let clipped = t_new == t_bound && !rejected;
+            return self.accept(
+                sys,
+                (t, t_new),
+                (h_abs, factor),
+                (err_norm, d_step),
+                clipped.then_some(h_request),
+            );
         }
     }
 

@@ -180,6 +180,37 @@ impl Chain {
             kd[m - 1..=m].fill(0.0);
             kv[m - 1..=m].fill(0.0);
         }
+        let walls = Out {
+            acc: &mut *acc,
+            kd: &mut *kd,
+            kv: &mut *kv,
+        };
+        power = self.damped_walls::<L, STIFF>(d, lo, u, v, walls, &make, power);
+        if with_acc {
+            for (ai, mi) in acc.iter_mut().zip(&self.mass[lo..lo + m]) {
+                *ai /= mi;
+            }
+        }
+        power
+    }
+
+    /// The soft walls' terms of [`Self::damped_kernel`] at the chain's ends (when `lo..lo + m`
+    /// holds them), added to `power` in order (left, then right) and returned.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn damped_walls<L: ContactLaw, const STIFF: bool>(
+        &self,
+        d: &Damping,
+        lo: usize,
+        u: &[f64],
+        v: &[f64],
+        out: Out,
+        make: &impl Fn(f64, f64, f64) -> L,
+        mut power: f64,
+    ) -> f64 {
+        let m = u.len();
+        let Out { acc, kd, kv } = out;
+        let with_acc = !acc.is_empty();
         if lo == 0 {
             if let Some(w) = self.left_wall.as_ref().filter(|w| w.restitution.is_none()) {
                 let e =
@@ -206,11 +237,6 @@ impl Chain {
                     kd[m] = e.d_delta;
                     kv[m] = e.d_rate;
                 }
-            }
-        }
-        if with_acc {
-            for (ai, mi) in acc.iter_mut().zip(&self.mass[lo..lo + m]) {
-                *ai /= mi;
             }
         }
         power

@@ -298,18 +298,7 @@ impl Figure for Map {
         root.fill(&WHITE).map_err(de)?;
         let lay = Layout::new(self.size, true);
         let (ex, ey) = (edges(&self.xs), edges(&self.ys));
-        let (x0, x1) = (
-            ex.first().copied().unwrap_or(0.0),
-            ex.last().copied().unwrap_or(1.0),
-        );
-        let (y0, y1) = (
-            ey.first().copied().unwrap_or(0.0),
-            ey.last().copied().unwrap_or(1.0),
-        );
-        let ((x0, x1), (y0, y1)) = (
-            super::layout::safe_range(x0, x1),
-            super::layout::safe_range(y0, y1),
-        );
+        let ((x0, x1), (y0, y1)) = (span(&ex), span(&ey));
         let mut chart = lay
             .chart(root)
             .build_cartesian_2d(x0..x1, y0..y1)
@@ -368,4 +357,13 @@ impl Figure for Map {
         let label = wrap(&self.z_desc, 17);
         lay.colorbar(root, &|s| self.cmap.at(s), &ticks, &label, text)
     }
+}
+
+/// The axis range covered by cell edges `e` (0..1 when there are none), widened where empty.
+fn span(e: &[f64]) -> (f64, f64) {
+    let (a, b) = (
+        e.first().copied().unwrap_or(0.0),
+        e.last().copied().unwrap_or(1.0),
+    );
+    super::layout::safe_range(a, b)
 }

@@ -99,13 +99,7 @@ fn build(
         Some(sc) => Some(sc),
         None => tables::computer_scales(ctx, &t)?,
     };
-    let precompression = match &specs.precompression {
-        Some(s) => {
-            let p = s.resolve(ctx, "[chain].precompression", len.nc, Per::Contact, 0.0)?;
-            p.iter().any(|x| *x != 0.0).then_some(p)
-        }
-        None => None,
-    };
+    let precompression = precompression(ctx, &specs, len)?;
     let (u0, v0) = initial::initial_state(ctx, &t, &specs, len, physical, scales)?;
     let field = initial::field(ctx, &t, &specs, len, scales, &inertia.mass)?;
     let defaults = walls::WallDefaults {
@@ -117,16 +111,7 @@ fn build(
         physical,
     };
     let walls = walls::walls(ctx, &t, &defaults)?;
-    let arrays = super::damping::ChainArrays {
-        mass: &inertia.mass,
-        exponent: &exponent,
-        prefactor: &inertia.prefactor,
-        material_a: inertia
-            .material
-            .as_ref()
-            .and_then(|m| m.viscous_a.as_deref()),
-    };
-    let damping = super::damping::parse(ctx, t.chain, t.walls, &walls, arrays, scales)?;
+    let damping = damping(ctx, &t, &walls, (&inertia, &exponent), scales)?;
     let [left_wall, right_wall] = walls;
     let (run, hard) = settings::run_settings(ctx, root, &t, scales, len.nb)?;
     let (name, description) = settings::name_and_description(ctx, &t, origin, scales)?;
@@ -157,4 +142,41 @@ fn build(
     };
     super::hard::default_collapse_interval(&mut scene);
     Ok((scene, material))
+}
+
+/// The contact law's damping (`[chain] law`, `damping`, …, and the walls'), given the chain's
+/// masses, prefactors and material (`inertia`) and exponents.
+fn damping(
+    ctx: &Ctx,
+    t: &tables::Tables,
+    walls: &[Option<crate::model::Wall>; 2],
+    (inertia, exponent): (&material::Inertia, &[f64]),
+    scales: Option<super::units::UnitScales>,
+) -> Result<Option<crate::model::Damping>, SceneError> {
+    let arrays = super::damping::ChainArrays {
+        mass: &inertia.mass,
+        exponent,
+        prefactor: &inertia.prefactor,
+        material_a: inertia
+            .material
+            .as_ref()
+            .and_then(|m| m.viscous_a.as_deref()),
+    };
+    super::damping::parse(ctx, t.chain, t.walls, walls, arrays, scales)
+}
+
+/// `[chain].precompression` per contact, `None` when absent or zero everywhere (the chain then
+/// skips the term).
+fn precompression(
+    ctx: &Ctx,
+    specs: &arrays::Specs,
+    len: arrays::Len,
+) -> Result<Option<Vec<f64>>, SceneError> {
+    Ok(match &specs.precompression {
+        Some(s) => {
+            let p = s.resolve(ctx, "[chain].precompression", len.nc, Per::Contact, 0.0)?;
+            p.iter().any(|x| *x != 0.0).then_some(p)
+        }
+        None => None,
+    })
 }

@@ -228,30 +228,10 @@ fn from_tail(
     frame_len: u64,
     version: u32,
 ) -> Result<Result<Contents, String>, SnapshotError> {
-    let no_end = || {
-        Ok(Err(
-            "file has no END section (unfinished or truncated run)".to_string()
-        ))
+    let (index_at, end_at) = match index_position(raw, first)? {
+        Ok(at) => at,
+        Err(reason) => return Ok(Err(reason)),
     };
-    if raw.len < first + END_SECTION_LEN {
-        return no_end();
-    }
-    let end_at = raw.len - END_SECTION_LEN;
-    let Some(end) = raw.read_head(end_at, "END")? else {
-        return no_end();
-    };
-    if end.tag != TAG_END || end.len != 8 {
-        return no_end();
-    }
-    let Ok(ep) = raw.read_payload(&end, "END") else {
-        return Ok(Err("END section is damaged (checksum)".into()));
-    };
-    let index_at = le_u64(&ep, 0);
-    if index_at < first || index_at > end_at.saturating_sub(SECTION_HEADER_LEN) {
-        return Ok(Err(format!(
-            "END points to an INDEX at impossible byte {index_at}"
-        )));
-    }
     let Some(ih) = raw.read_head(index_at, "INDEX")? else {
         return Ok(Err("cannot read the INDEX section".into()));
     };
@@ -303,6 +283,36 @@ fn from_tail(
         summary,
         event_blocks: Vec::new(),
     }))
+}
+
+/// Where the END section at the file's end says the INDEX starts, and where END starts:
+/// `Ok(Err(reason))` when END is missing, damaged or points outside the file.
+fn index_position(raw: &Raw, first: u64) -> Result<Result<(u64, u64), String>, SnapshotError> {
+    let no_end = || {
+        Ok(Err(
+            "file has no END section (unfinished or truncated run)".to_string()
+        ))
+    };
+    if raw.len < first + END_SECTION_LEN {
+        return no_end();
+    }
+    let end_at = raw.len - END_SECTION_LEN;
+    let Some(end) = raw.read_head(end_at, "END")? else {
+        return no_end();
+    };
+    if end.tag != TAG_END || end.len != 8 {
+        return no_end();
+    }
+    let Ok(ep) = raw.read_payload(&end, "END") else {
+        return Ok(Err("END section is damaged (checksum)".into()));
+    };
+    let index_at = le_u64(&ep, 0);
+    if index_at < first || index_at > end_at.saturating_sub(SECTION_HEADER_LEN) {
+        return Ok(Err(format!(
+            "END points to an INDEX at impossible byte {index_at}"
+        )));
+    }
+    Ok(Ok((index_at, end_at)))
 }
 
 /// Reads and decodes a bincode section the INDEX points to (must end before `limit`).
@@ -373,30 +383,8 @@ fn scan(
             TAG_FRAME => format!("FRAME #{k}"),
             t => section_name(t).to_string(),
         };
-        if h.tag == TAG_FRAME && h.len != frame_len {
-            return Err(raw.absurd(
-                &name,
-                pos,
-                format!(
-                    "{} bytes, but a frame of {} u and {} v values has {frame_len}",
-                    h.len, shape.0, shape.1
-                ),
-            ));
-        }
-        let remain = raw.len - h.payload_start();
-        if h.len > remain {
-            if h.len >= MAX_PLAUSIBLE_LEN || h.tag == TAG_HEADER {
-                return Err(raw.absurd(
-                    &name,
-                    pos,
-                    format!("{} bytes declared but only {remain} remain", h.len),
-                ));
-            }
-            warn(format!(
-                "truncated: file ends at byte {} inside {name} (starts at byte {pos}, \
-                 needs {} payload bytes, {remain} remain); kept {k} whole frames",
-                raw.len, h.len
-            ));
+        if let Some(w) = section_fits(raw, &h, pos, &name, (shape, frame_len), k)? {
+            warn(w);
             break;
         }
         match h.tag {
@@ -430,6 +418,46 @@ fn scan(
         pos = h.end();
     }
     Ok(c)
+}
+
+/// Checks the declared length of section `name` (header `h` at `pos`; `k` whole frames so
+/// far): a frame must have the frame length of `shape`; a section running past the end of the
+/// file is an error where the length is absurd (or it is a HEADER), else a truncation, whose
+/// warning is returned (the scan keeps the `k` frames before it).
+fn section_fits(
+    raw: &Raw,
+    h: &SectionHead,
+    pos: u64,
+    name: &str,
+    (shape, frame_len): (Shape, u64),
+    k: usize,
+) -> Result<Option<String>, SnapshotError> {
+    if h.tag == TAG_FRAME && h.len != frame_len {
+        return Err(raw.absurd(
+            name,
+            pos,
+            format!(
+                "{} bytes, but a frame of {} u and {} v values has {frame_len}",
+                h.len, shape.0, shape.1
+            ),
+        ));
+    }
+    let remain = raw.len - h.payload_start();
+    if h.len <= remain {
+        return Ok(None);
+    }
+    if h.len >= MAX_PLAUSIBLE_LEN || h.tag == TAG_HEADER {
+        return Err(raw.absurd(
+            name,
+            pos,
+            format!("{} bytes declared but only {remain} remain", h.len),
+        ));
+    }
+    Ok(Some(format!(
+        "truncated: file ends at byte {} inside {name} (starts at byte {pos}, \
+         needs {} payload bytes, {remain} remain); kept {k} whole frames",
+        raw.len, h.len
+    )))
 }
 
 /// Records frame `name` at `pos` with time `t`: frames are written in strictly increasing time,

@@ -12,71 +12,22 @@ use num_complex::Complex64;
 impl Radau5 {
     /// Newton iteration for the collocation system; returns (converged, iterations, rate).
     pub(super) fn newton(&mut self, sys: &dyn System, h: f64) -> (bool, usize, f64) {
-        let n = 2 * self.m;
-        let m = self.m;
         let mass = sys.mass();
         let cr = MU_REAL / h;
         let cc = Complex64::new(MU_COMPLEX.0, MU_COMPLEX.1) / h;
-        // W = TI · Z
-        for j in 0..n {
-            let z0 = self.zs[0][j];
-            let z1 = self.zs[1][j];
-            let z2 = self.zs[2][j];
-            for i in 0..3 {
-                self.w[i][j] = TI[i][0] * z0 + TI[i][1] * z1 + TI[i][2] * z2;
-            }
-        }
-        // Newton-increment weights are those of the step start: precompute their inverses.
-        for j in 0..m {
-            self.inv_w[j] = 1.0 / self.tol.weight_u(self.z[j], self.z[j]);
-        }
-        for j in m..n {
-            self.inv_w[j] = 1.0 / self.tol.weight_v(self.vs[j - m], self.z[j], self.z[j]);
-        }
+        self.newton_start();
         let mut dw_norm_old: Option<f64> = None;
         let mut rate = f64::NAN;
         for it in 0..NEWTON_MAXITER {
             self.stats.newton_iters += 1;
-            for i in 0..3 {
-                for ((y, z), d) in self.ytmp.iter_mut().zip(&self.z).zip(&self.zs[i]) {
-                    *y = z + d;
-                }
-                Self::rhs(sys, m, &self.ytmp, &mut self.fs[i], &mut self.stats);
-            }
-            // right-hand sides of the transformed system
-            let [f0s, f1s, f2s] = &self.fs;
-            let [w0s, w1s, w2s] = &self.w;
-            let [d0s, d1s, d2s] = &mut self.dw;
-            let mut finite = true;
-            for j in 0..n {
-                let (f0, f1, f2) = (f0s[j], f1s[j], f2s[j]);
-                finite &= f0.is_finite() && f1.is_finite() && f2.is_finite();
-                d0s[j] = TI[0][0] * f0 + TI[0][1] * f1 + TI[0][2] * f2 - cr * w0s[j];
-                let fr = TI[1][0] * f0 + TI[1][1] * f1 + TI[1][2] * f2;
-                let fi = TI[2][0] * f0 + TI[2][1] * f1 + TI[2][2] * f2;
-                // (fr + i fi) − cc (W1 + i W2)
-                let w = Complex64::new(w1s[j], w2s[j]);
-                let r = Complex64::new(fr, fi) - cc * w;
-                d1s[j] = r.re;
-                d2s[j] = r.im;
-            }
-            if !finite {
+            if !self.transformed_residual(sys, cr, cc) {
                 return (false, it + 1, rate);
             }
             let kv = Self::kv_of(sys, &self.kv);
+            let [d0s, d1s, d2s] = &mut self.dw;
             linear::solve_real(&mut *self.real, mass, kv, cr, d0s);
             linear::solve_complex(&mut *self.cplx, mass, kv, cc, d1s, d2s, &mut self.rhs_c);
-            let mut dw_norm: f64 = 0.0;
-            for d in [&*d0s, &*d1s, &*d2s] {
-                for (x, iw) in d.iter().zip(&self.inv_w) {
-                    let e = (x * iw).abs();
-                    dw_norm = if e.is_nan() {
-                        f64::INFINITY
-                    } else {
-                        dw_norm.max(e)
-                    };
-                }
-            }
+            let dw_norm = self.increment_norm();
             if let Some(old) = dw_norm_old {
                 rate = dw_norm / old;
             }
@@ -96,19 +47,7 @@ impl Radau5 {
             if !dw_norm.is_finite() {
                 return (false, it + 1, rate);
             }
-            let [w0s, w1s, w2s] = &mut self.w;
-            let [z0s, z1s, z2s] = &mut self.zs;
-            for j in 0..n {
-                let w0 = w0s[j] + d0s[j];
-                let w1 = w1s[j] + d1s[j];
-                let w2 = w2s[j] + d2s[j];
-                w0s[j] = w0;
-                w1s[j] = w1;
-                w2s[j] = w2;
-                z0s[j] = T[0][0] * w0 + T[0][1] * w1 + T[0][2] * w2;
-                z1s[j] = T[1][0] * w0 + T[1][1] * w1 + T[1][2] * w2;
-                z2s[j] = T[2][0] * w0 + T[2][1] * w1 + T[2][2] * w2;
-            }
+            self.apply_increment();
             if negligible
                 || dw_norm == 0.0
                 || (rate.is_finite() && rate / (1.0 - rate) * dw_norm < self.newton_tol)
@@ -118,6 +57,92 @@ impl Radau5 {
             dw_norm_old = Some(dw_norm);
         }
         (false, NEWTON_MAXITER, rate)
+    }
+
+    /// The transformed stages `W = TI · Z`, and the inverses of the Newton-increment weights
+    /// (those of the step start).
+    fn newton_start(&mut self) {
+        let n = 2 * self.m;
+        let m = self.m;
+        for j in 0..n {
+            let z0 = self.zs[0][j];
+            let z1 = self.zs[1][j];
+            let z2 = self.zs[2][j];
+            for i in 0..3 {
+                self.w[i][j] = TI[i][0] * z0 + TI[i][1] * z1 + TI[i][2] * z2;
+            }
+        }
+        for j in 0..m {
+            self.inv_w[j] = 1.0 / self.tol.weight_u(self.z[j], self.z[j]);
+        }
+        for j in m..n {
+            self.inv_w[j] = 1.0 / self.tol.weight_v(self.vs[j - m], self.z[j], self.z[j]);
+        }
+    }
+
+    /// The right-hand sides of the transformed system at the current stages, into `dw`
+    /// (`TI·F(Z) − c·W`, the complex pair as `(re, im)`); `false` if a stage force is not finite.
+    fn transformed_residual(&mut self, sys: &dyn System, cr: f64, cc: Complex64) -> bool {
+        let n = 2 * self.m;
+        let m = self.m;
+        for i in 0..3 {
+            for ((y, z), d) in self.ytmp.iter_mut().zip(&self.z).zip(&self.zs[i]) {
+                *y = z + d;
+            }
+            Self::rhs(sys, m, &self.ytmp, &mut self.fs[i], &mut self.stats);
+        }
+        let [f0s, f1s, f2s] = &self.fs;
+        let [w0s, w1s, w2s] = &self.w;
+        let [d0s, d1s, d2s] = &mut self.dw;
+        let mut finite = true;
+        for j in 0..n {
+            let (f0, f1, f2) = (f0s[j], f1s[j], f2s[j]);
+            finite &= f0.is_finite() && f1.is_finite() && f2.is_finite();
+            d0s[j] = TI[0][0] * f0 + TI[0][1] * f1 + TI[0][2] * f2 - cr * w0s[j];
+            let fr = TI[1][0] * f0 + TI[1][1] * f1 + TI[1][2] * f2;
+            let fi = TI[2][0] * f0 + TI[2][1] * f1 + TI[2][2] * f2;
+            // (fr + i fi) − cc (W1 + i W2)
+            let w = Complex64::new(w1s[j], w2s[j]);
+            let r = Complex64::new(fr, fi) - cc * w;
+            d1s[j] = r.re;
+            d2s[j] = r.im;
+        }
+        finite
+    }
+
+    /// Weighted max norm of the Newton increment `dw` (infinite if any component is NaN).
+    fn increment_norm(&self) -> f64 {
+        let mut dw_norm: f64 = 0.0;
+        for d in &self.dw {
+            for (x, iw) in d.iter().zip(&self.inv_w) {
+                let e = (x * iw).abs();
+                dw_norm = if e.is_nan() {
+                    f64::INFINITY
+                } else {
+                    dw_norm.max(e)
+                };
+            }
+        }
+        dw_norm
+    }
+
+    /// `W += dW` and the stages `Z = T · W`.
+    fn apply_increment(&mut self) {
+        let n = 2 * self.m;
+        let [d0s, d1s, d2s] = &self.dw;
+        let [w0s, w1s, w2s] = &mut self.w;
+        let [z0s, z1s, z2s] = &mut self.zs;
+        for j in 0..n {
+            let w0 = w0s[j] + d0s[j];
+            let w1 = w1s[j] + d1s[j];
+            let w2 = w2s[j] + d2s[j];
+            w0s[j] = w0;
+            w1s[j] = w1;
+            w2s[j] = w2;
+            z0s[j] = T[0][0] * w0 + T[0][1] * w1 + T[0][2] * w2;
+            z1s[j] = T[1][0] * w0 + T[1][1] * w1 + T[1][2] * w2;
+            z2s[j] = T[2][0] * w0 + T[2][1] * w1 + T[2][2] * w2;
+        }
     }
 
     /// The dissipated energy `E_d` as one more (error-controlled) state component, over the

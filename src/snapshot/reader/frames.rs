@@ -16,30 +16,7 @@ pub(super) fn read_frame_at(
     frame_len: u64,
     frame: &mut Frame,
 ) -> Result<(), SnapshotError> {
-    let head = raw
-        .read_head(offset, name)?
-        .ok_or_else(|| raw.truncated(format!("file ends inside {name} at byte {offset}")))?;
-    if head.tag != TAG_FRAME {
-        return Err(raw.corrupt(
-            name,
-            offset,
-            format!(
-                "tag {:#010x} ({}) where a frame should be",
-                head.tag,
-                section_name(head.tag)
-            ),
-        ));
-    }
-    if head.len != frame_len {
-        return Err(raw.absurd(
-            name,
-            offset,
-            format!(
-                "{} bytes, but a frame of {nu} u and {nv} v values has {frame_len}",
-                head.len
-            ),
-        ));
-    }
+    let head = frame_head(raw, offset, name, (nu, nv), frame_len)?;
     raw.check_fits(&head, name)?;
     frame.u.resize(nu, 0.0);
     frame.v.resize(nv, 0.0);
@@ -92,6 +69,41 @@ pub(super) fn read_frame_at(
     frame.t = t;
     frame.dissipated = dissipated;
     Ok(())
+}
+
+/// The section header at `offset`, which must be a FRAME of the frame length of `(nu, nv)`.
+fn frame_head(
+    raw: &Raw,
+    offset: u64,
+    name: &str,
+    (nu, nv): Shape,
+    frame_len: u64,
+) -> Result<super::SectionHead, SnapshotError> {
+    let head = raw
+        .read_head(offset, name)?
+        .ok_or_else(|| raw.truncated(format!("file ends inside {name} at byte {offset}")))?;
+    if head.tag != TAG_FRAME {
+        return Err(raw.corrupt(
+            name,
+            offset,
+            format!(
+                "tag {:#010x} ({}) where a frame should be",
+                head.tag,
+                section_name(head.tag)
+            ),
+        ));
+    }
+    if head.len != frame_len {
+        return Err(raw.absurd(
+            name,
+            offset,
+            format!(
+                "{} bytes, but a frame of {nu} u and {nv} v values has {frame_len}",
+                head.len
+            ),
+        ));
+    }
+    Ok(head)
 }
 
 /// A whole INDEX met during a scan must list exactly the frames scanned before it (same count,
