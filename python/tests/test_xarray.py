@@ -20,10 +20,15 @@ from beadchain._xarray import BeadchainBackendEntrypoint  # noqa: E402
 from conftest import ROOT, run_cli  # noqa: E402
 
 
-def _h5netcdf():
-    pytest.importorskip("h5netcdf")
-    pytest.importorskip("h5py")   # h5netcdf >= 1.8 leaves h5py optional; it writes with it
-    return "h5netcdf"
+def _netcdf_engine(engine="h5netcdf"):
+    """``engine`` for ``to_netcdf``, the test skipped when its package is not installed
+    (CI installs h5netcdf and h5py; scipy writes netCDF3, where int64 values become int32)."""
+    if engine == "h5netcdf":
+        pytest.importorskip("h5netcdf")
+        pytest.importorskip("h5py")   # h5netcdf >= 1.8 leaves h5py optional; it writes with it
+    else:
+        pytest.importorskip("scipy")
+    return engine
 
 
 def _striker(**kw):
@@ -281,10 +286,11 @@ def test_open_dataset_of_every_preset(tmp_path):
 # --- netCDF -------------------------------------------------------------------------------
 
 
+@pytest.mark.parametrize("engine", ["h5netcdf", "scipy"])
 @pytest.mark.parametrize("preset", ["hertz_spheres_physical", "newtons_cradle_hard",
                                     "damped_striker", None])
-def test_netcdf_round_trip(tmp_path, preset):
-    engine = _h5netcdf()
+def test_netcdf_round_trip(tmp_path, preset, engine):
+    engine = _netcdf_engine(engine)
     if preset is None:
         s = _striker(output={"beads": "1:30:7", "fields": "u"})
         r = bc.run(s)
@@ -303,7 +309,7 @@ def test_netcdf_round_trip(tmp_path, preset):
 
 
 def test_netcdf_round_trip_from_open_dataset(tmp_path):
-    engine = _h5netcdf()
+    engine = _netcdf_engine()
     snap = tmp_path / "s.snap"
     bc.run(bc.Scene.preset("gapped_chain"), until=4.0, every=1.0, out=snap)
     nc = tmp_path / "s.nc"
@@ -314,7 +320,7 @@ def test_netcdf_round_trip_from_open_dataset(tmp_path):
 
 
 def test_empty_event_log_and_round_trip(tmp_path):
-    engine = _h5netcdf()
+    engine = _netcdf_engine()
     r = bc.run(bc.Scene(beads=5, until=2.0))   # at rest: no event
     ev = r.events_to_xarray()
     assert dict(ev.sizes) == {"event": 0}
