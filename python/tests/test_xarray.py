@@ -328,3 +328,14 @@ def test_empty_event_log_and_round_trip(tmp_path):
     ev.to_netcdf(path, engine=engine)
     with xr.open_dataset(path, engine=engine) as back:
         xr.testing.assert_identical(back, ev)
+
+
+def test_to_xarray_of_simulation_frames():
+    sim = bc.Simulation(_striker())
+    sim.advance(10.0)
+    sim.advance()
+    f = sim.frames()
+    ds = f.to_xarray()
+    _assert_same_values(ds, bc.run(_striker()).to_xarray())   # pieces = one run, bit for bit
+    assert "engine" not in ds.attrs   # a Simulation's Run carries no engine settings
+    _assert_attrs_netcdf_safe(ds)
