@@ -27,7 +27,9 @@ class Run:
     lose energy: a dissipative law or hard contacts/walls; None for the others and for snapshot
     files before format 4, which did not store it).
     A loaded snapshot reads its frames when ``u``/``v`` are first used; ``frames(index)`` reads
-    only the frames asked for.
+    only the frames asked for. ``meta``: the engine settings (``engine``, ``method``, ``rtol``,
+    ``atol``) of :func:`run` and :func:`load` runs, and a snapshot's metadata (:func:`load`).
+    ``to_xarray()`` and ``events_to_xarray()`` give ``xarray.Dataset``\ s.
     """
 
     def __init__(self, raw: dict, scene: Scene, meta: Optional[dict] = None, file: Any = None):
@@ -102,6 +104,50 @@ class Run:
 
     def __len__(self) -> int:
         return len(self.t)
+
+    def _stored(self) -> tuple:
+        """``(u, v, dissipated)``: which per-frame arrays the run has, without reading a loaded
+        snapshot's frames."""
+        if self._file is not None and self._u is _UNREAD:
+            _, u, v, _ = self._file.read([])
+            dissipated = self._dissipative and self.meta.get("format_version", 0) >= 4
+            return u is not None, v is not None, bool(dissipated)
+        return self.u is not None, self.v is not None, self.dissipated is not None
+
+    # --- xarray ---------------------------------------------------------------------------
+    def to_xarray(self):
+        """The run as an ``xarray.Dataset`` (needs ``pip install xarray``; docs/python.md).
+
+        Dims ``time`` (frames) and ``bead`` (the stored beads), ``contact`` (N-1 contacts).
+        Coordinates ``time`` (computer units), ``bead`` (0-based indices), ``contact``, and
+        for physical scenes ``time_si`` (s). Data variables: ``u``, ``v`` (time, bead) when
+        stored; ``E_kinetic``, ``E_potential``, ``E_total`` (time) when every bead's ``u`` and
+        ``v`` are stored, ``E_dissipated`` (time) when :attr:`dissipated` is not None; the
+        chain per bead (``mass``, and ``mass_si``, ``field`` where the scene has them) and per contact (``exponent``, ``prefactor``, ``precompression``, ``damping``,
+        ``hard_restitution`` where present). Attributes: scene name and description, engine,
+        method, rtol, atol (runs of :func:`run` and :func:`load`), until, every, the snapshot's
+        metadata, ``stats_*``, and the unit scales ``units_beta``, ``units_m0``... of physical
+        scenes; only str, int and float values (netCDF-safe). Every variable has ``units`` in
+        its attributes (``"1"`` with ``unit_system = "computer"``: paper units).
+
+        Eager: the variables are the Run's own arrays (no copy; a loaded snapshot's frames are
+        read first). For lazy frames open the file with
+        ``xarray.open_dataset(path, engine="beadchain")``. The event log is
+        :meth:`events_to_xarray`.
+        """
+        from . import _xarray
+
+        return _xarray.run_to_xarray(self)
+
+    def events_to_xarray(self):
+        """The event log as an ``xarray.Dataset`` on dim ``event``: coordinates ``event``
+        (0, 1, ...), ``time`` (and ``time_si`` for physical scenes); variables ``contact``
+        (int64), ``kind`` (str), ``rel_velocity``, ``peak_overlap``; the attributes of
+        :meth:`to_xarray`. ``xarray.open_dataset(path, engine="beadchain", group="events")``
+        gives the same from a snapshot file."""
+        from . import _xarray
+
+        return _xarray.events_to_xarray(self)
 
     def __getstate__(self) -> dict:
         """Pickled (and deep-copied) as its arrays: a loaded snapshot's frames are read first,
@@ -215,7 +261,7 @@ def run(
         max_output_bytes=_scalar("max_output_bytes", max_output_bytes),
     )
     ran = Scene._wrap(raw["scene"], scene._text)
-    return Run(raw, ran)
+    return Run(raw, ran, {k: raw[k] for k in ("engine", "method", "rtol", "atol")})
 
 
 def load(path: str | os.PathLike) -> Run:

@@ -324,6 +324,11 @@ pub fn run<'py>(
     }
     let d = frames_dict(py, &mut obs, s.chain.len())?;
     d.set_item("stats", stats(py, &outcome)?)?;
+    // The settings the engine ran with (as a snapshot header stores them).
+    d.set_item("engine", cfg.engine.name())?;
+    d.set_item("method", cfg.method.name())?;
+    d.set_item("rtol", cfg.rtol)?;
+    d.set_item("atol", cfg.atol)?;
     d.set_item("scene", Scene::new(s)?)?;
     Ok(d)
 }
