@@ -1,6 +1,8 @@
 """Issue 32 item 5: every script in examples/ runs, and the numbers it prints are the library's
 (`reflected_energy.py` printed the kinetic energy of beads 0..49, 0.285 of E0 at n2 = 2.5,
-where `analyze(..., interface=50)` and `validate --quick` give 0.529)."""
+where `analyze(..., interface=50)` and `validate --quick` give 0.529). Issue 36 item 6: the
+notebook examples/tour.ipynb is make_tour.py's output and run_notebook.py's checks pass (and fail
+on a wrong number)."""
 
 import pathlib
 import re
@@ -55,9 +57,33 @@ def check_interface_spacetime(tmp_path):
     assert float(m[2]) == pytest.approx(drift, rel=0.05, abs=0)   # %.1e
 
 
+def needs_jupyter():
+    for module in ("nbformat", "nbclient", "ipykernel", "matplotlib"):
+        pytest.importorskip(module)
+
+
+def check_make_tour(tmp_path):
+    # the committed notebook is the generator's output, byte for byte (no stored outputs)
+    pytest.importorskip("nbformat")
+    run_example("make_tour.py", str(tmp_path / "tour.ipynb"))
+    assert (tmp_path / "tour.ipynb").read_bytes() == (EXAMPLES / "tour.ipynb").read_bytes(), \
+        "examples/tour.ipynb differs from examples/make_tour.py's output: run it again"
+
+
+def check_run_notebook(tmp_path):
+    # run_notebook.py executes tour.ipynb and recomputes every number it prints (see there)
+    needs_jupyter()
+    out = run_example("run_notebook.py")
+    assert out.splitlines()[-1] == "notebook: all checks passed", out
+    for part in ("part 1: reflected_fraction=", "part 2: ", "part 3: events="):
+        assert part in out, out
+
+
 CHECKS = {
     "reflected_energy.py": check_reflected_energy,
     "interface_spacetime.py": check_interface_spacetime,
+    "make_tour.py": check_make_tour,
+    "run_notebook.py": check_run_notebook,
 }
 
 
@@ -65,3 +91,16 @@ CHECKS = {
 def test_example_prints_the_wrong_physics(name, tmp_path):
     assert name in CHECKS, f"examples/{name} has no check of its printed numbers in {__file__}"
     CHECKS[name](tmp_path)
+
+
+def test_the_notebook_checker_fails_on_a_wrong_number(tmp_path):
+    # the notebook split at bead 51 instead of 50: reflected 0.5292558 instead of 0.5292547
+    needs_jupyter()
+    text = (EXAMPLES / "tour.ipynb").read_text()
+    assert text.count('interface=50)[\\"interface\\"]') == 1
+    (tmp_path / "wrong.ipynb").write_text(
+        text.replace('interface=50)[\\"interface\\"]', 'interface=51)[\\"interface\\"]'))
+    p = subprocess.run([sys.executable, str(EXAMPLES / "run_notebook.py"), "--notebook",
+                        str(tmp_path / "wrong.ipynb")], capture_output=True, text=True, timeout=600)
+    assert p.returncode != 0 and "AssertionError: reflected_fraction: notebook" in p.stderr, \
+        p.stdout + p.stderr[-3000:]
