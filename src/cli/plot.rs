@@ -2,8 +2,9 @@
 
 use anyhow::Result;
 use beadchain::plot::{
-    self, energy, font, profile, trace, BeadRange, Cmap, EnergyOptions, Labels, Map, MapOptions,
-    Panels, Scale, Spacetime, SpacetimeOptions, TimeRange, Units,
+    self, animate, energy, font, profile, trace, AnimateOptions, Animation, BeadRange, Cmap,
+    EnergyOptions, Field, Labels, Map, MapOptions, Panels, Scale, Spacetime, SpacetimeOptions,
+    TimeRange, Units,
 };
 use beadchain::snapshot::Snapshot;
 use clap::{Subcommand, ValueEnum};
@@ -96,6 +97,9 @@ enum PlotKind {
         #[command(flatten)]
         out: Out,
     },
+    /// Animated GIF of velocity (or displacement, kinetic energy) against bead index, one frame
+    /// per snapshot frame, fixed y limits over the whole run.
+    Animate(AnimateArgs),
     /// 2-D parameter map (heatmap) of a CSV with a header row, optional level contour.
     Map {
         /// CSV file (e.g. from `beadchain sweep` or validation).
@@ -124,6 +128,64 @@ enum PlotKind {
         #[command(flatten)]
         out: Out,
     },
+}
+
+/// Arguments of `plot animate`.
+#[derive(clap::Args, Debug)]
+struct AnimateArgs {
+    /// Snapshot file.
+    snapshot: PathBuf,
+    /// Field: v (velocity), u (displacement) or energy (kinetic, m v^2/2).
+    #[arg(long, value_enum, default_value = "v")]
+    field: FieldArg,
+    /// Beads: one range A:B, half-open as in `run --beads` (beads A to B-1) [default: all].
+    #[arg(long, value_name = "A:B")]
+    beads: Option<BeadRange>,
+    /// Time window T0:T1 (in the axis units) [default: the whole run].
+    #[arg(long)]
+    t: Option<TimeRange>,
+    /// Take every K-th frame of the window.
+    #[arg(long, value_name = "K", default_value_t = 1,
+          value_parser = clap::value_parser!(u32).range(1..))]
+    every: u32,
+    /// At most N frames, spread evenly over the run (first and last kept).
+    #[arg(long, value_name = "N", default_value_t = animate::DEFAULT_FRAMES_MAX as u32,
+          value_parser = clap::value_parser!(u32).range(1..))]
+    frames_max: u32,
+    /// Frames per second (1..=50).
+    #[arg(long, default_value_t = animate::DEFAULT_FPS)]
+    fps: u32,
+    #[command(flatten)]
+    units: UnitsArg,
+    /// Output: X.gif (a name without extension gets .gif; .mp4 is not supported)
+    /// [default: <input stem>_animate.gif in the current directory].
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 900)]
+    width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 650)]
+    height: u32,
+    /// Title (each frame appends its time).
+    #[arg(long)]
+    title: Option<String>,
+    /// x axis label (replaces the default).
+    #[arg(long)]
+    xlabel: Option<String>,
+    /// y axis label (replaces the default, units included).
+    #[arg(long)]
+    ylabel: Option<String>,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+enum FieldArg {
+    /// Velocity.
+    V,
+    /// Displacement.
+    U,
+    /// Kinetic energy m v^2 / 2.
+    Energy,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -182,16 +244,19 @@ struct Out {
     ylabel: Option<String>,
 }
 
+/// The checked `--width`/`--height` of a plot.
+fn size_of(width: u32, height: u32) -> Result<(u32, u32)> {
+    if !(300..=8000).contains(&width) || !(200..=8000).contains(&height) {
+        anyhow::bail!(
+            "--width {width} --height {height}: the size must be 300..=8000 x 200..=8000 pixels"
+        );
+    }
+    Ok((width, height))
+}
+
 impl Out {
     fn size(&self) -> Result<(u32, u32)> {
-        if !(300..=8000).contains(&self.width) || !(200..=8000).contains(&self.height) {
-            anyhow::bail!(
-                "--width {} --height {}: the size must be 300..=8000 x 200..=8000 pixels",
-                self.width,
-                self.height
-            );
-        }
-        Ok((self.width, self.height))
+        size_of(self.width, self.height)
     }
     fn labels(&self) -> Labels {
         Labels {
@@ -302,6 +367,7 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             };
             energy_plot(&snapshot, &opts, &out)
         }
+        PlotKind::Animate(a) => animate_plot(a),
         PlotKind::Map {
             csv,
             x,
@@ -456,4 +522,53 @@ fn energy_plot(snapshot: &Path, opts: &EnergyOptions, out: &Out) -> Result<i32> 
     out.labels()
         .apply(&mut c.title, &mut c.x_desc, &mut c.y_desc);
     written(&fig, &path)
+}
+
+/// `plot animate`: the GIF of the chosen frames, written atomically.
+fn animate_plot(a: AnimateArgs) -> Result<i32> {
+    let opts = AnimateOptions {
+        field: match a.field {
+            FieldArg::V => Field::Velocity,
+            FieldArg::U => Field::Displacement,
+            FieldArg::Energy => Field::Energy,
+        },
+        beads: a.beads.clone().unwrap_or_default(),
+        t: a.t.unwrap_or_default(),
+        every: a.every as usize,
+        frames_max: a.frames_max as usize,
+        fps: a.fps,
+        units: a.units.get(),
+        size: size_of(a.width, a.height)?,
+    };
+    let out = a.out.clone().unwrap_or_else(|| {
+        let stem = a
+            .snapshot
+            .file_stem()
+            .map_or("plot".into(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("{stem}_animate.gif"))
+    });
+    let path = animate::gif_path(&out)?;
+    super::files::check_not_input(&path, "--out", &[("snapshot", a.snapshot.clone())])?;
+    let snap = open(&a.snapshot)?;
+    let mut anim = Animation::from_snapshot(&snap, &opts)?;
+    let labels = Labels {
+        title: a.title,
+        xlabel: a.xlabel,
+        ylabel: a.ylabel,
+    };
+    labels.apply(&mut anim.title, &mut anim.x_desc, &mut anim.y_desc);
+    let bytes = anim.encode_gif()?;
+    super::files::clean_stale_temps(&path);
+    beadchain::snapshot::write_atomically(&path, |w| {
+        w.write_all(&bytes)
+            .map_err(beadchain::snapshot::SnapshotError::Output)
+    })?;
+    if !font::font_available() {
+        eprintln!(
+            "beadchain: warning: no font file found (BEADCHAIN_FONT, {}): the plot has no text",
+            font::FONT_CANDIDATES.join(", ")
+        );
+    }
+    outln!("wrote {} ({} frames)", path.display(), anim.frames.len());
+    Ok(0)
 }

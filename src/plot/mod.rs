@@ -8,6 +8,8 @@
 //! - [`map`]: 2-D parameter map (heatmap and level contour) from any CSV (paper Figs. 7, 25), its
 //!   axes and colour bar named by [`keys`] (readable names of sweep columns).
 //! - [`panels`]: space–time maps side by side with one shared colour scale.
+//! - [`animate`]: animated GIF of velocity (or displacement, kinetic energy) along the chain,
+//!   one frame per snapshot frame, fixed axes.
 //!
 //! Axes: [`units`] (computer units, or SI for physical scenes), [`ticks`] (readable tick
 //! labels, decades on log axes), [`cmap`] (named colour maps).
@@ -19,6 +21,7 @@
 //! leaves no output). Text uses the run-time font of [`font`]; without one, figures are drawn
 //! without text. Rendering is deterministic: the same input gives the same bytes.
 
+pub mod animate;
 pub mod cmap;
 pub mod colormap;
 pub mod contour;
@@ -43,6 +46,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 
+pub use animate::{AnimateOptions, Animation, Field};
 pub use cmap::Cmap;
 pub use energy::{EnergyOptions, EnergyPlot, SideFit};
 pub use map::{Map, MapOptions};
