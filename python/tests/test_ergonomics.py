@@ -134,7 +134,8 @@ def test_stats_energy_error_after_set_velocities_is_measured_from_the_set_state(
     sim.set_velocities(v)
     sim.advance()
     st = sim.stats()
-    # the engine's error, not the injected energy (0.125 / 0.5 = 0.25 before the fix)
+    # the engine's error, not the injected energy (0.2 before the fix: 0.125 over the scale
+    # 0.625, the gross energy after the kick)
     assert st["relative_energy_error"] < 1e-6
     assert st["energy_injected"] == pytest.approx(0.125, rel=1e-9, abs=1e-12)
     assert st["energy_reference"] == pytest.approx(before["energy_final"] + 0.125,
