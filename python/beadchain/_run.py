@@ -9,7 +9,8 @@ from typing import Any, Callable, Iterable, NamedTuple, Optional
 import numpy as np
 
 from . import _beadchain
-from ._scene import Scene, Units, _masked_data, _need_units, _scalar
+from ._scene import (Scene, Units, _html_table, _masked_data, _need_units, _one_line,
+                     _scalar, _span)
 
 
 _UNREAD = object()
@@ -158,9 +159,27 @@ class Run:
         state["_file"] = None
         return state
 
+    def _summary(self) -> list:
+        """``(label, text)`` rows of the one-line repr and the HTML table (a loaded snapshot's
+        frames are not read)."""
+        rows = [("scene", repr(self.scene.name)), ("frames", str(len(self.t)))]
+        if len(self.t):
+            rows.append(("t", _span(self.t)))
+        rows += [("beads", str(self._n)), ("events", str(len(self.events["t"])))]
+        for k in ("engine", "method", "rtol"):
+            if self.meta.get(k) is not None:
+                rows.append((k, f"{self.meta[k]:g}" if k == "rtol" else str(self.meta[k])))
+        if self._file is not None:
+            rows.append(("frames read", "no" if self._u is _UNREAD else "yes"))
+        return rows
+
     def __repr__(self) -> str:
-        n = None if self.u is None and self.v is None else (self.u if self.u is not None else self.v).shape[1]
-        return f"Run(scene={self.scene.name!r}, frames={len(self.t)}, beads={n}, events={len(self.events['t'])})"
+        """One line: scene, frame count and time span, stored beads, events, engine settings
+        (the arrays are the attributes)."""
+        return _one_line("Run", self._summary())
+
+    def _repr_html_(self) -> str:
+        return _html_table("Run", self._summary())
 
     # --- energies -------------------------------------------------------------------------
     def energy(self, units: str = "computer") -> dict:
@@ -209,8 +228,66 @@ class Run:
         return self._units("v_si").velocity(self.v)
 
 
+def _progress_bar(name: str) -> Callable[[float, float], None]:
+    """The bar of ``progress=True``: tqdm's (``tqdm.auto``) when tqdm is installed, else a
+    one-line text bar on standard error (redrawn at most every 0.1 s). ``close()`` ends it."""
+    return _Bar(name)
+
+
+class _Bar:
+    def __init__(self, name: str):
+        self.name = name
+        self.bar: Any = None
+        self.t = 0.0
+        self.until = 0.0
+        self.drawn = 0.0
+
+    def __call__(self, t: float, until: float) -> None:
+        if self.bar is None:
+            self.until = float(until)
+            try:
+                from tqdm.auto import tqdm
+            except ImportError:
+                self.bar = False
+            else:
+                self.bar = tqdm(total=self.until, desc=self.name, unit="t",
+                                bar_format="{l_bar}{bar}| t={n:.4g}/{total:.4g} "
+                                           "[{elapsed}<{remaining}]")
+        t = min(max(float(t), self.t), self.until)
+        if self.bar is False:
+            self.t = t
+            import time
+
+            now = time.monotonic()
+            if now - self.drawn >= 0.1 or t >= self.until:
+                self.drawn = now
+                self._draw()
+        else:
+            self.bar.update(t - self.t)
+            self.t = t
+
+    def _draw(self) -> None:
+        import sys
+
+        frac = self.t / self.until if self.until > 0 else 1.0
+        k = int(30 * frac)
+        sys.stderr.write(f"\r{self.name}: [{'#' * k}{'.' * (30 - k)}] {int(100 * frac):3d}% "
+                         f"t={self.t:.4g}/{self.until:.4g}")
+        sys.stderr.flush()
+
+    def close(self) -> None:
+        if self.bar is False:
+            import sys
+
+            self._draw()
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+        elif self.bar is not None:
+            self.bar.close()
+
+
 def run(
-    scene: Scene,
+    scene: Scene | str | os.PathLike,
     engine: Optional[str] = None,
     method: Optional[str] = None,
     rtol: Optional[float] = None,
@@ -224,8 +301,13 @@ def run(
     until_si: Optional[float] = None,
     every_si: Optional[float] = None,
     max_output_bytes: Optional[int] = None,
+    progress: bool | Callable[[float, float], Any] = False,
 ) -> Run:
     """Runs ``scene`` to its end time and returns a :class:`Run`.
+
+    ``scene``: a :class:`Scene`, a preset name (``run("striker")`` is
+    ``run(Scene.preset("striker"))``; a misspelt name raises :class:`SceneError` naming the
+    nearest presets) or a scene file (``pathlib.Path``, or a str ending in ``.toml``).
 
     Every option left at None takes the scene's ``[run]`` setting, else the CLI's default:
 
@@ -240,7 +322,11 @@ def run(
     - ``observers``: callables ``f(t, u, v)`` called at every frame;
     - ``until_si``, ``every_si``: ``until``/``every`` in seconds (physical scenes; the CLI's
       ``--until-si``/``--every-si``); giving both ``until`` and ``until_si`` is an error;
-    - ``max_output_bytes``: the limit of the estimated output (default 10 GiB, the CLI's).
+    - ``max_output_bytes``: the limit of the estimated output (default 10 GiB, the CLI's);
+    - ``progress``: ``True`` draws a progress bar on standard error (tqdm's when tqdm is
+      installed, else a text bar); a callable ``f(t, until)`` is called with the engine time at
+      every frame, between frames at most every 0.2 s of wall time (never per step), and once
+      at the end (``t`` = the end time). Its exception stops the run and is raised.
 
     The scene's ``[output]`` table applies as in ``beadchain run``: only its ``beads`` and
     ``fields`` are kept (in memory and in ``out``), and a run that would write more than its
@@ -252,16 +338,39 @@ def run(
     (an ``out`` file is then not written). Bad options raise :class:`SceneError` with the CLI's
     message; an engine failure raises :class:`RunError`.
     """
-    raw = _beadchain.run(
+    scene = Scene._coerce(scene, "run")
+    if progress is True:
+        bar = _progress_bar(scene.name)
+        f: Optional[Callable] = bar
+    elif progress is False or progress is None:
+        bar = f = None
+    elif callable(progress):
+        bar, f = None, progress
+    else:
+        raise TypeError(f"run: progress: expected True, False or a callable f(t, until), got "
+                        f"{type(progress).__name__}")
+    try:
+        raw = _run_raw(scene, f, engine, method, rtol, atol, every, until, out, record,
+                       max_steps, observers, until_si, every_si, max_output_bytes)
+        if f is not None:
+            f(raw["stats"]["t_end"], raw["scene"].run_settings["until"])
+    finally:
+        if bar is not None:
+            bar.close()
+    ran = Scene._wrap(raw["scene"], scene._text)
+    return Run(raw, ran, {k: raw[k] for k in ("engine", "method", "rtol", "atol")})
+
+
+def _run_raw(scene, progress, engine, method, rtol, atol, every, until, out, record, max_steps,
+             observers, until_si, every_si, max_output_bytes) -> dict:
+    return _beadchain.run(
         scene._s, engine=engine, method=method, rtol=_scalar("rtol", rtol),
         atol=_scalar("atol", atol), every=_scalar("every", every), until=_scalar("until", until),
         out=None if out is None else os.fspath(out), record=record,
         max_steps=_scalar("max_steps", max_steps), observers=list(observers),
         until_si=_scalar("until_si", until_si), every_si=_scalar("every_si", every_si),
-        max_output_bytes=_scalar("max_output_bytes", max_output_bytes),
+        max_output_bytes=_scalar("max_output_bytes", max_output_bytes), progress=progress,
     )
-    ran = Scene._wrap(raw["scene"], scene._text)
-    return Run(raw, ran, {k: raw[k] for k in ("engine", "method", "rtol", "atol")})
 
 
 def load(path: str | os.PathLike) -> Run:
@@ -296,6 +405,17 @@ class State(NamedTuple):
     u: np.ndarray
     v: np.ndarray
 
+    def _summary(self) -> list:
+        return [("t", f"{self.t:g}"), ("beads", str(len(self.u))), ("u", _span(self.u)),
+                ("v", _span(self.v))]
+
+    def __repr__(self) -> str:
+        """One line: ``t``, the bead count and the ranges (min..max) of ``u`` and ``v``."""
+        return _one_line("State", self._summary())
+
+    def _repr_html_(self) -> str:
+        return _html_table("State", self._summary())
+
 
 class Simulation:
     """A scene advanced in pieces (the library's steppable engine).
@@ -312,12 +432,13 @@ class Simulation:
     ``set_velocities`` gives it a valid state; no frame is ever non-finite.
     """
 
-    def __init__(self, scene: Scene, engine: Optional[str] = None, method: Optional[str] = None,
+    def __init__(self, scene: Scene | str | os.PathLike, engine: Optional[str] = None, method: Optional[str] = None,
                  rtol: Optional[float] = None, atol: Optional[float] = None,
                  every: Optional[float] = None, until: Optional[float] = None,
                  record: bool = True,
                  observers: Iterable[Callable[[float, np.ndarray, np.ndarray], Any]] = (),
                  until_si: Optional[float] = None, every_si: Optional[float] = None):
+        scene = Scene._coerce(scene, "Simulation")
         self._sim = _beadchain.Simulation(
             scene._s, engine=engine, method=method, rtol=_scalar("rtol", rtol),
             atol=_scalar("atol", atol), every=_scalar("every", every),
@@ -326,6 +447,20 @@ class Simulation:
         )
         self.scene = Scene._wrap(self._sim.scene, scene._text)
         self._chunks: list = []
+
+    def _summary(self) -> list:
+        engine, method, rtol, _, every = self._sim._settings
+        return [("scene", repr(self.scene.name)), ("beads", str(self.scene.n_beads)),
+                ("t", f"{self.time:g}"), ("until", f"{self.until:g}"), ("engine", engine),
+                ("method", method), ("rtol", f"{rtol:g}"),
+                ("every", "none" if every is None else f"{every:g}")]
+
+    def __repr__(self) -> str:
+        """One line: scene, beads, engine clock ``t``, end time and engine settings."""
+        return _one_line("Simulation", self._summary())
+
+    def _repr_html_(self) -> str:
+        return _html_table("Simulation", self._summary())
 
     def pause_at(self, frames: bool = False, events: bool = False) -> None:
         """Makes later :meth:`advance` calls return after every frame (``frames``) and after
@@ -366,7 +501,15 @@ class Simulation:
         self._sim.add_observer(f)
 
     def stats(self) -> dict:
-        """Counters and energies at the engine clock."""
+        """Counters and energies at the engine clock (the keys of ``run().stats``, and
+        ``t_reference``, ``energy_reference``, ``momentum_reference``, ``energy_injected``).
+
+        ``relative_energy_error`` is measured from the last state :meth:`set_velocities` gave
+        (before any, from t = 0): ``|E + E_d - E_ref - E_d,ref| / S``, so the energy a
+        ``set_velocities`` call adds or removes is not counted as an integration error; it is
+        summed in ``energy_injected``. ``energy_initial`` and ``momentum_initial`` stay those of
+        t = 0; ``energy_reference`` and ``momentum_reference`` are those of the reference
+        state, at ``t_reference``."""
         return self._sim.stats()
 
     def frames(self) -> Run:

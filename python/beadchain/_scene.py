@@ -91,9 +91,63 @@ class Chain:
     def n_beads(self) -> int:
         return len(self.mass)
 
+    def _summary(self) -> list:
+        """``(label, text)`` rows of the one-line repr and the HTML table."""
+        rows = [("beads", str(self.n_beads)), ("mass", _span(self.mass)),
+                ("exponent", _span(self.exponent)), ("prefactor", _span(self.prefactor)),
+                ("law", self.law)]
+        if self.precompression is not None:
+            rows.append(("precompression", _span(self.precompression)))
+        if self.damping is not None:
+            rows.append(("damping", _span(self.damping)))
+        if self.field is not None:
+            rows.append(("field", _span(self.field)))
+        walls = [w for w, x in (("left", self.left_wall), ("right", self.right_wall)) if x]
+        if walls:
+            rows.append(("walls", "+".join(walls)))
+        if self.hard_restitution is not None:
+            rows.append(("hard contacts", str(int(np.isfinite(self.hard_restitution).sum()))))
+        rows.append(("units", "physical" if self.units is not None else "computer"))
+        return rows
+
+    def __repr__(self) -> str:
+        """One line: beads, mass, exponent and prefactor (one value or min..max), law, and
+        what else the chain has; the arrays are its attributes."""
+        return _one_line("Chain", self._summary())
+
+    def _repr_html_(self) -> str:
+        return _html_table("Chain", self._summary())
+
     def mass_si(self) -> np.ndarray:
         """Masses in kg (physical scenes)."""
         return _need_units(self.units, "mass_si").mass(self.mass)
+
+
+def _span(x) -> str:
+    """An array as one value (all equal) or ``min..max``; a scalar as itself."""
+    a = np.asarray(x, dtype=float)
+    a = a[~np.isnan(a)]
+    if a.size == 0:
+        return "nan"
+    lo, hi = float(a.min()), float(a.max())
+    return f"{lo:.6g}" if lo == hi else f"{lo:.6g}..{hi:.6g}"
+
+
+def _one_line(cls: str, rows: list) -> str:
+    """``Cls(label=text, ...)``: the one-line repr of ``(label, text)`` rows."""
+    return f"{cls}(" + ", ".join(f"{k.replace(' ', '_')}={v}" for k, v in rows) + ")"
+
+
+def _html_table(cls: str, rows: list) -> str:
+    """A small HTML table of ``(label, text)`` rows (notebooks' ``_repr_html_``)."""
+    import html
+
+    body = "".join(
+        f"<tr><th style='text-align:left'>{html.escape(k)}</th>"
+        f"<td style='text-align:left'>{html.escape(str(v))}</td></tr>"
+        for k, v in rows
+    )
+    return f"<table><caption style='text-align:left'><b>{html.escape(cls)}</b></caption>{body}</table>"
 
 
 def _need_units(units: Optional[Units], what: str) -> Units:
@@ -312,6 +366,39 @@ class Scene:
 
     def __repr__(self) -> str:
         return f"Scene(name={self.name!r}, n_beads={self.n_beads}, until={self.until})"
+
+    def _repr_html_(self) -> str:
+        rs = self.run_settings
+        rows = [("name", self.name), ("description", self.description),
+                ("beads", str(self.n_beads)), ("until", f"{self.until:g}"),
+                ("every", "first and last frame" if rs.get("every") is None
+                 else f"{rs['every']:g}"),
+                ("units", "physical" if self.is_physical else "computer")]
+        return _html_table("Scene", rows)
+
+    @classmethod
+    def _coerce(cls, scene: Any, what: str = "run") -> "Scene":
+        """``scene`` as a :class:`Scene`: a Scene as it is; a path (``os.PathLike``, or a str
+        ending in ``.toml``) reads that scene file; any other str names a preset
+        (:meth:`preset`; a misspelt name gives the nearest ones)."""
+        if isinstance(scene, Scene):
+            return scene
+        if isinstance(scene, os.PathLike) or (
+            isinstance(scene, str) and scene.lower().endswith(".toml")
+        ):
+            return cls.from_toml(os.fspath(scene))
+        if isinstance(scene, str):
+            if _beadchain._preset_toml(scene) is None:
+                near = _beadchain._nearest_presets(scene)
+                hint = ("did you mean " + " or ".join(repr(n) for n in near) + "?") if near \
+                    else "presets() lists them"
+                raise _beadchain.SceneError(
+                    f"{what}: unknown preset {scene!r}; {hint} (a scene file needs a path "
+                    "ending in .toml, or pathlib.Path)"
+                )
+            return cls.preset(scene)
+        raise TypeError(f"{what}: scene: expected a Scene, a preset name or a .toml path, got "
+                        f"{type(scene).__name__}")
 
     # --- pickling and equality ------------------------------------------------------------
     def __reduce__(self):

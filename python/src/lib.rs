@@ -77,6 +77,7 @@ fn _beadchain(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<snapfile::SnapshotFile>()?;
     m.add_function(wrap_pyfunction!(scene::presets, m)?)?;
     m.add_function(wrap_pyfunction!(scene::_preset_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::_nearest_presets, m)?)?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
     m.add_function(wrap_pyfunction!(snapfile::load, m)?)?;
     m.add_function(wrap_pyfunction!(run::energies, m)?)?;

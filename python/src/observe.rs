@@ -18,6 +18,27 @@ use std::time::{Duration, Instant};
 /// Wall time between two signal checks while the engine runs.
 const SIGNAL_POLL: Duration = Duration::from_millis(50);
 
+/// Least wall time between two progress calls made between frames (a run with few frames).
+const PROGRESS_EVERY: Duration = Duration::from_millis(200);
+
+/// A Python progress callable `f(t, until)`: called at every frame and, between frames, at most
+/// every [`PROGRESS_EVERY`] of wall time (checked with the signal poll, never per step).
+pub(crate) struct Progress {
+    pub f: Py<PyAny>,
+    pub until: f64,
+    last: Instant,
+}
+
+impl Progress {
+    pub fn new(f: Py<PyAny>, until: f64) -> Self {
+        Self {
+            f,
+            until,
+            last: Instant::now(),
+        }
+    }
+}
+
 /// The event log as columns (a `pandas.DataFrame` takes them as they are).
 #[derive(Default)]
 pub(crate) struct EventColumns {
@@ -68,6 +89,8 @@ pub(crate) struct Collector {
     /// The first Python exception (a signal handler's KeyboardInterrupt, an observer's error):
     /// the engine is asked to stop and the caller raises it.
     pub error: Option<PyErr>,
+    /// The progress callable of `run(progress=...)`.
+    pub progress: Option<Progress>,
     last_poll: Instant,
     polls: u32,
 }
@@ -85,6 +108,7 @@ impl Collector {
             writer,
             callbacks,
             error: None,
+            progress: None,
             last_poll: Instant::now(),
             polls: 0,
         }
@@ -98,6 +122,20 @@ impl Collector {
             }
         }
         self.last_poll = Instant::now();
+    }
+
+    /// Calls the progress callable with `t` (keeps its error as an observer's).
+    fn call_progress(&mut self, t: f64) {
+        let Some(p) = self.progress.as_mut() else {
+            return;
+        };
+        if self.error.is_some() {
+            return;
+        }
+        p.last = Instant::now();
+        if let Err(e) = Python::attach(|py| p.f.call1(py, (t, p.until)).map(drop)) {
+            self.error = Some(e);
+        }
     }
 
     fn call_observers(&mut self, t: f64, u: &[f64], v: &[f64]) {
@@ -190,6 +228,7 @@ impl Observer for Collector {
             w.write_frame(t, u, v).map_err(io)?;
         }
         self.call_observers(t, u, v);
+        self.call_progress(t);
         self.check_signals();
         Ok(())
     }
@@ -222,10 +261,17 @@ impl Observer for Collector {
         Ok(())
     }
 
-    fn control(&mut self, _t: f64) -> Control {
+    fn control(&mut self, t: f64) -> Control {
         self.polls = self.polls.wrapping_add(1);
         if self.polls % 64 == 0 && self.last_poll.elapsed() >= SIGNAL_POLL {
             self.check_signals();
+            if self
+                .progress
+                .as_ref()
+                .is_some_and(|p| p.last.elapsed() >= PROGRESS_EVERY)
+            {
+                self.call_progress(t);
+            }
         }
         if self.error.is_some() {
             Control::Stop

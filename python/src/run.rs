@@ -1,7 +1,7 @@
 //! `run()`, `load()` and `energies()`: a whole run of a scene into NumPy arrays (and optionally
 //! the CLI's snapshot file), a snapshot file back into the same arrays, and per-frame energies.
 
-use crate::observe::Collector;
+use crate::observe::{Collector, Progress};
 use crate::scene::Scene;
 use crate::{without_gil, RunError, SceneError, SnapshotError};
 use beadchain::engine::{self, EngineError, RunConfig, RunOutcome, Stop};
@@ -252,7 +252,7 @@ fn check_output(s: &LibScene, cfg: &RunConfig, sel: &Selection, limit: u64) -> P
 /// Runs `scene` to its end time; frames in memory (unless `record` is false) and, with `out`,
 /// the CLI's snapshot file (written under a temporary name, renamed when the run finishes).
 #[pyfunction]
-#[pyo3(signature = (scene, engine=None, method=None, rtol=None, atol=None, every=None, until=None, out=None, record=true, max_steps=None, observers=Vec::new(), until_si=None, every_si=None, max_output_bytes=None))]
+#[pyo3(signature = (scene, engine=None, method=None, rtol=None, atol=None, every=None, until=None, out=None, record=true, max_steps=None, observers=Vec::new(), until_si=None, every_si=None, max_output_bytes=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn run<'py>(
     py: Python<'py>,
@@ -270,6 +270,7 @@ pub fn run<'py>(
     until_si: Option<f64>,
     every_si: Option<f64>,
     max_output_bytes: Option<u64>,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let o = Options {
         engine,
@@ -309,6 +310,7 @@ pub fn run<'py>(
     };
     let mut obs = Collector::new(record, writer, observers);
     obs.selection = sel;
+    obs.progress = progress.map(|f| Progress::new(f, cfg.until));
     let r = without_gil(py, || -> Result<(Stop, RunOutcome), EngineError> {
         let mut e = engine::start(&s, &cfg)?;
         let stop = e.advance(cfg.until, &mut obs)?;

@@ -245,3 +245,9 @@ pub fn _preset_toml(name: &str) -> Option<&'static str> {
         .find(|p| p.name == name)
         .map(|p| p.toml)
 }
+
+/// The preset names nearest to `name` (the CLI's "did you mean"; empty when none is near).
+#[pyfunction]
+pub fn _nearest_presets(name: &str) -> Vec<&'static str> {
+    beadchain::suggest::nearest(name, scene::presets().iter().map(|p| p.name))
+}

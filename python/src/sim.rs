@@ -8,6 +8,7 @@ use crate::run::{config, engine_err, frames_dict, stats, Options};
 use crate::scene::Scene;
 use crate::{without_gil, RunError, SceneError};
 use beadchain::engine::{self, Engine, PauseAt, RunConfig, Stop};
+use beadchain::model::relative_energy_change;
 use beadchain::scene::Scene as LibScene;
 use beadchain::snapshot::size::short;
 use numpy::{PyArray1, PyReadonlyArray1};
@@ -46,12 +47,30 @@ impl Running {
     }
 }
 
+/// The state `stats()` measures the energy error from: the last one `set_velocities` gave
+/// (before any, the scene's initial state, as the engine's outcome reports it). The engine keeps
+/// t = 0 as its reference; this layer records the set state so that the injected energy is not
+/// reported as an integration error.
+struct Reference {
+    t: f64,
+    energy: f64,
+    /// [`beadchain::model::Chain::energy_scale`] of the set state.
+    scale: f64,
+    momentum: f64,
+    /// The engine's dissipated energy (since t = 0) when the state was set.
+    dissipated: f64,
+}
+
 /// A simulation advanced step by step (see the Python `Simulation`).
 #[pyclass(module = "beadchain._beadchain", unsendable)]
 pub struct Simulation {
     run: Running,
     /// Why and when the engine failed: later advances raise until a valid state is set.
     failed: Option<(f64, String)>,
+    /// The last state `set_velocities` gave (None: the run's initial state).
+    reference: Option<Reference>,
+    /// Energy added by `set_velocities` calls (new minus old total energy, summed).
+    injected: f64,
 }
 
 #[pymethods]
@@ -88,7 +107,12 @@ impl Simulation {
         let obs = Collector::new(record, None, observers);
         let run =
             Running::start(s, cfg, obs).map_err(|e| SceneError::new_err(format!("{name}: {e}")))?;
-        Ok(Self { run, failed: None })
+        Ok(Self {
+            run,
+            failed: None,
+            reference: None,
+            injected: 0.0,
+        })
     }
 
     /// Adds a Python observer `f(t, u, v)`, called at every later frame.
@@ -190,6 +214,10 @@ impl Simulation {
             )));
         }
         let name = self.run.scene.name.clone();
+        let energy_before = {
+            let s = self.run.engine.state();
+            self.run.scene.chain.energy(&s.u, &s.v)
+        };
         self.run
             .engine
             .set_velocities(v)
@@ -204,12 +232,60 @@ impl Simulation {
             }
             self.failed = None;
         }
+        let o = self.run.engine.outcome();
+        let chain = &self.run.scene.chain;
+        if energy_before.is_finite() {
+            self.injected += o.energy_final - energy_before;
+        }
+        self.reference = Some(Reference {
+            t: o.t_end,
+            energy: o.energy_final,
+            scale: chain.energy_scale(&o.u, &o.v),
+            momentum: o.momentum_final,
+            dissipated: o.dissipated,
+        });
         Ok(())
     }
 
-    /// Counters and energies at the engine clock (as `run().stats`).
+    /// Counters and energies at the engine clock (as `run().stats`), with the reference the
+    /// energy error is measured from: `t_reference`, `energy_reference`, `momentum_reference`
+    /// (the last state `set_velocities` gave, else t = 0) and `energy_injected` (the energy
+    /// `set_velocities` calls added). `relative_energy_error` is
+    /// `|E + E_d − E_ref − E_d,ref| / S` from that reference (`S`: the larger of `|E_ref|` and the
+    /// gross energies of the reference and current states); `energy_initial` and
+    /// `momentum_initial` stay those of t = 0.
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        stats(py, &self.run.engine.outcome())
+        let o = self.run.engine.outcome();
+        let d = stats(py, &o)?;
+        match &self.reference {
+            None => {
+                d.set_item("t_reference", 0.0)?;
+                d.set_item("energy_reference", o.energy_initial)?;
+                d.set_item("momentum_reference", o.momentum_initial)?;
+            }
+            Some(r) => {
+                let now = self.run.scene.chain.energy_scale(&o.u, &o.v);
+                let scale = r.scale.max(now).max(r.energy.abs());
+                let err = relative_energy_change(
+                    r.energy,
+                    o.energy_final + (o.dissipated - r.dissipated),
+                    scale,
+                );
+                d.set_item("relative_energy_error", err)?;
+                d.set_item("t_reference", r.t)?;
+                d.set_item("energy_reference", r.energy)?;
+                d.set_item("momentum_reference", r.momentum)?;
+            }
+        }
+        d.set_item("energy_injected", self.injected)?;
+        Ok(d)
+    }
+
+    /// `(engine, method, rtol, atol, every)` the simulation runs with.
+    #[getter]
+    fn _settings(&self) -> (&'static str, &'static str, f64, f64, Option<f64>) {
+        let c = &self.run.cfg;
+        (c.engine.name(), c.method.name(), c.rtol, c.atol, c.every)
     }
 
     /// Takes the frames recorded so far (a dict as `run()` returns; later frames start anew).
