@@ -43,7 +43,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 /// What to run.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct AccuracyOptions {
     /// Engines (default: hybrid, dense).
     pub engines: Vec<Engine>,

@@ -54,13 +54,6 @@ pub struct RunProgress {
     bar: ProgressBar,
 }
 
-impl PartialEq for RunProgress {
-    /// Bars carry no result: any two compare equal (so options holding one stay comparable).
-    fn eq(&self, _other: &Self) -> bool {
-        true
-    }
-}
-
 impl RunProgress {
     /// A bar on standard error, drawn only if standard error is a terminal and `!quiet`.
     pub fn new(quiet: bool) -> Self {
