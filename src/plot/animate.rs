@@ -17,7 +17,7 @@ use super::lines::line_color;
 use super::select::{require_frames, BeadRange, TimeRange};
 use super::ticks::{TickFmt, N_LABELS};
 use super::units::{scene_scales, AxisUnits, Units};
-use super::{de, decimate, font::FAMILY, render_rgb, Figure, PlotError};
+use super::{de, decimate, render_rgb, Figure, PlotError};
 use crate::snapshot::{Frame, Snapshot};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -367,17 +367,12 @@ impl Figure for FramePlot<'_> {
         let xfmt = move |x: &f64| xf.label(*x);
         let yfmt = move |y: &f64| yf.label(*y);
         mesh.x_labels(N_LABELS).y_labels(N_LABELS);
-        if text {
-            mesh.x_desc(a.x_desc.as_str())
-                .y_desc(a.y_desc.as_str())
-                .x_label_formatter(&xfmt)
-                .y_label_formatter(&yfmt)
-                .label_style((FAMILY, 14))
-                .axis_desc_style((FAMILY, 16));
-        } else {
-            mesh.x_labels(0).y_labels(0);
-        }
-        mesh.draw().map_err(de)?;
+        super::layout::label_and_draw_mesh(
+            &mut mesh,
+            (a.x_desc.as_str(), a.y_desc.as_str()),
+            (&xfmt, &yfmt),
+            text,
+        )?;
         let pts = self
             .frame
             .points

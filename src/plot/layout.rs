@@ -3,6 +3,8 @@
 
 use super::de;
 use super::font::FAMILY;
+use plotters::chart::MeshStyle;
+use plotters::coord::ranged1d::ValueFormatter;
 use plotters::coord::Shift;
 use plotters::element::BitMapElement;
 use plotters::prelude::*;
@@ -233,6 +235,37 @@ pub fn num_label(x: f64) -> String {
             None => s,
         }
     }
+}
+
+/// A tick-label formatter of an `f64` axis.
+pub type TickFormatter = dyn Fn(&f64) -> String;
+
+/// Labels a chart's mesh and draws it: the axis descriptions `desc` and tick formatters `fmt`
+/// in the plots' font where text is drawn, no tick labels where it is not (the mesh's tick
+/// counts and grid are set by the caller).
+pub fn label_and_draw_mesh<'b, X, Y, DB>(
+    mesh: &mut MeshStyle<'_, 'b, X, Y, DB>,
+    desc: (&str, &str),
+    fmt: (&'b TickFormatter, &'b TickFormatter),
+    text: bool,
+) -> Result<(), String>
+where
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    DB: DrawingBackend,
+    DB::ErrorType: 'static,
+{
+    if text {
+        mesh.x_desc(desc.0)
+            .y_desc(desc.1)
+            .x_label_formatter(fmt.0)
+            .y_label_formatter(fmt.1)
+            .label_style((FAMILY, 14))
+            .axis_desc_style((FAMILY, 16));
+    } else {
+        mesh.x_labels(0).y_labels(0);
+    }
+    mesh.draw().map_err(de)
 }
 
 #[cfg(test)]

@@ -178,17 +178,12 @@ impl Figure for LineChart {
         };
         let xfmt = move |x: &f64| xf.label(*x);
         mesh.x_labels(N_LABELS).y_labels(ny);
-        if text {
-            mesh.x_desc(self.x_desc.as_str())
-                .y_desc(self.y_desc.as_str())
-                .x_label_formatter(&xfmt)
-                .y_label_formatter(&yfmt)
-                .label_style((FAMILY, 14))
-                .axis_desc_style((FAMILY, 16));
-        } else {
-            mesh.x_labels(0).y_labels(0);
-        }
-        mesh.draw().map_err(de)?;
+        super::layout::label_and_draw_mesh(
+            &mut mesh,
+            (self.x_desc.as_str(), self.y_desc.as_str()),
+            (&xfmt, &yfmt),
+            text,
+        )?;
         for (k, s) in self.series.iter().enumerate() {
             let pts = self.plotted(s);
             let color = match s.style {

@@ -23,7 +23,7 @@ use super::layout::{num_label, Layout};
 use super::select::{require_frames, BeadRange, TimeRange};
 use super::ticks::{colorbar_ticks, TickFmt, N_LABELS};
 use super::units::{AxisUnits, Units};
-use super::{de, font::FAMILY, Figure, PlotError};
+use super::{de, Figure, PlotError};
 use crate::snapshot::{Frame, Snapshot};
 use plotters::coord::Shift;
 use plotters::element::BitMapElement;
@@ -380,17 +380,12 @@ impl Figure for Spacetime {
         let (xfmt, yfmt) = (move |x: &f64| xf.label(*x), move |y: &f64| yf.label(*y));
         let mut mesh = chart.configure_mesh();
         mesh.disable_mesh().x_labels(N_LABELS).y_labels(N_LABELS);
-        if text {
-            mesh.x_desc(self.x_desc.as_str())
-                .y_desc(self.y_desc.as_str())
-                .x_label_formatter(&xfmt)
-                .y_label_formatter(&yfmt)
-                .label_style((FAMILY, 14))
-                .axis_desc_style((FAMILY, 16));
-        } else {
-            mesh.x_labels(0).y_labels(0);
-        }
-        mesh.draw().map_err(de)?;
+        super::layout::label_and_draw_mesh(
+            &mut mesh,
+            (self.x_desc.as_str(), self.y_desc.as_str()),
+            (&xfmt, &yfmt),
+            text,
+        )?;
         lay.title(root, &self.title, text)?;
         if !self.colorbar {
             return Ok(());

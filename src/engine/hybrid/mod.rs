@@ -63,7 +63,7 @@ pub use stepping::HybridEngine;
 
 use super::{EngineError, RunConfig};
 use crate::engine::checkpoint::HybridData;
-use crate::integrate::{IntegrationError, Stats, Tolerances};
+use crate::integrate::{Stats, Tolerances};
 use crate::model::Chain;
 use crate::scene::Scene;
 use cluster::Cluster;
@@ -556,15 +556,6 @@ impl<'a> Hybrid<'a> {
                 .push(Key::Cluster(slot), prio(t1, 2, lo, Key::Cluster(slot)));
         }
         Ok(())
-    }
-
-    /// Counts an accepted cluster step against the run's step budget (`max_steps`).
-    fn count_step(&mut self) -> Result<(), EngineError> {
-        self.st.steps_total += 1;
-        match self.cfg.max_steps {
-            Some(max) if self.st.steps_total >= max => Err(IntegrationError::Budget(max).into()),
-            _ => Ok(()),
-        }
     }
 
     /// Energy dissipated by damped contacts up to `t`: the ended integrations plus every live

@@ -20,6 +20,17 @@ use std::cmp::Reverse;
 use std::time::Instant;
 
 impl Hybrid<'_> {
+    /// Counts an accepted cluster step against the run's step budget (`max_steps`).
+    pub(super) fn count_step(&mut self) -> Result<(), EngineError> {
+        self.st.steps_total += 1;
+        match self.cfg.max_steps {
+            Some(max) if self.st.steps_total >= max => {
+                Err(crate::integrate::IntegrationError::Budget(max).into())
+            }
+            _ => Ok(()),
+        }
+    }
+
     /// Events logged so far (all kinds).
     fn logged(&self) -> u64 {
         self.st.counts.iter().sum()
