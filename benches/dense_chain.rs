@@ -4,6 +4,7 @@
 
 mod common;
 use beadchain::integrate::Method;
+use beadchain::names::Named;
 use beadchain::scene::Engine;
 
 fn main() {

@@ -21,7 +21,7 @@ fn main() {
         let until = common::exit_time(n);
         let scene = common::striker(n, 2.5, until);
         let o = common::run(&scene, Engine::Hybrid, Method::Radau5, rtol, until);
-        let events: u64 = o.events_by_kind.iter().map(|(_, c)| c).sum();
+        let events: u64 = o.events_total();
         println!(
             "| {n} | {until:.0} | {:.3} | {:.2} | {:.1} | {events} | {} | {:.2e} |",
             o.wall_seconds,

@@ -12,6 +12,7 @@ use beadchain::experiments::impurities::{
 use beadchain::experiments::paper::{physical_scene, time_per_bead, PaperError};
 use beadchain::experiments::timings::{interface_timing_run, TimingRun};
 use beadchain::experiments::wavelength::{measure_wavelength, WavelengthResult};
+use beadchain::names::Named;
 use beadchain::scene::Engine;
 use std::path::PathBuf;
 use std::time::Instant;

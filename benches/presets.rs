@@ -25,7 +25,7 @@ fn main() {
         cfg.every = None;
         let o = common::run(&s, cfg.engine, cfg.method, cfg.rtol, cfg.until);
         let n = s.chain.len();
-        let events: u64 = o.events_by_kind.iter().map(|(_, c)| c).sum();
+        let events: u64 = o.events_total();
         println!(
             "| {name} | {n} | {:.4e} | {:.3} | {:.1} | {:.1} | {events} | {} | {:.2e} |",
             cfg.until,

@@ -32,6 +32,7 @@
 pub mod plot;
 mod report;
 
+use crate::names::Named;
 use report::write_outputs;
 pub use report::{format_table, to_csv};
 
@@ -321,10 +322,13 @@ fn check_options(opts: &AccuracyOptions) -> Result<(), AccuracyError> {
 pub fn default_atol(scene: &Scene, ratio: Option<f64>, rtol: f64) -> f64 {
     match ratio {
         Some(r) => (r * rtol).min(0.5),
-        None => scene
-            .run
-            .atol
-            .unwrap_or_else(|| crate::integrate::default_atol(rtol)),
+        None => {
+            let at_rtol = crate::engine::RunOverrides {
+                rtol: Some(rtol),
+                ..Default::default()
+            };
+            RunConfig::with_overrides(scene, &at_rtol).atol
+        }
     }
 }
 
@@ -481,7 +485,7 @@ fn measure(
     row.steps = out.stats.steps;
     row.rejected = out.stats.rejected;
     row.rhs_evals = out.stats.rhs_evals;
-    row.events = out.events_by_kind.iter().map(|(_, c)| c).sum();
+    row.events = out.events_total();
     row.bead_steps = out.stats.bead_steps;
     row
 }

@@ -26,6 +26,7 @@
 
 use crate::engine::{self, Deviation, EngineError, Recorder, RunConfig, RunOutcome};
 use crate::integrate::Method;
+use crate::names::Named;
 use crate::progress::RunProgress;
 use crate::scene::{Engine, Scene};
 

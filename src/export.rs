@@ -17,6 +17,7 @@ pub mod wide;
 pub use inspect::{damaged_frames, inspect, inspect_with};
 pub use units::ExportUnits;
 
+use crate::names::Named;
 use crate::snapshot::{Frame, Snapshot, SnapshotError};
 use std::fmt;
 use std::io::{BufWriter, Write};

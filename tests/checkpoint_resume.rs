@@ -5,6 +5,7 @@
 mod common;
 use beadchain::engine::{self, Control, EngineError, EngineState, Observer, RunConfig};
 use beadchain::integrate::Method;
+use beadchain::names::Named;
 use beadchain::scene::{Engine, Scene};
 use beadchain::snapshot::EventRecord;
 use common::*;

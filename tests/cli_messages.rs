@@ -80,7 +80,7 @@ fn invalid_method_lists_the_valid_methods() {
     usage_error(
         &["run", "striker", "--method", "rk45"],
         "invalid value 'rk45' for '--method <METHOD>'",
-        &["[possible values: radau5, dop853, verlet, auto]"],
+        &["[possible values: auto, radau5, dop853, verlet]"],
     );
 }
 

@@ -6,6 +6,7 @@
 
 mod common;
 
+use beadchain::engine::events::EventKind;
 use beadchain::engine::events::EventRecord;
 use beadchain::engine::{self, PauseAt, Recorder, RunConfig, RunOutcome, Stop};
 use beadchain::integrate::Method;
@@ -173,12 +174,7 @@ fn pausing_at_frames_and_events_gives_the_bytes_of_one_run_hybrid() {
         cfg.every = sc.run.every;
         check_scene(name, &sc, &cfg);
         let (out, _) = common::run(&sc, &cfg);
-        let count = |k: &str| {
-            out.events_by_kind
-                .iter()
-                .find(|(n, _)| n == k)
-                .map_or(0, |(_, c)| *c)
-        };
+        let count = |k: &str| out.events(k.parse::<EventKind>().expect("a kind"));
         assert!(
             count("hard_collision") > 0,
             "{name}: {:?}",
@@ -221,7 +217,7 @@ fn pauses_switched_on_later_and_kicks_at_a_frame() {
     let mut e = engine::start(&sc, &cfg).expect("starts");
     let mut rec = Recorder::default();
     e.advance(10.0, &mut rec).expect("advances");
-    let logged = |o: RunOutcome| o.events_by_kind.iter().map(|(_, c)| *c).sum::<u64>() as usize;
+    let logged = |o: RunOutcome| o.events_total() as usize;
     let before = logged(e.outcome());
     assert!(before > 0 && before < reference.events.len());
     e.pause_at(PauseAt {

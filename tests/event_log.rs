@@ -141,7 +141,7 @@ impl Observer for Sink {
 }
 
 fn total_events(o: &engine::RunOutcome) -> u64 {
-    o.events_by_kind.iter().map(|(_, c)| c).sum()
+    o.events_total()
 }
 
 /// Regression (issue 10): the engine kept every event in memory for the whole run, so its peak

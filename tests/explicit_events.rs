@@ -9,6 +9,7 @@
 
 mod common;
 
+use beadchain::engine::events::EventKind;
 use beadchain::engine::{self, Recorder, RunOutcome};
 use beadchain::integrate::Method;
 use beadchain::scene::Engine;
@@ -32,10 +33,7 @@ fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
 }
 
 fn count(o: &RunOutcome, kind: &str) -> u64 {
-    o.events_by_kind
-        .iter()
-        .find(|(k, _)| k == kind)
-        .map_or(0, |(_, c)| *c)
+    o.events(kind.parse::<EventKind>().expect("a kind"))
 }
 
 /// Before the fix the hybrid DOP853 run of a 200-bead striker chain at rtol 1e-8 ended with a

@@ -7,6 +7,7 @@
 //! number of engine events, so a regression fails (interrupted) instead of running forever.
 
 mod common;
+use beadchain::engine::events::EventKind;
 use beadchain::engine::{Control, EngineError, Observer, Recorder, RunConfig, RunOutcome};
 use beadchain::integrate::Method;
 use beadchain::scene::{parse_str, Engine, Scene};
@@ -53,7 +54,7 @@ fn run_bounded(s: &Scene, events: u64) -> (RunOutcome, Recorder) {
 }
 
 fn hard_events(o: &RunOutcome) -> u64 {
-    o.events_by_kind[2].1
+    o.events(EventKind::HardCollision)
 }
 
 /// Total energy of every frame never rises above the previous frame's by more than

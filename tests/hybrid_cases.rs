@@ -4,6 +4,7 @@
 //! instead of hanging) and no late merges.
 
 mod common;
+use beadchain::engine::events::EventKind;
 use beadchain::engine::RunOutcome;
 use beadchain::integrate::Method;
 use beadchain::model::Wall;
@@ -54,7 +55,7 @@ fn stable(o: &RunOutcome, energy_bound: f64, max_events: u64) {
         err < energy_bound,
         "energy drift {err:e} ≥ {energy_bound:e}"
     );
-    let events: u64 = o.events_by_kind.iter().map(|(_, c)| c).sum();
+    let events: u64 = o.events_total();
     assert!(events <= max_events, "{events} events > {max_events}");
     assert_eq!(o.late_merges, 0, "closings detected late");
 }
@@ -214,7 +215,7 @@ fn gravity_presses_chain_onto_wall() {
     // falling energy is large against the initial energy: bound the drift against the
     // gravitational energy released, m g Σ u0 = 3.6
     assert!((h.energy_final - h.energy_initial).abs() < 1e-7 * 3.6);
-    let events: u64 = h.events_by_kind.iter().map(|(_, c)| c).sum();
+    let events: u64 = h.events_total();
     assert!(events < 2_000, "{events} events");
 }
 
@@ -249,8 +250,8 @@ fn hundred_thousand_beads_fragmenting() {
     }
     let h = hybrid(&s, 1e-8);
     stable(&h, 1e-6, 2_000_000);
-    let closes = h.events_by_kind[0].1;
-    let opens = h.events_by_kind[1].1;
+    let closes = h.events(EventKind::Close);
+    let opens = h.events(EventKind::Open);
     assert!(
         closes > 10_000 && opens > 1_000,
         "only {closes} closings, {opens} openings"

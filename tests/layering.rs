@@ -24,6 +24,7 @@ use std::path::{Path, PathBuf};
 const LAYERS: &[(&str, u32)] = &[
     ("model", 0),       // chain, contact laws, energies: imports nothing of the crate
     ("files", 0),       // file-safety helpers (atomic outputs, temporaries, limited reads)
+    ("names", 0),       // named closed sets (method, engine, ...): one list, one parser
     ("linalg", 1),      // tridiagonal/banded solvers
     ("integrate", 2),   // Radau IIA, DOP853, Verlet, auto
     ("scene", 3),       // TOML scenes → Scene (model + run settings)
@@ -38,6 +39,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("plot", 7),        // figures of snapshots and CSV tables
     ("accuracy", 8),    // work-precision study (runs engines, plots)
     ("sweep", 8),       // parameter sweeps (runs experiments' watched runs)
+    ("prelude", 9),     // the front door: re-exports for `use beadchain::prelude::*`
     ("cli", 9),         // the binary
 ];
 

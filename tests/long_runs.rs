@@ -4,6 +4,7 @@
 
 mod common;
 
+use beadchain::engine::events::EventKind;
 use beadchain::engine::{Recorder, RunOutcome};
 use beadchain::integrate::{default_atol, Method};
 use beadchain::scene::{parse_str, Engine, Scene};
@@ -76,10 +77,7 @@ fn striker_frames_during_openings_keep_the_energy() {
 }
 
 fn closings(o: &RunOutcome) -> u64 {
-    o.events_by_kind
-        .iter()
-        .find(|(k, _)| k == "close")
-        .map_or(0, |(_, c)| *c)
+    o.events(EventKind::Close)
 }
 
 /// Item 17: behind a long traversal the beads the wave left re-collided, at relative speeds of

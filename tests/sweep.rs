@@ -113,7 +113,7 @@ fn scene_errors_fail_before_any_run() {
         ),
         (
             "[set]\n\"chain.exponent.base\" = 2.5\n",
-            "test.toml: [set].\"chain.exponent.base\": the base scene's `chain.exponent` is a float, not a table",
+            "test.toml: [set].\"chain.exponent.base\": the base scene's `chain.exponent` is a number, not a table",
         ),
         (
             "[measure]\ninterface = 100\n",

@@ -5,6 +5,7 @@ use crate::run::{parse_engine, parse_method};
 use crate::scene::Scene;
 use crate::{without_gil, RunError, SceneError};
 use beadchain::accuracy::{accuracy_study, AccuracyError, AccuracyOptions, AccuracyRow};
+use beadchain::names::Named;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 

@@ -9,6 +9,7 @@
 //! stops the run with an error (no NaN frame is ever kept or written).
 
 use beadchain::engine::{Control, EngineError, EngineState, Observer};
+use beadchain::names::Named;
 use beadchain::snapshot::{EventRecord, Selection, SnapshotWriter};
 use numpy::PyArray1;
 use pyo3::exceptions::PyMemoryError;
@@ -155,10 +156,6 @@ impl Collector {
     }
 }
 
-fn io(e: beadchain::snapshot::SnapshotError) -> EngineError {
-    EngineError::Observer(e.to_string())
-}
-
 /// Appends the values of `x` at `beads` (every bead: `None`) to `out`, growing it with
 /// `try_reserve`.
 fn push_selected(
@@ -225,7 +222,7 @@ impl Observer for Collector {
             self.keep(t, u, v)?;
         }
         if let Some(w) = self.writer.as_mut() {
-            w.write_frame(t, u, v).map_err(io)?;
+            w.frame(t, u, v)?;
         }
         self.call_observers(t, u, v);
         self.call_progress(t);
@@ -233,9 +230,9 @@ impl Observer for Collector {
         Ok(())
     }
 
-    fn dissipated(&mut self, _t: f64, energy: f64) -> Result<(), EngineError> {
+    fn dissipated(&mut self, t: f64, energy: f64) -> Result<(), EngineError> {
         if let Some(w) = self.writer.as_mut() {
-            w.set_dissipated(energy);
+            w.dissipated(t, energy)?;
         }
         if self.record {
             self.dissipated.try_reserve(1).map_err(|e| {
@@ -256,7 +253,7 @@ impl Observer for Collector {
             }
         }
         if let Some(w) = self.writer.as_mut() {
-            w.write_events(events).map_err(io)?;
+            w.events(events)?;
         }
         Ok(())
     }

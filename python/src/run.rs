@@ -4,8 +4,9 @@
 use crate::observe::{Collector, Progress};
 use crate::scene::Scene;
 use crate::{without_gil, RunError, SceneError, SnapshotError};
-use beadchain::engine::{self, EngineError, RunConfig, RunOutcome, Stop};
-use beadchain::integrate::{default_atol, Method};
+use beadchain::engine::{self, EngineError, RunConfig, RunOutcome, RunOverrides, Stop};
+use beadchain::integrate::Method;
+use beadchain::names::Named;
 use beadchain::scene::{Engine as EngineKind, Scene as LibScene};
 use beadchain::snapshot::size::DEFAULT_MAX_OUTPUT_BYTES;
 use beadchain::snapshot::{Header, RunSummary, Selection, SnapshotWriter};
@@ -56,57 +57,31 @@ fn si_time(
     }
 }
 
-fn bad(what: &str, expected: &str, got: &str) -> PyErr {
-    SceneError::new_err(format!("{what}: expected {expected}, got \"{got}\""))
-}
-
 /// An engine name as the CLI's `--engine` takes it.
 pub(crate) fn parse_engine(e: &str) -> PyResult<EngineKind> {
-    match e {
-        "hybrid" => Ok(EngineKind::Hybrid),
-        "dense" => Ok(EngineKind::Dense),
-        _ => Err(bad("engine", "\"hybrid\" or \"dense\"", e)),
-    }
+    EngineKind::parse(e).map_err(|err| SceneError::new_err(format!("engine: {err}")))
 }
 
 /// A method name as the CLI's `--method` takes it.
 pub(crate) fn parse_method(m: &str) -> PyResult<Method> {
-    match m {
-        "auto" => Ok(Method::Auto),
-        "radau5" => Ok(Method::Radau5),
-        "dop853" => Ok(Method::Dop853),
-        "verlet" => Ok(Method::Verlet),
-        _ => Err(bad("method", "auto, radau5, dop853 or verlet", m)),
-    }
+    Method::parse(m).map_err(|err| SceneError::new_err(format!("method: {err}")))
 }
 
 /// The run configuration, as the CLI builds it from the scene and its options (`--rtol` sets
 /// `atol = rtol/10⁴` unless the scene or `--atol` gives one), and the scene with `[run]`
 /// `until`/`every` updated to what runs (the snapshot header records them), both checked.
 pub(crate) fn config(scene: &LibScene, o: &Options) -> PyResult<(LibScene, RunConfig)> {
-    let mut cfg = RunConfig::from_scene(scene);
-    if let Some(e) = &o.engine {
-        cfg.engine = parse_engine(e)?;
-    }
-    if let Some(m) = &o.method {
-        cfg.method = parse_method(m)?;
-    }
-    if let Some(r) = o.rtol {
-        cfg.rtol = r;
-        if scene.run.atol.is_none() {
-            cfg.atol = default_atol(r);
-        }
-    }
-    if let Some(a) = o.atol {
-        cfg.atol = a;
-    }
-    if let Some(t) = si_time(scene, "until_si", o.until, o.until_si)? {
-        cfg.until = t;
-    }
-    if let Some(dt) = si_time(scene, "every_si", o.every, o.every_si)? {
-        cfg.every = Some(dt);
-    }
-    cfg.max_steps = o.max_steps;
+    let overrides = RunOverrides {
+        engine: o.engine.as_deref().map(parse_engine).transpose()?,
+        method: o.method.as_deref().map(parse_method).transpose()?,
+        rtol: o.rtol,
+        atol: o.atol,
+        until: si_time(scene, "until_si", o.until, o.until_si)?,
+        every: si_time(scene, "every_si", o.every, o.every_si)?,
+        solver: None,
+        max_steps: o.max_steps,
+    };
+    let cfg = RunConfig::with_overrides(scene, &overrides);
     let mut s = scene.clone();
     s.run.until = cfg.until;
     s.run.every = cfg.every;
@@ -152,8 +127,8 @@ pub(crate) fn stats<'py>(py: Python<'py>, o: &RunOutcome) -> PyResult<Bound<'py,
     d.set_item("momentum_initial", o.momentum_initial)?;
     d.set_item("momentum_final", o.momentum_final)?;
     let ev = PyDict::new(py);
-    for (k, n) in &o.events_by_kind {
-        ev.set_item(k, n)?;
+    for (k, n) in o.events_by_kind.iter().flat_map(|c| c.iter()) {
+        ev.set_item(k.to_string(), n)?;
     }
     d.set_item("events_by_kind", ev)?;
     d.set_item("largest_cluster", o.largest_cluster)?;
@@ -172,7 +147,7 @@ fn summary(out: &RunOutcome) -> RunSummary {
         energy_final: out.energy_final,
         momentum_initial: out.momentum_initial,
         momentum_final: out.momentum_final,
-        events_by_kind: out.events_by_kind.clone(),
+        events_by_kind: out.events_named(),
         largest_cluster: out.largest_cluster,
         notes: out
             .slow_closings_note()

@@ -7,6 +7,7 @@
 //! checks and the same one-line messages as a scene file given to the CLI.
 
 use crate::SceneError as PySceneError;
+use beadchain::names::Named;
 use beadchain::scene::{self, Scene as LibScene, SceneError};
 use numpy::PyArray1;
 use pyo3::prelude::*;

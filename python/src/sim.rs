@@ -9,6 +9,7 @@ use crate::scene::Scene;
 use crate::{without_gil, RunError, SceneError};
 use beadchain::engine::{self, Engine, PauseAt, RunConfig, Stop};
 use beadchain::model::relative_energy_change;
+use beadchain::names::Named;
 use beadchain::scene::Scene as LibScene;
 use beadchain::snapshot::size::short;
 use numpy::{PyArray1, PyReadonlyArray1};

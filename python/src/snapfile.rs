@@ -6,6 +6,7 @@
 use crate::observe::EventColumns;
 use crate::scene::Scene;
 use crate::{without_gil, SnapshotError};
+use beadchain::names::Named;
 use beadchain::snapshot::{Frame, Snapshot};
 use numpy::PyArray1;
 use pyo3::prelude::*;

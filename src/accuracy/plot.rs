@@ -12,6 +12,7 @@
 
 use super::{AccuracyError, AccuracyReport};
 use crate::integrate::Method;
+use crate::names::Named;
 use crate::plot::lines::line_color;
 use crate::scene::Engine;
 use plotters::coord::Shift;

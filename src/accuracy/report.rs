@@ -3,8 +3,9 @@
 //! plots of [`super::plot`]).
 
 use super::{plot, AccuracyError, AccuracyReport, CSV_HEADER};
+use crate::names::Named;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The CSV text (header [`CSV_HEADER`], one line per row; numbers in shortest round-trip form).
 pub fn to_csv(report: &AccuracyReport) -> String {
@@ -123,19 +124,19 @@ fn cell(x: f64, width: usize) -> String {
     }
 }
 
-/// Writes `bytes` to `path` through a temporary sibling and a rename.
+/// Writes `bytes` to `path` atomically ([`crate::snapshot::write_atomically`]: a temporary
+/// sibling, fsynced and renamed).
 fn write_file(path: &Path, bytes: &[u8]) -> Result<(), AccuracyError> {
-    let io = |source| AccuracyError::Io {
+    crate::snapshot::write_atomically(path, |w| {
+        w.write_all(bytes)
+            .map_err(crate::snapshot::SnapshotError::Output)
+    })
+    .map_err(|e| AccuracyError::Io {
         path: path.to_path_buf(),
-        source,
-    };
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".tmp");
-    let tmp = PathBuf::from(tmp);
-    std::fs::write(&tmp, bytes).map_err(io)?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io(e)
+        source: match e {
+            crate::snapshot::SnapshotError::Io { source, .. } => source,
+            other => std::io::Error::other(other.to_string()),
+        },
     })
 }
 

@@ -1,9 +1,11 @@
 //! `beadchain accuracy`: the work-precision study of [`beadchain::accuracy`], its table on
 //! standard output and the files it wrote.
 
-use super::common::{load_scene, EngineArg, MethodArg};
+use super::common::{load_scene, named};
 use anyhow::Result;
+use beadchain::integrate::Method;
 use beadchain::progress::RunProgress;
+use beadchain::scene::Engine;
 use std::path::PathBuf;
 
 /// Arguments of `beadchain accuracy`.
@@ -14,19 +16,19 @@ pub struct AccuracyArgs {
     /// Engines, comma-separated (hybrid, dense).
     #[arg(
         long,
-        value_enum,
+        value_parser = named::<Engine>(),
         value_delimiter = ',',
         default_value = "hybrid,dense"
     )]
-    pub engines: Vec<EngineArg>,
+    pub engines: Vec<Engine>,
     /// Methods, comma-separated (auto, radau5, dop853, verlet).
     #[arg(
         long,
-        value_enum,
+        value_parser = named::<Method>(),
         value_delimiter = ',',
         default_value = "auto,radau5,dop853,verlet"
     )]
-    pub methods: Vec<MethodArg>,
+    pub methods: Vec<Method>,
     /// Relative tolerances of the adaptive methods (atol: as `run --rtol RTOL`, see
     /// --atol-ratio).
     #[arg(long, value_delimiter = ',', default_value = "1e-4,1e-6,1e-8,1e-10")]
@@ -60,8 +62,8 @@ pub fn cmd_accuracy(a: AccuracyArgs) -> Result<i32> {
     use beadchain::accuracy::{accuracy_study, format_table, AccuracyOptions};
     let scene = load_scene(&a.scene)?;
     let opts = AccuracyOptions {
-        engines: a.engines.iter().map(|&e| e.into()).collect(),
-        methods: a.methods.iter().map(|&m| m.into()).collect(),
+        engines: a.engines.clone(),
+        methods: a.methods.clone(),
         rtols: a.rtols,
         verlet_steps: a.verlet_steps,
         atol_ratio: a.atol_ratio,

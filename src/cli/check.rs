@@ -1,10 +1,11 @@
 //! `beadchain check`: prints the report of [`beadchain::check`] and its verdict.
 
-use super::common::{config, Common};
+use super::common::{config, overrides, Common};
 use anyhow::{Context, Result};
 use beadchain::check::{check_with_progress, CheckReport};
 use beadchain::engine;
 use beadchain::engine::RunConfig;
+use beadchain::names::Named;
 use beadchain::scene::Scene;
 
 /// Arguments of `beadchain check`.
@@ -21,7 +22,7 @@ pub struct CheckArgs {
 /// Runs `beadchain check`; returns the exit code (1 when the engines disagree).
 pub fn cmd_check(a: CheckArgs) -> Result<i32> {
     let (scene, material) = super::common::load_scene_with_material(&a.common.scene)?;
-    let base = config(&scene, &a.common)?;
+    let base = config(&scene, &overrides(&scene, &a.common)?);
     super::common::warn_implausible(&scene, material.as_ref(), &base, &a.common);
     engine::check_config(&scene, &base).with_context(|| scene.name.clone())?;
     let tol = a.tol.unwrap_or(1000.0 * base.rtol);

@@ -67,20 +67,15 @@ impl SnapshotSink {
 
 impl Observer for SnapshotSink {
     fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
-        self.writer
-            .write_frame(t, u, v)
-            .map_err(|e| EngineError::Observer(e.to_string()))
+        self.writer.frame(t, u, v)
     }
 
-    fn dissipated(&mut self, _t: f64, energy: f64) -> Result<(), EngineError> {
-        self.writer.set_dissipated(energy);
-        Ok(())
+    fn dissipated(&mut self, t: f64, energy: f64) -> Result<(), EngineError> {
+        self.writer.dissipated(t, energy)
     }
 
     fn events(&mut self, events: &[EventRecord]) -> Result<(), EngineError> {
-        self.writer
-            .write_events(events)
-            .map_err(|e| EngineError::Observer(e.to_string()))
+        self.writer.events(events)
     }
 
     fn control(&mut self, t: f64) -> Control {
@@ -134,7 +129,7 @@ pub fn summary(out: &RunOutcome, timing: bool) -> RunSummary {
         energy_final: out.energy_final,
         momentum_initial: out.momentum_initial,
         momentum_final: out.momentum_final,
-        events_by_kind: out.events_by_kind.clone(),
+        events_by_kind: out.events_named(),
         largest_cluster: out.largest_cluster,
         notes,
     }

@@ -3,55 +3,27 @@
 //! run summary printed by `run` and `resume`. Imports nothing else from the CLI.
 
 use anyhow::Result;
-use beadchain::engine::{RunConfig, RunOutcome};
+use beadchain::engine::{RunConfig, RunOutcome, RunOverrides};
 use beadchain::integrate::Method;
 use beadchain::linalg::SolverKind;
+use beadchain::names::Named;
 use beadchain::scene::plausible::BeadMaterial;
-use beadchain::scene::{self, Engine, Scene};
-use clap::ValueEnum;
+use beadchain::scene::{self, Scene};
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use std::io::Write;
 
-#[derive(ValueEnum, Clone, Copy, Debug)]
-pub enum EngineArg {
-    Dense,
-    Hybrid,
-}
-
-impl From<EngineArg> for Engine {
-    fn from(e: EngineArg) -> Self {
-        match e {
-            EngineArg::Dense => Engine::Dense,
-            EngineArg::Hybrid => Engine::Hybrid,
+/// clap's parser for a [`Named`] value (method, engine, solver): its names are the possible
+/// values, with their help, so `--help` lists them and a wrong one gets clap's message with the
+/// valid values and "did you mean".
+pub fn named<T: Named + Send + Sync>() -> impl clap::builder::TypedValueParser<Value = T> {
+    let values = T::ALL.iter().map(|v| {
+        let p = PossibleValue::new(v.name());
+        match v.help() {
+            "" => p,
+            h => p.help(h),
         }
-    }
-}
-
-#[derive(ValueEnum, Clone, Copy, Debug)]
-pub enum MethodArg {
-    Radau5,
-    Dop853,
-    /// Fixed-step velocity Verlet; its step is rtol·L/V.
-    Verlet,
-    /// DOP853 while non-stiff, Radau IIA while stiff, per cluster.
-    Auto,
-}
-
-impl From<MethodArg> for Method {
-    fn from(m: MethodArg) -> Self {
-        match m {
-            MethodArg::Radau5 => Method::Radau5,
-            MethodArg::Dop853 => Method::Dop853,
-            MethodArg::Verlet => Method::Verlet,
-            MethodArg::Auto => Method::Auto,
-        }
-    }
-}
-
-#[derive(ValueEnum, Clone, Copy, Debug)]
-pub enum SolverArg {
-    Auto,
-    Direct,
-    Faer,
+    });
+    PossibleValuesParser::new(values).map(|s| T::parse(&s).expect("clap checked the name"))
 }
 
 #[derive(clap::Args, Debug)]
@@ -59,8 +31,8 @@ pub struct Common {
     /// Scene file (TOML) or preset name (see `beadchain scenes`).
     pub scene: String,
     /// Integration method [default: the scene's, else auto].
-    #[arg(long, value_enum)]
-    pub method: Option<MethodArg>,
+    #[arg(long, value_parser = named::<Method>())]
+    pub method: Option<Method>,
     /// Relative tolerance [default: the scene's, else 1e-8].
     #[arg(long)]
     pub rtol: Option<f64>,
@@ -75,8 +47,8 @@ pub struct Common {
     #[arg(long, conflicts_with = "until")]
     pub until_si: Option<f64>,
     /// Linear solver of the implicit method.
-    #[arg(long, value_enum, default_value = "auto")]
-    pub solver: SolverArg,
+    #[arg(long, value_parser = named::<SolverKind>(), default_value = "auto")]
+    pub solver: SolverKind,
     /// Abort after this many integrator steps.
     #[arg(long)]
     pub max_steps: Option<u64>,
@@ -148,40 +120,34 @@ pub fn si_time(scene: &Scene, option: &str, x: f64) -> Result<f64> {
     }
 }
 
-/// The run configuration: the scene's `[run]` settings overridden by the command line.
-pub fn config(scene: &Scene, c: &Common) -> Result<RunConfig> {
-    let mut cfg = RunConfig::from_scene(scene);
-    if let Some(m) = c.method {
-        cfg.method = m.into();
-    }
-    if let Some(r) = c.rtol {
-        cfg.rtol = r;
-        if scene.run.atol.is_none() {
-            cfg.atol = beadchain::integrate::default_atol(r);
-        }
-    }
-    if let Some(a) = c.atol {
-        cfg.atol = a;
-    }
+/// The command line's overrides of the scene's `[run]` settings (SI times converted with the
+/// scene's time unit).
+pub fn overrides(scene: &Scene, c: &Common) -> Result<RunOverrides> {
+    Ok(RunOverrides {
+        method: c.method,
+        rtol: c.rtol,
+        atol: c.atol,
+        until: match c.until_si {
+            Some(t) => Some(si_time(scene, "--until-si", t)?),
+            None => c.until,
+        },
+        solver: Some(c.solver),
+        max_steps: c.max_steps,
+        ..RunOverrides::default()
+    })
+}
+
+/// The run configuration of `o` ([`RunConfig::with_overrides`]), with a warning for an rtol
+/// below what f64 arithmetic delivers.
+pub fn config(scene: &Scene, o: &RunOverrides) -> RunConfig {
+    let cfg = RunConfig::with_overrides(scene, o);
     if cfg.rtol > 0.0 && cfg.rtol < RTOL_F64_FLOOR {
         eprintln!(
             "beadchain: warning: rtol = {:e} is below what f64 arithmetic can deliver (~{RTOL_F64_FLOOR:e} relative): the error will stall there",
             cfg.rtol
         );
     }
-    if let Some(t) = c.until {
-        cfg.until = t;
-    }
-    if let Some(t) = c.until_si {
-        cfg.until = si_time(scene, "--until-si", t)?;
-    }
-    cfg.solver = match c.solver {
-        SolverArg::Auto => SolverKind::Auto,
-        SolverArg::Direct => SolverKind::Direct,
-        SolverArg::Faer => SolverKind::Faer,
-    };
-    cfg.max_steps = c.max_steps;
-    Ok(cfg)
+    cfg
 }
 
 /// The run summary, on `w` (standard output, or standard error when the snapshot itself goes
@@ -258,9 +224,8 @@ fn print_counts(w: &mut dyn Write, cfg: &RunConfig, out: &RunOutcome) -> Result<
             out.implicit_steps
         )?;
     }
-    if !out.events_by_kind.is_empty() {
-        let ev: Vec<String> = out
-            .events_by_kind
+    if let Some(counts) = out.events_by_kind {
+        let ev: Vec<String> = counts
             .iter()
             .filter(|(_, c)| *c > 0)
             .map(|(k, c)| format!("{k} {c}"))

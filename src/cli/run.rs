@@ -2,13 +2,13 @@
 //! sink of [`super::ckpt`], and prints the run summary.
 
 use super::ckpt;
-use super::common::{config, load_scene_with_material, print_outcome, Common, EngineArg};
+use super::common::{config, load_scene_with_material, named, overrides, print_outcome, Common};
 use super::files::SizeLimit;
 use super::select::OutputArgs;
 use anyhow::{bail, Context, Result};
-use beadchain::engine::{self, RunConfig, RunOutcome};
+use beadchain::engine::{self, RunConfig, RunOutcome, RunOverrides};
 use beadchain::progress::RunProgress;
-use beadchain::scene::Scene;
+use beadchain::scene::{Engine, Scene};
 use beadchain::snapshot::{Header, Selection, SnapshotWriter};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -19,8 +19,8 @@ pub struct RunArgs {
     #[command(flatten)]
     pub common: Common,
     /// Engine [default: the scene's, else hybrid].
-    #[arg(long, value_enum)]
-    pub engine: Option<EngineArg>,
+    #[arg(long, value_parser = named::<Engine>())]
+    pub engine: Option<Engine>,
     /// Output interval, computer units; --every-si for seconds [default: the scene's `[run]
     /// every`, else first and last frame].
     #[arg(long)]
@@ -53,17 +53,16 @@ pub struct RunArgs {
 /// Runs `beadchain run`; returns the exit code.
 pub fn cmd_run(a: RunArgs) -> Result<i32> {
     let (mut scene, material) = load_scene_with_material(&a.common.scene)?;
-    let mut cfg = config(&scene, &a.common)?;
+    let o = RunOverrides {
+        engine: a.engine,
+        every: match a.every_si {
+            Some(dt) => Some(super::common::si_time(&scene, "--every-si", dt)?),
+            None => a.every,
+        },
+        ..overrides(&scene, &a.common)?
+    };
+    let cfg = config(&scene, &o);
     super::common::warn_implausible(&scene, material.as_ref(), &cfg, &a.common);
-    if let Some(e) = a.engine {
-        cfg.engine = e.into();
-    }
-    if a.every.is_some() {
-        cfg.every = a.every;
-    }
-    if let Some(dt) = a.every_si {
-        cfg.every = Some(super::common::si_time(&scene, "--every-si", dt)?);
-    }
     engine::check_config(&scene, &cfg).with_context(|| scene.name.clone())?;
     warn_every_past_until(&a, &scene, &cfg);
     scene.run.until = cfg.until;

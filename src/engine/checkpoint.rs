@@ -138,7 +138,7 @@ pub struct HybridData {
     /// of the log is already in the output, up to the checkpoint's writer mark).
     pub events: Vec<EventRecord>,
     /// Event counts by kind.
-    pub counts: [u64; 5],
+    pub counts: super::events::EventCounts,
     /// Largest cluster so far (beads).
     pub largest: u64,
     /// Steps so far.

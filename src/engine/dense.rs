@@ -15,29 +15,16 @@
 //! the lab frame.
 
 use super::checkpoint::{DenseState, EngineState};
-use super::stepper::{check_target, outcome_at, Engine, PauseAt, State, Stop};
+use super::stepper::{
+    check_budget, check_target, check_velocities, outcome_at, Engine, PauseAt, State, Stop,
+};
 use super::{EngineError, Observer, RunConfig, RunOutcome};
-use crate::integrate::auto::Auto;
-use crate::integrate::dop853::Dop853;
-use crate::integrate::radau5::Radau5;
-use crate::integrate::verlet::Verlet;
 use crate::integrate::{
-    dissipated_at, ChainRange, DissipationWeight, Integrator, Method, System, Tolerances,
+    dissipated_at, new_integrator, ChainRange, DissipationWeight, Integrator, System,
 };
 use crate::model::Chain;
 use crate::scene::Scene;
 use std::time::Instant;
-
-/// Builds the integrator for `m` beads.
-pub fn make_integrator(cfg: &RunConfig, m: usize, tol: Tolerances) -> Box<dyn Integrator> {
-    match cfg.method {
-        Method::Radau5 => Box::new(Radau5::new(m, tol, cfg.solver)),
-        Method::Dop853 => Box::new(Dop853::new(m, tol)),
-        // Fixed step `rtol · L/V` (see `integrate::verlet`).
-        Method::Verlet => Box::new(Verlet::new(m, tol)),
-        Method::Auto => Box::new(Auto::new(m, tol, cfg.solver, false)),
-    }
-}
 
 /// The dense engine as an [`Engine`].
 pub struct DenseEngine<'a> {
@@ -92,19 +79,12 @@ impl<'a> DenseEngine<'a> {
     ) -> Result<Self, EngineError> {
         let chain = &scene.chain;
         let n = chain.len();
-        let tol = Tolerances {
-            rtol: cfg.rtol,
-            atol: cfg.atol,
-            scales: chain.scales(&scene.u0, &scene.v0),
-            v_frame: 0.0,
-            u_origin: 0.0,
-            // never restarted: E_d's weight is relative to each step's own increment
-            dissipation: DissipationWeight::Step,
-        };
+        // never restarted: E_d's weight is relative to each step's own increment
+        let tol = cfg.tolerances(chain.scales(&scene.u0, &scene.v0), DissipationWeight::Step);
         let mut e = Self {
             scene,
             cfg,
-            integ: make_integrator(cfg, n, tol),
+            integ: new_integrator(cfg.method, cfg.solver, n, tol),
             next: 1,
             last_frame_t: 0.0,
             clock: 0.0,
@@ -209,11 +189,7 @@ impl Engine for DenseEngine<'_> {
             let sys = ChainRange::whole(frame_chain(self.scene, &self.fall.1));
             self.integ.step(&sys as &dyn System, self.cfg.until)?;
             self.clock = self.integ.t().min(until);
-            if let Some(max) = self.cfg.max_steps {
-                if self.integ.stats().steps >= max {
-                    return Err(crate::integrate::IntegrationError::Budget(max).into());
-                }
-            }
+            check_budget(self.integ.stats().steps, self.cfg.max_steps)?;
             if let Some(stop) = self.frames(until, obs)? {
                 return Ok(stop);
             }
@@ -250,12 +226,7 @@ impl Engine for DenseEngine<'_> {
 
     fn set_velocities(&mut self, v: &[f64]) -> Result<(), EngineError> {
         let n = self.scene.chain.len();
-        if v.len() != n || !v.iter().all(|x| x.is_finite()) {
-            return Err(EngineError::Config(format!(
-                "set_velocities: expected {n} finite velocities, got {} values",
-                v.len()
-            )));
-        }
+        check_velocities(n, v)?;
         // paused at a frame: the new velocities start there
         self.paused_clock = None;
         let s = self.state();
@@ -263,16 +234,9 @@ impl Engine for DenseEngine<'_> {
         self.stats_base.0.add(self.integ.stats());
         self.stats_base.1 += self.integ.implicit_steps();
         // the tolerances' scales follow the new state (a kicked chain at rest had none)
-        let tol = Tolerances {
-            rtol: self.cfg.rtol,
-            atol: self.cfg.atol,
-            scales: self.scene.chain.scales(&s.u, v),
-            v_frame: 0.0,
-            u_origin: 0.0,
-            // never restarted: E_d's weight is relative to each step's own increment
-            dissipation: DissipationWeight::Step,
-        };
-        self.integ = make_integrator(self.cfg, n, tol);
+        let scales = self.scene.chain.scales(&s.u, v);
+        let tol = self.cfg.tolerances(scales, DissipationWeight::Step);
+        self.integ = new_integrator(self.cfg.method, self.cfg.solver, n, tol);
         // back to the free-falling frame (module docs)
         let mut z = [&s.u[..], v].concat();
         shift_fall(self.fall.0, self.clock, &mut z, -1.0);

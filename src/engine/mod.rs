@@ -11,74 +11,24 @@
 //! its length.
 
 pub mod checkpoint;
+mod config;
 pub mod dense;
 pub mod events;
 pub mod hybrid;
+mod observe;
 mod start;
 pub mod stepper;
 
 pub use checkpoint::{Control, EngineState};
+pub use config::{check_config, RunConfig, RunOverrides};
+pub(crate) use observe::poll_stop;
+pub use observe::{Observer, Observers, Recorder};
 pub use start::{restore, start};
 pub use stepper::{Engine, PauseAt, State, Stop};
 
-use crate::integrate::{default_atol, IntegrationError, Method, Stats, DEFAULT_RTOL};
-use crate::linalg::SolverKind;
-use crate::scene::{Engine as EngineKind, Scene};
+use crate::integrate::{IntegrationError, Stats};
+use crate::scene::Scene;
 use serde::{Deserialize, Serialize};
-
-/// Everything an engine needs besides the scene.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct RunConfig {
-    /// Which engine.
-    pub engine: EngineKind,
-    /// Integration method (for the hybrid engine: of the clusters).
-    pub method: Method,
-    /// Relative tolerance.
-    pub rtol: f64,
-    /// Absolute tolerance (relative to the run's characteristic scales).
-    pub atol: f64,
-    /// End time.
-    pub until: f64,
-    /// Output interval (`None`: first and last frame only).
-    pub every: Option<f64>,
-    /// Linear solver of the implicit method.
-    pub solver: SolverKind,
-    /// Abort after this many accepted steps (`None`: no limit).
-    pub max_steps: Option<u64>,
-}
-
-impl RunConfig {
-    /// The scene's own settings, with documented defaults for what it leaves out (`atol`
-    /// defaults to [`default_atol`]`(rtol)`, i.e. `rtol/10⁴`, at least `1e-15`).
-    pub fn from_scene(scene: &Scene) -> Self {
-        let rtol = scene.run.rtol.unwrap_or(DEFAULT_RTOL);
-        Self {
-            engine: scene.run.engine.unwrap_or_default(),
-            method: scene.run.method.unwrap_or_default(),
-            rtol,
-            atol: scene.run.atol.unwrap_or_else(|| default_atol(rtol)),
-            until: scene.run.until,
-            every: scene.run.every,
-            solver: SolverKind::Auto,
-            max_steps: None,
-        }
-    }
-
-    /// Output times: `0, every, 2·every, …` (computed as `k·every`, not by summation) and
-    /// `until` itself.
-    pub fn frame_time(&self, k: u64) -> f64 {
-        match self.every {
-            Some(dt) => (k as f64 * dt).min(self.until),
-            None => {
-                if k == 0 {
-                    0.0
-                } else {
-                    self.until
-                }
-            }
-        }
-    }
-}
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -97,45 +47,6 @@ pub enum EngineError {
     Interrupted(f64),
 }
 
-/// Watches a run.
-pub trait Observer {
-    /// A frame at output time `t`.
-    fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError>;
-    /// The energy dissipated from `t = 0` up to the frame at `t` (by damped contacts and in
-    /// hard collisions); called right before [`Observer::frame`], for scenes that lose energy
-    /// only ([`crate::model::Chain::loses_energy`]). The default drops it.
-    fn dissipated(&mut self, _t: f64, _energy: f64) -> Result<(), EngineError> {
-        Ok(())
-    }
-    /// A block of the event log, in processing order (hybrid engine). Blocks are handed over
-    /// when the engine's buffer holds [`EVENT_BLOCK`] events and before every frame; the
-    /// engine keeps no other copy. The default drops them.
-    fn events(&mut self, _events: &[events::EventRecord]) -> Result<(), EngineError> {
-        Ok(())
-    }
-    /// Asked between steps (engine clock `t`): continue, checkpoint, or checkpoint and stop.
-    fn control(&mut self, _t: f64) -> Control {
-        Control::Continue
-    }
-    /// A checkpoint of the engine state (after [`Control::Checkpoint`] or [`Control::Stop`]).
-    fn checkpoint(&mut self, _state: &EngineState) -> Result<(), EngineError> {
-        Ok(())
-    }
-}
-
-/// Asks the observer and acts (checkpoint when asked); `Ok(true)` when it asked to stop.
-pub(crate) fn poll_stop(
-    obs: &mut dyn Observer,
-    t: f64,
-    save: impl FnOnce() -> EngineState,
-) -> Result<bool, EngineError> {
-    match obs.control(t) {
-        Control::Continue => Ok(false),
-        Control::Checkpoint => obs.checkpoint(&save()).map(|_| false),
-        Control::Stop => obs.checkpoint(&save()).map(|_| true),
-    }
-}
-
 /// A closing whose relative speed is below this many times the beads' absolute velocity
 /// tolerance `atol·V` (the floor of every velocity error weight,
 /// [`crate::integrate::Tolerances::weight_v`]) is counted in [`RunOutcome::slow_closings`].
@@ -146,40 +57,6 @@ pub const SLOW_CLOSING_FACTOR: f64 = 30.0;
 
 /// Events the hybrid engine buffers before handing them to [`Observer::events`].
 pub const EVENT_BLOCK: usize = 4096;
-
-/// Collects frames and the event log in memory (tests, small runs).
-#[derive(Default, Debug, Clone)]
-pub struct Recorder {
-    /// Frame times.
-    pub t: Vec<f64>,
-    /// Displacements per frame.
-    pub u: Vec<Vec<f64>>,
-    /// Velocities per frame.
-    pub v: Vec<Vec<f64>>,
-    /// The event log (hybrid engine), in processing order.
-    pub events: Vec<events::EventRecord>,
-    /// Energy dissipated up to each frame (scenes that lose energy; empty otherwise).
-    pub dissipated: Vec<f64>,
-}
-
-impl Observer for Recorder {
-    fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
-        self.t.push(t);
-        self.u.push(u.to_vec());
-        self.v.push(v.to_vec());
-        Ok(())
-    }
-
-    fn events(&mut self, events: &[events::EventRecord]) -> Result<(), EngineError> {
-        self.events.extend_from_slice(events);
-        Ok(())
-    }
-
-    fn dissipated(&mut self, _t: f64, energy: f64) -> Result<(), EngineError> {
-        self.dissipated.push(energy);
-        Ok(())
-    }
-}
 
 /// What a finished run reports.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -202,8 +79,8 @@ pub struct RunOutcome {
     pub momentum_initial: f64,
     /// Momentum at the end.
     pub momentum_final: f64,
-    /// Event counts by kind (hybrid engine).
-    pub events_by_kind: Vec<(String, u64)>,
+    /// Event counts by kind (hybrid engine; `None` for the dense engine, which has no events).
+    pub events_by_kind: Option<events::EventCounts>,
     /// Largest number of beads integrated together.
     pub largest_cluster: u64,
     /// Hybrid engine diagnostic: merges whose overlap at the merge was far above the contact
@@ -308,15 +185,26 @@ impl RunOutcome {
         )
     }
 
+    /// Events of kind `k` (0 for the dense engine).
+    pub fn events(&self, k: events::EventKind) -> u64 {
+        self.events_by_kind.map_or(0, |c| c.get(k))
+    }
+
+    /// All events (0 for the dense engine).
+    pub fn events_total(&self) -> u64 {
+        self.events_by_kind.map_or(0, |c| c.total())
+    }
+
+    /// The counts as the snapshot's run summary stores them: `(name, count)` for every kind,
+    /// none for the dense engine.
+    pub fn events_named(&self) -> Vec<(String, u64)> {
+        self.events_by_kind.map_or_else(Vec::new, |c| c.named())
+    }
+
     /// The warning of a run with closings at tolerance-level speeds
     /// ([`RunOutcome::slow_closings`]), or `None` when there were none.
     pub fn slow_closings_note(&self) -> Option<String> {
-        let closings: u64 = self
-            .events_by_kind
-            .iter()
-            .filter(|(k, _)| k == "close" || k == "wall_close")
-            .map(|(_, c)| c)
-            .sum();
+        let closings = self.events_by_kind.map_or(0, |c| c.closings());
         (self.slow_closings > 0).then(|| {
             format!(
                 "{} of {} closings at relative speeds below {}x the absolute velocity tolerance \
@@ -375,42 +263,4 @@ fn finish(
             Stop::Frame { .. } | Stop::Event { .. } => {}
         }
     }
-}
-
-/// Checks a run configuration's tolerances and times (the engines call it; the CLI calls it
-/// before it creates any output file).
-pub fn check_config(scene: &Scene, cfg: &RunConfig) -> Result<(), EngineError> {
-    if cfg.engine == EngineKind::Dense && scene.chain.has_hard() {
-        return Err(EngineError::Config(
-            "the scene declares hard contacts or walls, which only the hybrid engine handles (use --engine hybrid)"
-                .into(),
-        ));
-    }
-    if cfg.method == Method::Verlet && scene.chain.is_dissipative() {
-        return Err(EngineError::Config(
-            "method verlet does not integrate velocity-dependent (damped) contacts; use auto, dop853 or radau5"
-                .into(),
-        ));
-    }
-    let bad = |what: &str, x: f64| EngineError::Config(format!("{what} = {x} must be in (0, 1)"));
-    if !(cfg.rtol > 0.0 && cfg.rtol < 1.0) {
-        return Err(bad("rtol", cfg.rtol));
-    }
-    if !(cfg.atol > 0.0 && cfg.atol < 1.0) {
-        return Err(bad("atol", cfg.atol));
-    }
-    if !(cfg.until > 0.0 && cfg.until.is_finite()) {
-        return Err(EngineError::Config(format!(
-            "until = {} must be positive and finite",
-            cfg.until
-        )));
-    }
-    if let Some(dt) = cfg.every {
-        if !(dt > 0.0 && dt.is_finite()) {
-            return Err(EngineError::Config(format!(
-                "every = {dt} must be positive and finite"
-            )));
-        }
-    }
-    Ok(())
 }

@@ -17,7 +17,7 @@
 //! loop {
 //!     match e.advance(cfg.until, &mut frames).unwrap() {
 //!         Stop::Frame { t } => assert_eq!(e.state().t, t), // the frame just handed over
-//!         Stop::Event { event, .. } => println!("{} at {}", event.kind.name(), event.t),
+//!         Stop::Event { event, .. } => println!("{} at {}", event.kind, event.t),
 //!         Stop::Reached { .. } | Stop::Requested { .. } => break,
 //!     }
 //! }
@@ -145,4 +145,23 @@ pub(crate) fn check_target(until: f64, end: f64) -> Result<(), EngineError> {
         )));
     }
     Ok(())
+}
+
+/// Checks the velocities given to [`Engine::set_velocities`]: one finite value per bead.
+pub(crate) fn check_velocities(n: usize, v: &[f64]) -> Result<(), EngineError> {
+    if v.len() != n || !v.iter().all(|x| x.is_finite()) {
+        return Err(EngineError::Config(format!(
+            "set_velocities: expected {n} finite velocities, got {} values",
+            v.len()
+        )));
+    }
+    Ok(())
+}
+
+/// The run's step budget (`max_steps`): an error once `steps` accepted steps reach it.
+pub(crate) fn check_budget(steps: u64, max_steps: Option<u64>) -> Result<(), EngineError> {
+    match max_steps {
+        Some(max) if steps >= max => Err(crate::integrate::IntegrationError::Budget(max).into()),
+        _ => Ok(()),
+    }
 }

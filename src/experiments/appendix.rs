@@ -207,7 +207,7 @@ pub fn perturbed_interface(
     };
     let mut plateau = PlateauWatch::new(k);
     {
-        let mut both = Both(&mut last, &mut plateau);
+        let mut both = engine::Observers(vec![&mut last, &mut plateau]);
         engine::run(&r.scene, &cfg, &mut both)?;
     }
     let (u, v) = (&r.window.last.1, &r.window.last.2);
@@ -223,16 +223,6 @@ pub fn perturbed_interface(
         energy_error: r.outcome.relative_energy_error(),
         seconds: t0.elapsed().as_secs_f64(),
     })
-}
-
-/// Two observers in one.
-struct Both<'a>(&'a mut dyn Observer, &'a mut dyn Observer);
-
-impl Observer for Both<'_> {
-    fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
-        self.0.frame(t, u, v)?;
-        self.1.frame(t, u, v)
-    }
 }
 
 /// The transmitted plateau of [`super::paper::Watch`]: widest run of beads `k..k+20` within

@@ -4,6 +4,7 @@
 
 use super::Num;
 use crate::model::Chain;
+use crate::names::Named;
 use crate::snapshot::{Frame, Snapshot, FORMAT_VERSION, WALL_NOT_RECORDED};
 use std::fmt::Write as _;
 

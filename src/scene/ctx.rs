@@ -70,22 +70,23 @@ impl Ctx<'_> {
     /// Reproducible random stream of one key.
     pub(crate) fn rng(&self, key: &str) -> ChaCha8Rng {
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
-        rng.set_stream(fnv1a(key));
+        rng.set_stream(fnv1a(key.as_bytes()));
         rng
     }
 }
 
-/// 64-bit FNV-1a hash (stable across platforms and Rust versions).
-fn fnv1a(s: &str) -> u64 {
+/// 64-bit FNV-1a hash (stable across platforms and Rust versions): random streams of scene
+/// keys, the sweep file's identity.
+pub(crate) fn fnv1a(bytes: &[u8]) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in s.bytes() {
+    for &b in bytes {
         h ^= u64::from(b);
         h = h.wrapping_mul(0x0000_0100_0000_01b3);
     }
     h
 }
 
-/// TOML type name for messages.
+/// The TOML type of a value, with its article, for messages (scene and sweep files).
 pub(crate) fn type_name(v: &Value) -> &'static str {
     match v {
         Value::String(_) => "a string",

@@ -200,6 +200,7 @@
 mod arrays;
 mod builder;
 mod ctx;
+pub(crate) use ctx::{fnv1a, type_name};
 mod damping;
 pub mod error;
 pub(crate) mod hard;
@@ -229,6 +230,7 @@ pub use validate::validate;
 
 use crate::integrate::Method;
 use crate::model::Chain;
+use crate::names::Named;
 use serde::{Deserialize, Serialize};
 
 /// Which engine runs a scene.
@@ -241,15 +243,23 @@ pub enum Engine {
     Hybrid,
 }
 
-impl Engine {
-    /// The name used on the command line and in files.
-    pub fn name(self) -> &'static str {
+impl Named for Engine {
+    const WHAT: &'static str = "engine";
+    const ALL: &'static [Self] = &[Engine::Hybrid, Engine::Dense];
+    fn name(self) -> &'static str {
         match self {
             Engine::Dense => "dense",
             Engine::Hybrid => "hybrid",
         }
     }
+    fn help(self) -> &'static str {
+        match self {
+            Engine::Dense => "Whole-chain integration, no events (the cross-check path)",
+            Engine::Hybrid => "Event-driven: free beads fly analytically, clusters are integrated",
+        }
+    }
 }
+crate::display_and_from_str!(Engine);
 
 /// Run settings of a scene (`[run]` table). `None` means "use the documented default".
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]

@@ -10,6 +10,7 @@ use super::values::Ctx;
 use super::{Engine, RunSettings};
 use crate::integrate::Method;
 use crate::model::HardContacts;
+use crate::names::Named;
 use std::path::Path;
 use toml::Table;
 
@@ -38,18 +39,8 @@ pub(super) fn run_settings(
     let until = time("until", "until_si")?
         .ok_or_else(|| ctx.err("[run].until", "missing (end time of the run)"))?;
     let every = time("every", "every_si")?;
-    let method = method(ctx, t.run)?;
-    let engine = match opt_str(ctx, t.run, "run", "engine")? {
-        None => None,
-        Some("dense") => Some(Engine::Dense),
-        Some("hybrid") => Some(Engine::Hybrid),
-        Some(s) => {
-            return Err(ctx.err(
-                "[run].engine",
-                format!("expected \"dense\" or \"hybrid\", got \"{s}\""),
-            ))
-        }
-    };
+    let method = named::<Method>(ctx, t.run, "method")?;
+    let engine = named::<Engine>(ctx, t.run, "engine")?;
     let hard = super::hard::parse_hard(ctx, root, nb - 1)?;
     let run = RunSettings {
         until,
@@ -63,19 +54,11 @@ pub(super) fn run_settings(
     Ok((run, hard))
 }
 
-/// `[run].method`.
-fn method(ctx: &Ctx, run_t: Option<&Table>) -> Result<Option<Method>, SceneError> {
-    match opt_str(ctx, run_t, "run", "method")? {
-        None => Ok(None),
-        Some("radau5") => Ok(Some(Method::Radau5)),
-        Some("dop853") => Ok(Some(Method::Dop853)),
-        Some("verlet") => Ok(Some(Method::Verlet)),
-        Some("auto") => Ok(Some(Method::Auto)),
-        Some(s) => Err(ctx.err(
-            "[run].method",
-            format!("expected \"auto\", \"radau5\", \"dop853\" or \"verlet\", got \"{s}\""),
-        )),
-    }
+/// `[run].KEY` naming a value of `T` (the method, the engine); `None` when absent.
+fn named<T: Named>(ctx: &Ctx, run_t: Option<&Table>, key: &str) -> Result<Option<T>, SceneError> {
+    opt_str(ctx, run_t, "run", key)?
+        .map(|s| T::parse(s).map_err(|e| ctx.err(&format!("[run].{key}"), e.to_string())))
+        .transpose()
 }
 
 /// `[scene].name` (default: the file stem of `origin`) and `[scene].description`.

@@ -22,6 +22,7 @@
 use super::settings::units_note;
 use super::Scene;
 use crate::model::Wall;
+use crate::names::Named;
 use std::fmt::Write as _;
 
 fn num(x: f64) -> String {

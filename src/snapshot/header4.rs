@@ -24,6 +24,7 @@ use super::select::{Fields, Selection};
 use super::Header;
 use crate::integrate::Method;
 use crate::model::{Chain, Damping, DampingLaw, HardContacts, Wall};
+use crate::names::Named;
 use crate::scene::{Engine, RunSettings, Scene, UnitScales};
 
 const METHODS: [Method; 4] = [Method::Auto, Method::Radau5, Method::Dop853, Method::Verlet];

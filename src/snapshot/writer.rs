@@ -299,6 +299,28 @@ impl SnapshotWriter {
     }
 }
 
+/// The snapshot-writing observer: frames, the dissipated energy and event blocks go to the
+/// file as the engine hands them over (checkpoints are a separate policy: the CLI's
+/// `SnapshotSink` wraps a writer and adds one).
+impl crate::engine::Observer for SnapshotWriter {
+    fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), crate::engine::EngineError> {
+        self.write_frame(t, u, v).map_err(observer_err)
+    }
+
+    fn dissipated(&mut self, _t: f64, energy: f64) -> Result<(), crate::engine::EngineError> {
+        self.set_dissipated(energy);
+        Ok(())
+    }
+
+    fn events(&mut self, events: &[EventRecord]) -> Result<(), crate::engine::EngineError> {
+        self.write_events(events).map_err(observer_err)
+    }
+}
+
+fn observer_err(e: SnapshotError) -> crate::engine::EngineError {
+    crate::engine::EngineError::Observer(e.to_string())
+}
+
 impl Drop for SnapshotWriter {
     fn drop(&mut self) {
         if !self.tmp.as_os_str().is_empty() {

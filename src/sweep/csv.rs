@@ -9,7 +9,6 @@
 
 use super::{SweepError, SweepSpec};
 use std::collections::BTreeMap;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// The first line of a result file (without newline).
@@ -58,41 +57,23 @@ pub fn field(s: &str) -> String {
     }
 }
 
-/// Splits one CSV line into fields (inverse of [`field`]).
+/// Splits one CSV line into fields (inverse of [`field`]), by the `csv` crate's RFC 4180
+/// reader, as [`crate::plot::csvtable`] reads tables. A quote left open is an error (the reader
+/// itself would take the rest of the line into the field).
 pub fn split_fields(line: &str) -> Result<Vec<String>, String> {
-    let mut out = Vec::new();
-    let mut cur = String::new();
-    let mut chars = line.chars().peekable();
-    let mut quoted = false;
-    let mut at_start = true;
-    while let Some(c) = chars.next() {
-        if quoted {
-            if c == '"' {
-                if chars.peek() == Some(&'"') {
-                    chars.next();
-                    cur.push('"');
-                } else {
-                    quoted = false;
-                }
-            } else {
-                cur.push(c);
-            }
-        } else if c == '"' && at_start {
-            quoted = true;
-            at_start = false;
-        } else if c == ',' {
-            out.push(std::mem::take(&mut cur));
-            at_start = true;
-        } else {
-            cur.push(c);
-            at_start = false;
-        }
-    }
-    if quoted {
+    if line.bytes().filter(|&b| b == b'"').count() % 2 == 1 {
         return Err("unterminated quoted field".into());
     }
-    out.push(cur);
-    Ok(out)
+    let mut reader = ::csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(line.as_bytes());
+    let mut record = ::csv::StringRecord::new();
+    match reader.read_record(&mut record) {
+        Ok(true) => Ok(record.iter().map(String::from).collect()),
+        Ok(false) => Ok(vec![String::new()]),
+        Err(e) => Err(e.to_string()),
+    }
 }
 
 /// The sidecar of a result file holding its spec line: `OUT.meta`.
@@ -245,26 +226,23 @@ pub fn render(spec_line: &str, columns: &str, rows: &BTreeMap<usize, String>) ->
     s
 }
 
-/// Writes `content` to `path` through a temporary sibling file and a rename (never a half-written
-/// file under `path`).
+/// Writes `content` to `path` atomically ([`crate::snapshot::write_atomically`]: a temporary
+/// sibling, fsynced and renamed; never a half-written file under `path`).
 pub fn write_atomic(path: &Path, content: &str) -> Result<(), SweepError> {
-    let mut name = path
-        .file_name()
-        .map(|s| s.to_os_string())
-        .unwrap_or_default();
-    name.push(format!(".tmp{}", std::process::id()));
-    let tmp: PathBuf = path.with_file_name(name);
-    let res = (|| -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(content.as_bytes())?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if let Err(e) = res {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(io_err(path, "cannot write", e));
-    }
-    Ok(())
+    crate::snapshot::write_atomically(path, |w| {
+        w.write_all(content.as_bytes())
+            .map_err(crate::snapshot::SnapshotError::Output)
+    })
+    .map_err(|e| SweepError::Io {
+        file: path.display().to_string(),
+        action: "cannot write".into(),
+        reason: match e {
+            crate::snapshot::SnapshotError::Io { action, source, .. } => {
+                format!("{action}: {source}")
+            }
+            other => other.to_string(),
+        },
+    })
 }
 
 /// What [`merge`] did.

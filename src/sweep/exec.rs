@@ -142,7 +142,7 @@ pub fn run_one(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<Str
             out.t_end = o.t_end;
             out.energy_error = o.relative_energy_error();
             out.steps = Some(o.stats.steps);
-            out.events = Some(o.events_by_kind.iter().map(|(_, c)| c).sum());
+            out.events = Some(o.events_total());
             (o.u, o.v)
         }
         Err(e) => return Err(e.to_string()),

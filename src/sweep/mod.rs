@@ -219,25 +219,4 @@ pub struct SweepSpec {
     pub max_output_bytes: u64,
 }
 
-/// 64-bit FNV-1a (stable across platforms and Rust versions).
-pub fn fnv1a(bytes: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in bytes {
-        h ^= u64::from(*b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h
-}
-
-/// The TOML type of a value, with its article, for messages.
-pub(crate) fn type_name(v: &Value) -> &'static str {
-    match v {
-        Value::String(_) => "a string",
-        Value::Integer(_) => "an integer",
-        Value::Float(_) => "a float",
-        Value::Boolean(_) => "a boolean",
-        Value::Datetime(_) => "a datetime",
-        Value::Array(_) => "an array",
-        Value::Table(_) => "a table",
-    }
-}
+pub(crate) use crate::scene::{fnv1a, type_name};

@@ -4,7 +4,7 @@
 
 use super::cluster::{Cluster, ClusterSys, PIN_MASS_FACTOR};
 use super::{prio, Hybrid, Key};
-use crate::engine::dense::make_integrator;
+use crate::integrate::new_integrator;
 
 impl Hybrid<'_> {
     /// Creates a cluster of beads `lo..hi` at time `t` from global states `u`, `v`. Its first
@@ -39,7 +39,7 @@ impl Hybrid<'_> {
             }
             None => (self.spare.pop())
                 .and_then(|mut i| i.renew(m, tol).then_some(i))
-                .unwrap_or_else(|| make_integrator(self.cfg, m, tol)),
+                .unwrap_or_else(|| new_integrator(self.cfg.method, self.cfg.solver, m, tol)),
         };
         let sys = ClusterSys {
             chain: self.fall.1.as_ref().unwrap_or(chain),

@@ -112,14 +112,7 @@ impl Hybrid<'_> {
 
     /// Appends an event to the buffer and counts it.
     pub(super) fn log(&mut self, t: f64, contact: usize, kind: EventKind, rel: f64, peak: f64) {
-        let k = match kind {
-            EventKind::Close => 0,
-            EventKind::Open => 1,
-            EventKind::HardCollision => 2,
-            EventKind::WallClose => 3,
-            EventKind::WallOpen => 4,
-        };
-        self.st.counts[k] += 1;
+        self.st.counts.add(kind);
         self.st.events.push(EventRecord {
             t,
             contact: contact as u64,

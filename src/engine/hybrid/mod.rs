@@ -63,6 +63,7 @@ pub use stepping::HybridEngine;
 
 use super::{EngineError, RunConfig};
 use crate::engine::checkpoint::HybridData;
+use crate::engine::events::EventCounts;
 use crate::integrate::{Stats, Tolerances};
 use crate::model::Chain;
 use crate::scene::Scene;
@@ -229,14 +230,7 @@ impl<'a> Hybrid<'a> {
         let chain = &scene.chain;
         let n = chain.len();
         let scales = chain.scales(&scene.u0, &scene.v0);
-        let tol = Tolerances {
-            rtol: cfg.rtol,
-            atol: cfg.atol,
-            scales,
-            v_frame: 0.0,
-            u_origin: 0.0,
-            dissipation: Default::default(),
-        };
+        let tol = cfg.tolerances(scales, Default::default());
         let g = match &chain.field {
             Some(w) => w.iter().zip(&chain.mass).map(|(w, m)| w / m).collect(),
             None => vec![0.0; n],
@@ -258,7 +252,7 @@ impl<'a> Hybrid<'a> {
                 peak: vec![0.0; n + 1],
                 stats: Stats::default(),
                 events: Vec::new(),
-                counts: [0; 5],
+                counts: EventCounts::default(),
                 largest: 0,
                 steps_total: 0,
                 late_merges: 0,

@@ -3,7 +3,7 @@
 use super::cluster::Cluster;
 use super::{prio, Hybrid, Key};
 use crate::engine::checkpoint::{ClusterState, HybridState, QueueEntry};
-use crate::engine::dense::make_integrator;
+use crate::integrate::new_integrator;
 use std::cmp::Reverse;
 
 impl Hybrid<'_> {
@@ -78,7 +78,7 @@ impl Hybrid<'_> {
                         })?;
                         self.exact_pair(law, false)
                     }
-                    _ => make_integrator(self.cfg, m, tol),
+                    _ => new_integrator(self.cfg.method, self.cfg.solver, m, tol),
                 };
                 integ
                     .load(&c.integ)

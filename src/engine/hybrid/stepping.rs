@@ -13,7 +13,9 @@
 
 use super::{cluster, prio, Hybrid, Key, FREE};
 use crate::engine::checkpoint::{EngineState, HybridState};
-use crate::engine::stepper::{check_target, outcome_at, Engine, PauseAt, State, Stop};
+use crate::engine::stepper::{
+    check_budget, check_target, check_velocities, outcome_at, Engine, PauseAt, State, Stop,
+};
 use crate::engine::{EngineError, Observer, RunConfig, RunOutcome};
 use crate::scene::Scene;
 use std::cmp::Reverse;
@@ -23,17 +25,12 @@ impl Hybrid<'_> {
     /// Counts an accepted cluster step against the run's step budget (`max_steps`).
     pub(super) fn count_step(&mut self) -> Result<(), EngineError> {
         self.st.steps_total += 1;
-        match self.cfg.max_steps {
-            Some(max) if self.st.steps_total >= max => {
-                Err(crate::integrate::IntegrationError::Budget(max).into())
-            }
-            _ => Ok(()),
-        }
+        check_budget(self.st.steps_total, self.cfg.max_steps)
     }
 
     /// Events logged so far (all kinds).
     fn logged(&self) -> u64 {
-        self.st.counts.iter().sum()
+        self.st.counts.total()
     }
 
     /// When paused at events: the next logged event not yet returned, as a stop.
@@ -209,13 +206,7 @@ impl Engine for HybridEngine<'_> {
     /// hard contacts and wall pins are detected again from there.
     fn set_velocities(&mut self, v: &[f64]) -> Result<(), EngineError> {
         let h = &mut self.h;
-        if v.len() != h.n || !v.iter().all(|x| x.is_finite()) {
-            return Err(EngineError::Config(format!(
-                "set_velocities: expected {} finite velocities, got {} values",
-                h.n,
-                v.len()
-            )));
-        }
+        check_velocities(h.n, v)?;
         let t = h.st.t;
         let u: Vec<f64> = (0..h.n).map(|i| h.pos(i, t).0).collect();
         for slot in 0..h.clusters.len() {
@@ -246,14 +237,9 @@ impl Engine for HybridEngine<'_> {
             stats.add(c.integ.stats());
             implicit_steps += c.integ.implicit_steps();
         }
-        let names = ["close", "open", "hard_collision", "wall_close", "wall_open"];
         RunOutcome {
             stats,
-            events_by_kind: names
-                .iter()
-                .zip(h.st.counts)
-                .map(|(n, c)| (n.to_string(), c))
-                .collect(),
+            events_by_kind: Some(h.st.counts),
             largest_cluster: h.st.largest,
             late_merges: h.st.late_merges,
             slow_closings: h.st.slow_closings,
