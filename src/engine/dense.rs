@@ -16,7 +16,7 @@
 
 use super::checkpoint::{DenseState, EngineState};
 use super::stepper::{
-    check_budget, check_target, check_velocities, outcome_at, Engine, PauseAt, State, Stop,
+    check_budget, check_velocities, drive, outcome_at, Drive, Engine, PauseAt, State, Stop,
 };
 use super::{EngineError, Observer, RunConfig, RunOutcome};
 use crate::integrate::{
@@ -159,11 +159,23 @@ impl<'a> DenseEngine<'a> {
         self.clock = tf;
         Some(Stop::Frame { t: tf })
     }
+
+    /// [`Stop::Reached`] once the integrator has passed `until` (the clock moves there).
+    fn reached(&mut self, until: f64) -> Option<Stop> {
+        if self.integ.t() < until {
+            return None;
+        }
+        self.clock = self.clock.max(until.min(self.integ.t()));
+        Some(Stop::Reached { t: self.clock })
+    }
 }
 
-impl Engine for DenseEngine<'_> {
-    fn advance(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Stop, EngineError> {
-        check_target(until, self.cfg.until)?;
+impl Drive for DenseEngine<'_> {
+    fn end(&self) -> f64 {
+        self.cfg.until
+    }
+
+    fn begin(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Option<Stop>, EngineError> {
         if let Some(clock) = self.paused_clock.take() {
             self.clock = clock;
         }
@@ -175,27 +187,35 @@ impl Engine for DenseEngine<'_> {
             obs.frame(0.0, &scene.u0, &scene.v0)?;
             self.fresh = false;
             if let Some(stop) = self.pause_at_frame(0.0) {
-                return Ok(stop);
+                return Ok(Some(stop));
             }
         }
         if let Some(stop) = self.frames(until, obs)? {
-            return Ok(stop);
+            return Ok(Some(stop));
         }
-        while self.integ.t() < until {
-            let stop = super::poll_stop(obs, self.integ.t(), || self.save())?;
-            if stop {
-                return Ok(Stop::Requested { t: self.clock });
-            }
-            let sys = ChainRange::whole(frame_chain(self.scene, &self.fall.1));
-            self.integ.step(&sys as &dyn System, self.cfg.until)?;
-            self.clock = self.integ.t().min(until);
-            check_budget(self.integ.stats().steps, self.cfg.max_steps)?;
-            if let Some(stop) = self.frames(until, obs)? {
-                return Ok(stop);
-            }
+        Ok(self.reached(until))
+    }
+
+    fn poll_time(&self) -> f64 {
+        self.integ.t()
+    }
+
+    /// One whole-chain step, then the frames it covers.
+    fn work(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Option<Stop>, EngineError> {
+        let sys = ChainRange::whole(frame_chain(self.scene, &self.fall.1));
+        self.integ.step(&sys as &dyn System, self.cfg.until)?;
+        self.clock = self.integ.t().min(until);
+        check_budget(self.integ.stats().steps, self.cfg.max_steps)?;
+        if let Some(stop) = self.frames(until, obs)? {
+            return Ok(Some(stop));
         }
-        self.clock = self.clock.max(until.min(self.integ.t()));
-        Ok(Stop::Reached { t: self.clock })
+        Ok(self.reached(until))
+    }
+}
+
+impl Engine for DenseEngine<'_> {
+    fn advance(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Stop, EngineError> {
+        drive(self, until, obs)
     }
 
     /// Frames only: the dense engine has no event log (module docs).

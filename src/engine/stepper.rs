@@ -165,3 +165,48 @@ pub(crate) fn check_budget(steps: u64, max_steps: Option<u64>) -> Result<(), Eng
         _ => Ok(()),
     }
 }
+
+/// What the one driver loop ([`drive`]) asks of an engine: an engine does its own work (a
+/// whole-chain step, or one entry of the hybrid event queue) and says when it must stop; the
+/// driver owns the order in which events, the observer's control and work come, so pausing,
+/// checkpoints and stops behave the same in every engine (argmin's executor).
+pub(crate) trait Drive: Engine {
+    /// The run's end time (`cfg.until`): no advance goes past it.
+    fn end(&self) -> f64;
+    /// What an advance does before its loop (the dense engine: the frame at `t = 0` and the
+    /// frames already due); `Some(stop)` ends the advance there.
+    fn begin(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Option<Stop>, EngineError>;
+    /// When paused at events: a logged event not yet returned.
+    fn pending_event(&mut self) -> Option<Stop> {
+        None
+    }
+    /// The time the observer's [`Observer::control`] is asked at (the integrator's time).
+    fn poll_time(&self) -> f64;
+    /// One unit of work toward `until`; `Some(stop)` ends the advance (a paused frame, the
+    /// target reached).
+    fn work(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Option<Stop>, EngineError>;
+}
+
+/// The run loop, written once for every engine: check the target, begin, then repeat: return a
+/// pending event, ask the observer (checkpoint, stop), work.
+pub(crate) fn drive<E: Drive>(
+    e: &mut E,
+    until: f64,
+    obs: &mut dyn Observer,
+) -> Result<Stop, EngineError> {
+    check_target(until, e.end())?;
+    if let Some(stop) = e.begin(until, obs)? {
+        return Ok(stop);
+    }
+    loop {
+        if let Some(stop) = e.pending_event() {
+            return Ok(stop);
+        }
+        if super::poll_stop(obs, e.poll_time(), || e.save())? {
+            return Ok(Stop::Requested { t: e.time() });
+        }
+        if let Some(stop) = e.work(until, obs)? {
+            return Ok(stop);
+        }
+    }
+}

@@ -3,8 +3,9 @@
 //! continuous output), a velocity change that restarts the event structure from the current
 //! state, and the run's outcome.
 //!
-//! **Pauses** ([`PauseAt`]). The loop is: return the next event not yet returned (when paused
-//! at events), ask the observer ([`crate::engine::Observer::control`]), hand over a full event
+//! **Pauses** ([`PauseAt`]). The loop (the one driver, [`crate::engine::stepper::drive`]) is:
+//! return the next event not yet returned (when paused at events), ask the observer
+//! ([`crate::engine::Observer::control`]), then this engine's work: hand over a full event
 //! block, pop and process one queue entry. A [`Stop::Frame`] returns at the end of the
 //! iteration that emitted the frame, a [`Stop::Event`] at the start of the next one, so the
 //! next advance continues with exactly the calls an uninterrupted loop makes: pausing changes
@@ -14,7 +15,7 @@
 use super::{cluster, prio, Hybrid, Key, FREE};
 use crate::engine::checkpoint::{EngineState, HybridState};
 use crate::engine::stepper::{
-    check_budget, check_target, check_velocities, outcome_at, Engine, PauseAt, State, Stop,
+    check_budget, check_velocities, drive, outcome_at, Drive, Engine, PauseAt, State, Stop,
 };
 use crate::engine::{EngineError, Observer, RunConfig, RunOutcome};
 use crate::scene::Scene;
@@ -48,71 +49,65 @@ impl Hybrid<'_> {
         })
     }
 
-    /// Processes the queue up to `until` (entries at `until` included); the clock ends at
-    /// `until`. Stops early when the observer asks, and where [`Hybrid::pause`] says.
-    fn advance_to(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Stop, EngineError> {
-        loop {
-            if let Some(stop) = self.next_event_stop() {
-                return Ok(stop);
-            }
-            let stop = crate::engine::poll_stop(obs, self.st.t, || {
-                EngineState::Hybrid(Box::new(self.save()))
-            })?;
-            if stop {
-                return Ok(Stop::Requested { t: self.st.t });
-            }
-            if self.st.events.len() >= crate::engine::EVENT_BLOCK {
-                self.flush_events(obs)?;
-            }
-            match self.queue.peek() {
-                None => break,
-                Some((_, Reverse((t, _, _, _)))) if t.0 > until => {
-                    self.st.t = self.st.t.max(until);
-                    return Ok(Stop::Reached { t: until });
-                }
-                Some(_) => {}
-            }
-            let Some((key, Reverse((t, _, _, _)))) = self.queue.pop() else {
-                break;
-            };
-            let t = t.0;
-            self.st.t = t;
-            match key {
-                Key::Frame => {
-                    if let Some(stop) = self.emit_frame(t, obs)? {
-                        return Ok(stop);
-                    }
-                }
-                Key::Cluster(slot) => {
-                    let pending = self.clusters[slot as usize]
-                        .as_mut()
-                        .and_then(|c| c.pending.take());
-                    match pending {
-                        Some(cluster::Pending::Close { contact, t, ver }) => {
-                            self.process_close(slot, contact, t, ver)?
-                        }
-                        Some(cluster::Pending::Split) => self.process_split(slot),
-                        Some(cluster::Pending::HardWall { side, t }) => {
-                            self.process_hard_wall(side, t)?
-                        }
-                        Some(cluster::Pending::Open { t }) => self.open_at(slot, t)?,
-                        None => self.step_cluster(slot)?,
-                    }
-                }
-                Key::FreeFree(c) => self.process_free_close(c as usize, t)?,
-                Key::WallLog(side) => self.process_wall_log(side, t),
-                Key::Wall(side) => {
-                    if self.hard_wall(side).is_some() {
-                        self.process_hard_wall(side, t)?
-                    } else {
-                        self.process_wall_close(side, t)
-                    }
+    /// Processes one queue entry (entries at `until` included), after handing over a full
+    /// event block; [`Stop::Reached`] when the next entry is past `until` (the clock moves
+    /// there), a stop when the entry emitted a frame that pauses or ends the run.
+    fn process_next(
+        &mut self,
+        until: f64,
+        obs: &mut dyn Observer,
+    ) -> Result<Option<Stop>, EngineError> {
+        if self.st.events.len() >= crate::engine::EVENT_BLOCK {
+            self.flush_events(obs)?;
+        }
+        let Some((_, Reverse((t, _, _, _)))) = self.queue.peek() else {
+            return Err(EngineError::Config(
+                "event queue ran empty before the end time".into(),
+            ));
+        };
+        if t.0 > until {
+            self.st.t = self.st.t.max(until);
+            return Ok(Some(Stop::Reached { t: until }));
+        }
+        let Some((key, Reverse((t, _, _, _)))) = self.queue.pop() else {
+            unreachable!("peeked above");
+        };
+        let t = t.0;
+        self.st.t = t;
+        match key {
+            Key::Frame => return self.emit_frame(t, obs),
+            Key::Cluster(slot) => self.process_cluster_entry(slot)?,
+            Key::FreeFree(c) => self.process_free_close(c as usize, t)?,
+            Key::WallLog(side) => self.process_wall_log(side, t),
+            Key::Wall(side) => {
+                if self.hard_wall(side).is_some() {
+                    self.process_hard_wall(side, t)?
+                } else {
+                    self.process_wall_close(side, t)
                 }
             }
         }
-        Err(EngineError::Config(
-            "event queue ran empty before the end time".into(),
-        ))
+        Ok(None)
+    }
+
+    /// A cluster's queue entry: its pending event (a closing, split, hard-wall contact or
+    /// opening it landed on), else its next step.
+    fn process_cluster_entry(&mut self, slot: u32) -> Result<(), EngineError> {
+        let pending = self.clusters[slot as usize]
+            .as_mut()
+            .and_then(|c| c.pending.take());
+        match pending {
+            Some(cluster::Pending::Close { contact, t, ver }) => {
+                self.process_close(slot, contact, t, ver)
+            }
+            Some(cluster::Pending::Split) => {
+                self.process_split(slot);
+                Ok(())
+            }
+            Some(cluster::Pending::HardWall { side, t }) => self.process_hard_wall(side, t),
+            Some(cluster::Pending::Open { t }) => self.open_at(slot, t),
+            None => self.step_cluster(slot),
+        }
     }
 
     /// Hands the frame at `t` (and the events before it, and `E_d` when the scene loses energy)
@@ -173,13 +168,32 @@ impl<'a> HybridEngine<'a> {
     }
 }
 
+impl Drive for HybridEngine<'_> {
+    fn end(&self) -> f64 {
+        self.h.cfg.until
+    }
+
+    fn begin(&mut self, until: f64, _obs: &mut dyn Observer) -> Result<Option<Stop>, EngineError> {
+        let h = &self.h;
+        Ok((h.finished || until < h.st.t).then_some(Stop::Reached { t: h.st.t }))
+    }
+
+    fn pending_event(&mut self) -> Option<Stop> {
+        self.h.next_event_stop()
+    }
+
+    fn poll_time(&self) -> f64 {
+        self.h.st.t
+    }
+
+    fn work(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Option<Stop>, EngineError> {
+        self.h.process_next(until, obs)
+    }
+}
+
 impl Engine for HybridEngine<'_> {
     fn advance(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Stop, EngineError> {
-        check_target(until, self.h.cfg.until)?;
-        if self.h.finished || until < self.h.st.t {
-            return Ok(Stop::Reached { t: self.h.st.t });
-        }
-        self.h.advance_to(until, obs)
+        drive(self, until, obs)
     }
 
     fn pause_at(&mut self, pause: PauseAt) {
