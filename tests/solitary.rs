@@ -203,3 +203,62 @@ fn equal_waves_meeting_head_on_stay_symmetric() {
         "asymmetry u {du:e}, v {dv:e}"
     );
 }
+
+/// The scene's error for `[chain]`/`[initial]` lines `body`.
+fn scene_error(body: &str) -> String {
+    let text = format!("{body}\n[run]\nuntil = 1.0\n");
+    match parse_str(&text, Path::new("."), "bad.toml") {
+        Ok(_) => panic!("accepted: {body}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// Refusals name the file, the key and the bead or contact; each is one line.
+#[test]
+fn unsupported_chains_are_refused_with_the_bead() {
+    let cases = [
+        ("[chain]\nbeads = 100\nexponent = 2.0\n[initial]\nsolitary = { at = 50, velocity = 1.0 }", "contact 50 has exponent n = 2: solitary waves need n > 2"),
+        ("[chain]\nbeads = 100\nexponent = { base = 2.5, segments = [{ from = 55, value = 3.0 }] }\n[initial]\nsolitary = { at = 50, velocity = 1.0 }", "contact 55 (beads 55-56) has exponent 3"),
+        ("[chain]\nbeads = 100\nmass = { base = 1.0, segments = [{ from = 45, value = 2.0 }] }\n[initial]\nsolitary = { at = 50, velocity = 1.0 }", "bead 44 has mass 1 (bead 50 has 2)"),
+        ("[chain]\nbeads = 100\nprecompression = 0.01\n[initial]\nsolitary = { at = 50, velocity = 1.0 }", "precompression 0.01: only the sonic vacuum"),
+        ("[chain]\nbeads = 100\n[field]\ngravity = 1.0\n[initial]\nsolitary = { at = 50, velocity = 1.0 }", "external force -1"),
+        ("[chain]\nbeads = 100\n[initial]\nsolitary = { at = 3, velocity = 1.0 }", "[initial].solitary.at: the wave needs beads -5..=11"),
+        ("[chain]\nbeads = 100\n[initial]\nsolitary = { at = 100, velocity = 1.0 }", "bead 100 is outside the chain"),
+        ("[chain]\nbeads = 100\n[initial]\nsolitary = [{ at = 30, velocity = 1.0 }, { at = 40, velocity = 1.0 }]", "[initial].solitary[1]: its support (beads 32..=48) overlaps the wave of [initial].solitary[0]"),
+        ("[chain]\nbeads = 100\n[initial]\nsolitary = { at = 50, velocity_si = 1.0 }", "velocity_si"),
+        ("[chain]\nbeads = 100\n[initial]\nsolitary = { at = 50, velocity = 1.0, energy = 1.0 }", "give only one of velocity, energy"),
+        ("[chain]\nbeads = 100\n[initial]\nsolitary = { at = 50 }", "missing: give the peak velocity"),
+        ("[chain]\nbeads = 100\n[initial]\nsolitary = { at = 50, velocity = -1.0 }", "peak velocity must be > 0"),
+        ("[chain]\nbeads = 100\n[initial]\nsolitary = { at = 50, velocity = 1.0, direction = \"up\" }", "expected \"right\" or \"left\""),
+        ("[chain]\nbeads = 100\n[initial]\nsolitary = 1.0", "expected a table"),
+    ];
+    for (body, want) in cases {
+        let e = scene_error(body);
+        assert!(e.starts_with("bad.toml: [initial].solitary"), "{e}");
+        assert!(e.contains(want), "expected {want:?} in: {e}");
+        assert!(!e.contains('\n'), "one line: {e}");
+    }
+}
+
+/// `energy = E` places the wave of energy E (relative 1e-12), `direction = "left"` mirrors it,
+/// and a physical scene's `velocity_si` is converted with the scene's time scale (relative 1e-12).
+#[test]
+fn energy_direction_and_si_keys() {
+    let s = scene(60, 3.0, "{ at = 30, energy = 2.5, direction = \"left\" }");
+    let e = s.chain.energy(&s.u0, &s.v0);
+    assert!((e / 2.5 - 1.0).abs() < 1e-12, "energy {e}");
+    let peak = s.v0.iter().cloned().fold(f64::MAX, f64::min);
+    assert_eq!(
+        s.v0[30], peak,
+        "left-moving: bead 30 has the most negative velocity"
+    );
+    let text = "[units]\nsystem = \"physical\"\nradius = 4.0e-3\nyoung = 2.26e11\npoisson = 0.3\ndensity = 7650.0\n\
+                [chain]\nbeads = 60\nexponent = 3.0\n[initial]\nsolitary = { at = 30, velocity_si = 0.11 }\n[run]\nuntil = 1.0\n";
+    let p = parse_str(text, Path::new("."), "si.toml").unwrap();
+    let want = p.units.unwrap().velocity(0.11);
+    assert!(
+        (p.v0[30] / want - 1.0).abs() < 1e-12,
+        "{} vs {want}",
+        p.v0[30]
+    );
+}

@@ -133,6 +133,14 @@ fn same(x: f64, y: f64) -> bool {
     (x - y).abs() <= 1e-12 * x.abs().max(y.abs())
 }
 
+/// The indices of `range` ordered by distance from `centre` (nearest first), so the first
+/// mismatch found is where the chain changes.
+fn outward(range: std::ops::RangeInclusive<usize>, centre: usize) -> Vec<usize> {
+    let mut v: Vec<usize> = range.collect();
+    v.sort_by_key(|i| (i.abs_diff(centre), *i));
+    v
+}
+
 /// Refuses a chain that is not uniform (or precompressed, in a field, hard) over the support.
 fn check_uniform(ctx: &Ctx, spec: &Spec, p: &Placement, scene: &Scene) -> Result<(), SceneError> {
     let ch = &scene.chain;
@@ -143,7 +151,7 @@ fn check_uniform(ctx: &Ctx, spec: &Spec, p: &Placement, scene: &Scene) -> Result
         p.beads().start(),
         p.beads().end()
     );
-    for b in p.beads() {
+    for b in outward(p.beads(), spec.at) {
         if !same(ch.mass[b], ch.mass[spec.at]) {
             return Err(ctx.err(
                 &key,
@@ -160,7 +168,7 @@ fn check_uniform(ctx: &Ctx, spec: &Spec, p: &Placement, scene: &Scene) -> Result
             ));
         }
     }
-    for c in p.contacts() {
+    for c in outward(p.contacts(), spec.at) {
         for (what, arr) in [("exponent", &ch.exponent), ("prefactor", &ch.prefactor)] {
             if !same(arr[c], arr[c0]) {
                 return Err(ctx.err(
