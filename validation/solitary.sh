@@ -8,6 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 out=validation/out_solitary.txt
 cargo test --release --test solitary --no-run -q
-cargo test --release --test solitary -q -- --include-ignored --nocapture --test-threads 1 2>&1 \
+cargo test --release --test solitary -- --include-ignored --nocapture --test-threads 1 2>&1 \
+  | sed -E "s/^test [a-z_0-9]+ \.\.\. //" \
   | grep -E '^(n |  |head-on|hybrid|test result)' | tee "$out"
 echo "wrote $out"
