@@ -35,10 +35,18 @@ use fft::fft;
 use num_complex::Complex64;
 use std::f64::consts::PI;
 
-/// Grid points per bead spacing (even: half-integer offsets are grid points). Profiles with 16
-/// and 32 points agree to round-off (unit test `grid_converged`); the round-off of the spectral
-/// second derivative in [`UnitProfile::advance_delay_residual`] grows as `M²`.
+/// Grid points per bead spacing to start with (even: half-integer offsets are grid points); it
+/// doubles while the grid does not resolve `S^p` ([`RESOLVED`]): 32 for n = 2.1 … 3, 64 at
+/// n = 8, 256 at n = 20. The round-off of the spectral second derivative in
+/// [`UnitProfile::advance_delay_residual`] grows as `M²`.
 pub const PER_BEAD: usize = 32;
+/// Finest grid tried (steep profiles, large `n`: `S^p` is sharply peaked).
+const MAX_PER_BEAD: usize = 256;
+/// Largest grid (points) tried when the period doubles (`n` near 2: wide profiles).
+const MAX_GRID: usize = 1 << 17;
+/// The grid resolves `S^p` when its spectrum over the upper half of the wavenumbers stays below
+/// this fraction of its mean (no aliasing above round-off).
+const RESOLVED: f64 = 1e-15;
 /// A bead or contact belongs to the wave's support where its velocity or overlap exceeds this
 /// fraction of the peak (below it, the FFT's round-off floor).
 pub const SUPPORT_THRESHOLD: f64 = 1e-15;
@@ -62,27 +70,40 @@ pub struct UnitProfile {
     pub iterations: usize,
     /// `max |S − K ∗ S^p| / max S` at the end.
     pub residual: f64,
+    /// Largest `|FFT(S^p)|` over the upper half of the wavenumbers, relative to its mean: the
+    /// grid's resolution of the profile (refined while above [`RESOLVED`]).
+    pub tail: f64,
     /// Half-width in bead spacings beyond which `S` and `W` are below [`SUPPORT_THRESHOLD`] of
     /// their peaks.
     pub support: usize,
 }
 
 impl UnitProfile {
-    /// Solves `S = K ∗ S^p` to round-off; the period doubles until the support fits in a quarter
-    /// of it. Fails for `n ≤ 2` (no solitary wave: linear or sublinear force).
+    /// Solves `S = K ∗ S^p` to round-off; the grid refines until it resolves `S^p`, the period
+    /// doubles until the support fits in a quarter of it. Fails for `n ≤ 2` (no solitary wave:
+    /// linear or sublinear force) and where that does not converge to round-off.
     pub fn compute(n: f64) -> Result<Self, String> {
         if !(n.is_finite() && n > 2.0) {
             return Err(format!(
                 "solitary waves need a contact exponent n > 2 (got n = {n})"
             ));
         }
-        let mut period = 32;
+        let (mut period, mut per_bead) = (32, PER_BEAD);
         loop {
-            let p = solve(n, period, PER_BEAD);
-            if 4 * p.support <= period || period >= 4096 {
+            let p = solve(n, period, per_bead);
+            if p.tail > RESOLVED && per_bead < MAX_PER_BEAD {
+                per_bead *= 2;
+            } else if 4 * p.support > period && period * per_bead < MAX_GRID {
+                period *= 2;
+            } else if p.residual > 1e-13 || p.tail > RESOLVED || 4 * p.support > period {
+                return Err(format!(
+                    "the solitary-wave profile for n = {n} did not converge (residual {:.1e}, \
+                     spectral tail {:.1e}, support ±{} of period {})",
+                    p.residual, p.tail, p.support, p.period
+                ));
+            } else {
                 return Ok(p);
             }
-            period *= 2;
         }
     }
 
@@ -254,6 +275,7 @@ pub(crate) fn solve(n: f64, period: usize, per_bead: usize) -> UnitProfile {
         .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()))
         / s[0];
     let w = velocity_profile(&s, p, period, &mut z);
+    let tail = spectral_tail(&s, p);
     let support = support(&s, &w, per_bead);
     UnitProfile {
         exponent: n,
@@ -264,8 +286,20 @@ pub(crate) fn solve(n: f64, period: usize, per_bead: usize) -> UnitProfile {
         w,
         iterations,
         residual,
+        tail,
         support,
     }
+}
+
+/// `max_{|j| ≥ N/4} |ĝ_j| / |ĝ_0|` for `g = S^p`.
+fn spectral_tail(s: &[f64], p: f64) -> f64 {
+    let g: Vec<f64> = s.iter().map(|x| x.max(0.0).powf(p)).collect();
+    let z = spectrum(&g);
+    let nn = z.len();
+    z[nn / 4..=3 * nn / 4]
+        .iter()
+        .fold(0.0_f64, |m, c| m.max(c.norm()))
+        / z[0].norm()
 }
 
 /// `K ∗ S^p` on the grid (`z`: scratch).
