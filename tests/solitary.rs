@@ -171,9 +171,10 @@ fn kinetic_fraction_follows_the_virial_theorem() {
             .iter()
             .fold((f64::MAX, 0.0_f64), |(a, b), x| (a.min(*x), b.max(*x)));
         eprintln!(
-            "n {n}: <K>/E = {:.12} vs n/(n+2) = {:.12} (K(t)/E in [{:.9}, {:.9}])",
+            "n {n}: <K>/E = {:.12} vs n/(n+2) = {:.12}, difference {:.1e} (K(t)/E in [{:.9}, {:.9}])",
             mean / e,
             w.kinetic_fraction(),
+            (mean / e - w.kinetic_fraction()).abs(),
             kmin / e,
             kmax / e
         );
