@@ -45,7 +45,7 @@ const MAX_PER_BEAD: usize = 256;
 /// Largest grid (points) tried when the period doubles (`n` near 2: wide profiles).
 const MAX_GRID: usize = 1 << 17;
 /// The grid resolves `S^p` when its spectrum over the upper half of the wavenumbers stays below
-/// this fraction of its mean (no aliasing above round-off).
+/// this fraction of its zero mode (no aliasing above round-off).
 const RESOLVED: f64 = 1e-15;
 /// A bead or contact belongs to the wave's support where its velocity or overlap exceeds this
 /// fraction of the peak (below it, the FFT's round-off floor).
@@ -70,8 +70,8 @@ pub struct UnitProfile {
     pub iterations: usize,
     /// `max |S − K ∗ S^p| / max S` at the end.
     pub residual: f64,
-    /// Largest `|FFT(S^p)|` over the upper half of the wavenumbers, relative to its mean: the
-    /// grid's resolution of the profile (refined while above [`RESOLVED`]).
+    /// Largest `|FFT(S^p)|` over the upper half of the wavenumbers, relative to its zero mode:
+    /// the grid's resolution of the profile (refined while above [`RESOLVED`]).
     pub tail: f64,
     /// Half-width in bead spacings beyond which `S` and `W` are below [`SUPPORT_THRESHOLD`] of
     /// their peaks.
@@ -111,11 +111,11 @@ impl UnitProfile {
         self.s.len()
     }
 
-    /// Grid index of `ξ` when `ξ·M` is an integer (within 1e-9), else `None`.
+    /// Grid index of `ξ` when `ξ·M` is an integer (within 1e-12), else `None`.
     fn index(&self, xi: f64) -> Option<usize> {
         let x = xi * self.per_bead as f64;
         let r = x.round();
-        ((x - r).abs() < 1e-9 && r.abs() < (self.n_grid() / 2) as f64)
+        ((x - r).abs() < 1e-12 && r.abs() < (self.n_grid() / 2) as f64)
             .then(|| (r as i64).rem_euclid(self.n_grid() as i64) as usize)
     }
 
