@@ -10,5 +10,5 @@ out=validation/out_solitary.txt
 cargo test --release --test solitary --no-run -q
 cargo test --release --test solitary -- --include-ignored --nocapture --test-threads 1 2>&1 \
   | sed -E "s/^test [a-z_0-9]+ \.\.\. //" \
-  | grep -E '^(n |  |head-on|hybrid|test result)' | tee "$out"
+  | grep -E '^(n |  |head-on|hybrid|behind|test result)' | tee "$out"
 echo "wrote $out"
