@@ -40,5 +40,6 @@ pub mod prelude;
 pub mod progress;
 pub mod scene;
 pub mod snapshot;
+pub mod studies;
 pub mod suggest;
 pub mod sweep;

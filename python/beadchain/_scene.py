@@ -16,7 +16,7 @@ _KEYS = {
     "chain": ("beads", "mass", "exponent", "prefactor", "precompression", "radius", "law",
               "damping", "damping_si", "restitution", "impact_speed", "impact_speed_si"),
     "initial": ("velocity", "displacement", "striker", "striker_right", "pulse", "velocity_si",
-                "striker_si", "striker_right_si"),
+                "striker_si", "striker_right_si", "solitary"),
     "field": ("force", "gravity", "force_si", "gravity_si"),
     "run": ("until", "every", "until_si", "every_si", "rtol", "atol", "method", "engine"),
 }
@@ -228,7 +228,8 @@ class Scene:
 
     Keywords are the scene file's keys (docs/scenes.md): ``name``, ``description``, ``seed``;
     ``beads``, ``mass``, ``exponent``, ``prefactor``, ``precompression``, ``radius``, ``law``,
-    ``damping``...; ``velocity``, ``displacement``, ``striker``, ``striker_right``, ``pulse``;
+    ``damping``...; ``velocity``, ``displacement``, ``striker``, ``striker_right``, ``pulse``,
+    ``solitary`` (a dict ``{"at": K, "velocity": v_m}`` or a list of them, docs/studies.md);
     ``force``, ``gravity``; ``until``, ``every``, ``rtol``, ``atol``, ``method``, ``engine`` (and
     their ``*_si`` twins); whole tables as dicts: ``walls``, ``units``, ``hard``, ``output``.
     Values are numbers, arrays (one per bead or per contact) or builder dicts. They are written

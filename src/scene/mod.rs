@@ -31,6 +31,7 @@
 //! pulse = { beads = 5, velocity = 1.0 }   # beads 0..l-1 get velocity v (rectangular pulse)
 //! striker = 1.0            # sets bead 0's velocity to +v
 //! striker_right = 1.0      # sets bead N-1's velocity to -v (strikers from both ends)
+//! solitary = { at = 50, velocity = 1.0 }  # exact solitary wave centred at bead 50 (docs/studies.md)
 //!
 //! [field]                  # constant external force W_i; absent (or all zeros) = no field code path
 //! force = 0.0              # per bead W_i; positive = towards increasing u (default 0)
@@ -50,7 +51,7 @@
 //! ```
 //!
 //! Initial velocities are applied in the order `velocity`, `pulse`, `striker`, `striker_right` (later
-//! ones overwrite). Wall defaults: `exponent` and `prefactor` of the adjacent end contact
+//! ones overwrite); the `solitary` waves (docs/studies.md) are added last. Wall defaults: `exponent` and `prefactor` of the adjacent end contact
 //! (physical scenes: the Hertz sphere–flat prefactor, see below), `precompression = 0`
 //! (overlap `Δ_L − u_0` on the left, `Δ_R + u_{N−1}` on the right; negative = initial gap).
 //!
@@ -180,6 +181,7 @@
 //! | `striker` | Uniform chain of 100 beads, n = 2.5, struck at bead 0 with v = 1 (paper eq. 8; the set-up of every figure) |
 //! | `interface_3.0_3.5` | Exponent interface n1 = 3.0 -> n2 = 3.5 at bead 50 (contacts 50.. use n2), 150 Table-1 steel beads, striker 0.11 m/s (paper Figs. 4-5, labels fig3 and fig4) |
 //! | `interface_3.0_2.5` | Exponent interface n1 = 3.0 -> n2 = 2.5 at bead 50, 150 Table-1 steel beads, striker 0.11 m/s: reflection and a multipulse train (paper Fig. 6, label fig:large_small) |
+//! | `solitary_interface_3.0_2.5` | The exact n = 3.0 solitary wave (peak 0.0874 m/s, the energy of a 0.11 m/s striker) launched at bead 20 into the 3.0 -> 2.5 interface at bead 50, 150 Table-1 steel beads: reflection and multipulse train without a striker's transient (paper Fig. 6 set-up) |
 //! | `interface_3.5_3.0_perturbed` | Interface n1 = 3.5 -> n2 = 3.0 at bead 50 with Gaussian exponent noise sigma/dn = 0.05, n > 2 enforced, Table-1 steel beads (paper eq. B.1, Fig. 28) |
 //! | `periodic_2.5_3.0` | Periodic exponents n_a = 2.5, n_b = 3.0 (contact 0 has n_a), Table-1 steel beads: pairwise collective motion (paper Fig. 10) |
 //! | `periodic_decay_2.5_2.555` | Periodic exponents n_a = 2.5, n_b = 2.555, Table-1 steel beads: exponential decay of the leading wave (paper Fig. 11) |
@@ -215,6 +217,7 @@ pub mod presets;
 pub mod selection;
 mod settings;
 pub mod show;
+mod solitary;
 mod tables;
 pub mod units;
 pub mod validate;

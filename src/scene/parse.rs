@@ -140,6 +140,7 @@ fn build(
         seed,
         units: scales,
     };
+    super::solitary::apply(ctx, &t, physical, scales, &mut scene)?;
     super::hard::default_collapse_interval(&mut scene);
     Ok((scene, material))
 }

@@ -35,6 +35,11 @@ static PRESETS: &[PresetInfo] = &[
         toml: include_str!("../../data/scenes/interface_3.0_2.5.toml"),
     },
     PresetInfo {
+        name: "solitary_interface_3.0_2.5",
+        description: "The exact n = 3.0 solitary wave (peak 0.0874 m/s, the energy of a 0.11 m/s striker) launched at bead 20 into the 3.0 -> 2.5 interface at bead 50, 150 Table-1 steel beads: reflection and multipulse train without a striker's transient (paper Fig. 6 set-up)",
+        toml: include_str!("../../data/scenes/solitary_interface_3.0_2.5.toml"),
+    },
+    PresetInfo {
         name: "interface_3.5_3.0_perturbed",
         description: "Interface n1 = 3.5 -> n2 = 3.0 at bead 50 with Gaussian exponent noise sigma/dn = 0.05, n > 2 enforced, Table-1 steel beads (paper eq. B.1, Fig. 28)",
         toml: include_str!("../../data/scenes/interface_3.5_3.0_perturbed.toml"),

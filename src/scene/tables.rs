@@ -97,6 +97,7 @@ pub(super) fn read_tables<'a>(
             "velocity_si",
             "striker_si",
             "striker_right_si",
+            "solitary",
         ],
     )?;
     let run = table(
