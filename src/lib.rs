@@ -23,5 +23,6 @@ pub mod plot;
 pub mod progress;
 pub mod scene;
 pub mod snapshot;
+pub mod studies;
 pub mod suggest;
 pub mod sweep;

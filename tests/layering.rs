@@ -26,6 +26,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("files", 0),       // file-safety helpers (atomic outputs, temporaries, limited reads)
     ("linalg", 1),      // tridiagonal/banded solvers
     ("integrate", 2),   // Radau IIA, DOP853, Verlet, auto
+    ("studies", 2),     // linear modes, band structures, static equilibrium (scene builds states)
     ("scene", 3),       // TOML scenes → Scene (model + run settings)
     ("engine", 4),      // dense and hybrid engines, observers
     ("suggest", 4),     // "did you mean": nearest preset names (reads scene's preset list)
