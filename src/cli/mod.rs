@@ -8,6 +8,7 @@ mod analyze_gas;
 mod check;
 mod ckpt;
 mod common;
+mod dispersion;
 mod export;
 mod files;
 mod fragments;

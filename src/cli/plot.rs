@@ -100,6 +100,8 @@ enum PlotKind {
     /// Animated GIF of velocity (or displacement, kinetic energy) against bead index, one frame
     /// per snapshot frame, fixed y limits over the whole run.
     Animate(AnimateArgs),
+    /// Band structure omega(q) of a periodic chain's unit cell (Bloch problem), with its gaps.
+    Dispersion(super::dispersion::DispersionArgs),
     /// 2-D parameter map (heatmap) of a CSV with a header row, optional level contour.
     Map {
         /// CSV file (e.g. from `beadchain sweep` or validation).
@@ -222,7 +224,7 @@ impl UnitsArg {
 
 /// Output options shared by every plot.
 #[derive(clap::Args, Debug)]
-struct Out {
+pub(super) struct Out {
     /// Output: X.png, X.svg, or a base name without extension for both
     /// [default: <input stem>_<plot> (both formats) in the current directory].
     #[arg(long)]
@@ -255,17 +257,17 @@ fn size_of(width: u32, height: u32) -> Result<(u32, u32)> {
 }
 
 impl Out {
-    fn size(&self) -> Result<(u32, u32)> {
+    pub(super) fn size(&self) -> Result<(u32, u32)> {
         size_of(self.width, self.height)
     }
-    fn labels(&self) -> Labels {
+    pub(super) fn labels(&self) -> Labels {
         Labels {
             title: self.title.clone(),
             xlabel: self.xlabel.clone(),
             ylabel: self.ylabel.clone(),
         }
     }
-    fn path(&self, input: &Path, kind: &str) -> PathBuf {
+    pub(super) fn path(&self, input: &Path, kind: &str) -> PathBuf {
         self.out.clone().unwrap_or_else(|| {
             let stem = input
                 .file_stem()
@@ -292,7 +294,7 @@ fn check_out(path: &Path, kind: &str, input: &Path) -> Result<()> {
     Ok(())
 }
 
-fn written<F: plot::Figure>(fig: &F, out: &Path) -> Result<i32> {
+pub(super) fn written<F: plot::Figure>(fig: &F, out: &Path) -> Result<i32> {
     // the output rule is checked before any work is reported
     for (f, _) in plot::output_paths(out)? {
         super::files::clean_stale_temps(&f);
@@ -368,6 +370,7 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             energy_plot(&snapshot, &opts, &out)
         }
         PlotKind::Animate(a) => animate_plot(a),
+        PlotKind::Dispersion(a) => super::dispersion::cmd_dispersion(a),
         PlotKind::Map {
             csv,
             x,
