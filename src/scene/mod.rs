@@ -214,6 +214,7 @@ pub mod presets;
 pub mod selection;
 mod settings;
 pub mod show;
+mod statics;
 mod tables;
 pub mod units;
 pub mod validate;

@@ -74,6 +74,7 @@ pub(super) fn read_tables<'a>(
             "exponent",
             "prefactor",
             "precompression",
+            "precompression_force",
             "radius",
             "law",
             "damping",
@@ -97,6 +98,7 @@ pub(super) fn read_tables<'a>(
             "velocity_si",
             "striker_si",
             "striker_right_si",
+            "equilibrium",
         ],
     )?;
     let run = table(
@@ -113,7 +115,7 @@ pub(super) fn read_tables<'a>(
         "field",
         &["force", "gravity", "force_si", "gravity_si"],
     )?;
-    let walls = table(ctx, root, "walls", &["left", "right"])?;
+    let walls = table(ctx, root, "walls", &["left", "right", "force"])?;
     Ok(Tables {
         scene,
         chain,
