@@ -3,7 +3,7 @@
 //! [`beadchain::plot::dispersion`]); prints the band edges and gaps, and draws `ω(q)`.
 
 use super::modes::{state_of, About};
-use super::plot::{written, Out};
+use super::plot_out::{written, Out};
 use anyhow::{anyhow, Result};
 use beadchain::studies::bands::{bands, cell_of};
 use beadchain::studies::modes::linearize;

@@ -14,6 +14,7 @@ mod files;
 mod fragments;
 mod modes;
 mod plot;
+mod plot_out;
 mod run;
 mod scene;
 mod select;
