@@ -2,14 +2,18 @@
 //! from the force it carries, `Δ = (F0/(n a))^{1/(n−1)}`, and the soft walls' unless they give
 //! their own `precompression`), `[walls] force = F0` (the left wall's static force; the right
 //! wall's `Δ_R` follows) and `[initial] equilibrium = true` (the displacements of the chain at
-//! rest under its walls and field, [`crate::studies::equilibrium`]).
+//! rest under its walls and field, [`crate::studies::equilibrium`]) and
+//! `[initial] mode = { index = j, amplitude = A }` (mode `j` of the chain linearised about that
+//! state, [`crate::studies::modes`], scaled so that its largest bead displacement is `A`, added
+//! to the displacements).
 
 use super::error::SceneError;
 use super::keys::{get, opt_num};
 use super::tables::Tables;
-use super::values::{type_name, Ctx};
+use super::values::{check_keys, index, number, type_name, Ctx};
 use super::Scene;
 use crate::studies::equilibrium::{equilibrium, overlap_for_force};
+use crate::studies::modes::{linearize, solve};
 use toml::Value;
 
 /// `[chain] precompression_force`, checked positive (`None` when absent). Giving it with
@@ -83,9 +87,17 @@ pub(super) fn apply(ctx: &Ctx, t: &Tables, scene: &mut Scene) -> Result<(), Scen
             ));
         }
     }
-    if !eq {
-        return Ok(());
+    if eq {
+        at_rest(ctx, t, scene, force)?;
     }
+    if let Some(m) = get(t.initial, "mode") {
+        add_mode(ctx, m, scene)?;
+    }
+    Ok(())
+}
+
+/// `[initial] equilibrium = true`: the displacements at rest (and `Δ_R` for `[walls] force`).
+fn at_rest(ctx: &Ctx, t: &Tables, scene: &mut Scene, force: Option<f64>) -> Result<(), SceneError> {
     if get(t.initial, "displacement").is_some() {
         return Err(ctx.err(
             "[initial].displacement",
@@ -98,5 +110,44 @@ pub(super) fn apply(ctx: &Ctx, t: &Tables, scene: &mut Scene) -> Result<(), Scen
         w.precompression = dr;
     }
     scene.u0 = e.u;
+    Ok(())
+}
+
+/// `[initial] mode = { index, amplitude }`: adds mode `index` (0 = lowest frequency) of the
+/// chain linearised about the displacements so far, its largest bead displacement `amplitude`.
+fn add_mode(ctx: &Ctx, m: &Value, scene: &mut Scene) -> Result<(), SceneError> {
+    let k = "[initial].mode";
+    let mt = m.as_table().ok_or_else(|| {
+        ctx.err(
+            k,
+            format!(
+                "expected a table {{ index, amplitude }}, got {}",
+                type_name(m)
+            ),
+        )
+    })?;
+    check_keys(ctx, k, mt, &["index", "amplitude"])?;
+    let j = match mt.get("index") {
+        Some(v) => index(ctx, "[initial].mode.index", v)?,
+        None => return Err(ctx.err("[initial].mode.index", "missing")),
+    };
+    let amp = match mt.get("amplitude") {
+        Some(v) => number(ctx, "[initial].mode.amplitude", v)?,
+        None => return Err(ctx.err("[initial].mode.amplitude", "missing")),
+    };
+    let nb = scene.chain.len();
+    if j >= nb {
+        return Err(ctx.err(
+            "[initial].mode.index",
+            format!("must be in 0..{nb} (one mode per bead), got {j}"),
+        ));
+    }
+    let lin = linearize(&scene.chain, &scene.u0).map_err(|e| ctx.err(k, e.to_string()))?;
+    let modes = solve(&lin, None).map_err(|e| ctx.err(k, e.to_string()))?;
+    let x = &modes.shapes[j];
+    let big = x.iter().fold(0.0f64, |b, v| b.max(v.abs()));
+    for (u, xi) in scene.u0.iter_mut().zip(x) {
+        *u += amp * xi / big;
+    }
     Ok(())
 }

@@ -99,6 +99,7 @@ pub(super) fn read_tables<'a>(
             "striker_si",
             "striker_right_si",
             "equilibrium",
+            "mode",
         ],
     )?;
     let run = table(
