@@ -9,6 +9,7 @@
 //!   (m1 m2)))/2`, `S = (k1 + k2)(m1 + m2)/(m1 m2)`.
 //! - Random seeded chains: faer's eigenvalues against Sturm-sequence bisection, and the
 //!   residual `|K x − ω² M x|` of every mode.
+#![allow(clippy::needless_range_loop)] // bead and mode indices in lock-step, as in the formulas
 
 mod common;
 
