@@ -361,3 +361,34 @@ fn a_small_mode_run_by_the_engine_keeps_its_frequency() {
         amp / xmax
     );
 }
+
+#[test]
+fn mode_key_errors_name_the_key() {
+    let base = "[chain]\nbeads = 4\nprecompression = 0.01\n[run]\nuntil = 1.0\n[initial]\n";
+    let err = |extra: &str| {
+        beadchain::scene::parse_str(
+            &format!("{base}{extra}\n"),
+            std::path::Path::new("."),
+            "m.toml",
+        )
+        .expect_err("an error")
+        .to_string()
+    };
+    let e = err("mode = { index = 4, amplitude = 0.1 }");
+    assert!(
+        e.contains("m.toml: [initial].mode.index") && e.contains("0..4"),
+        "{e}"
+    );
+    let e = err("mode = { index = 1 }");
+    assert!(
+        e.contains("[initial].mode.amplitude") && e.contains("missing"),
+        "{e}"
+    );
+    let e = err("mode = { index = 1, amplitude = 0.1, phase = 0.0 }");
+    assert!(e.contains("[initial].mode") && e.contains("phase"), "{e}");
+    let e = err("mode = 3");
+    assert!(
+        e.contains("[initial].mode") && e.contains("expected a table"),
+        "{e}"
+    );
+}

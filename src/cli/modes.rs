@@ -92,11 +92,15 @@ pub fn cmd_modes(a: ModesArgs) -> Result<i32> {
     let bins = a.bins.unwrap_or((nb as f64).sqrt().ceil() as usize).max(1);
     let (edges, counts) = density_of_states(&modes.omega, bins);
     summary(&scene, &lin, &modes, about, window)?;
-    outln!(
-        "density of states: {bins} bins of width {:.6e} from 0 to {:.6e}",
-        edges[1] - edges[0],
-        edges[bins]
-    );
+    if modes.omega.iter().all(|w| *w == 0.0) {
+        outln!("density of states: every mode at omega = 0");
+    } else {
+        outln!(
+            "density of states: {bins} bins of width {:.6e} from 0 to {:.6e}",
+            edges[1] - edges[0],
+            edges[bins]
+        );
+    }
     if a.list {
         outln!("mode  omega  participation");
         for k in 0..modes.omega.len() {
