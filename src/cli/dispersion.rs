@@ -38,7 +38,7 @@ pub fn cmd_dispersion(a: DispersionArgs) -> Result<i32> {
     for (f, _) in beadchain::plot::output_paths(&path)? {
         super::files::check_not_input(&f, "--out", &super::files::labelled_scene_inputs(&a.scene))?;
     }
-    let (u, about) = state_of(&scene, a.about)?;
+    let (u, about, _) = state_of(&scene, a.about)?;
     let lin = linearize(&scene.chain, &u).map_err(|e| anyhow!("{}: {e}", scene.name))?;
     let cell = cell_of(&lin, a.cell, a.start).map_err(|e| anyhow!("{}: {e}", scene.name))?;
     let b = bands(&cell, a.points as usize);

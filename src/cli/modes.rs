@@ -62,12 +62,14 @@ fn parse_window(w: &str) -> Result<(f64, f64)> {
     Ok((lo, hi))
 }
 
-/// The state to linearise about and its description.
-pub fn state_of(scene: &Scene, about: About) -> Result<(Vec<f64>, &'static str)> {
+/// The state to linearise about, its description and (at equilibrium) a line on its forces:
+/// the walls' and the contacts that carry none (gaps or touching beads).
+pub fn state_of(scene: &Scene, about: About) -> Result<(Vec<f64>, &'static str, Option<String>)> {
     match about {
         About::Initial => Ok((
             scene.u0.clone(),
             "the initial state (the scene's displacements and precompression overlaps)",
+            None,
         )),
         About::Equilibrium => {
             let eq = equilibrium(&scene.chain, &scene.u0, None).map_err(|e| {
@@ -76,7 +78,24 @@ pub fn state_of(scene: &Scene, about: About) -> Result<(Vec<f64>, &'static str)>
                     scene.name
                 )
             })?;
-            Ok((eq.u, "the static equilibrium under the walls and field"))
+            let wall = |f: Option<f64>| f.map_or("no wall".to_string(), |f| format!("{f:.6e}"));
+            let gaps: Vec<String> = eq.gaps.iter().take(10).map(|c| c.to_string()).collect();
+            let more = if eq.gaps.len() > 10 { ", ..." } else { "" };
+            let line = format!(
+                "static equilibrium: wall forces left {}, right {}; contacts without force (apart or just touching): {}",
+                wall(eq.wall_force[0]),
+                wall(eq.wall_force[1]),
+                if gaps.is_empty() {
+                    "none".to_string()
+                } else {
+                    format!("{} ({}{more})", eq.gaps.len(), gaps.join(", "))
+                }
+            );
+            Ok((
+                eq.u,
+                "the static equilibrium under the walls and field",
+                Some(line),
+            ))
         }
     }
 }
@@ -85,13 +104,16 @@ pub fn state_of(scene: &Scene, about: About) -> Result<(Vec<f64>, &'static str)>
 pub fn cmd_modes(a: ModesArgs) -> Result<i32> {
     let scene = load_scene(&a.scene)?;
     let window = a.window.as_deref().map(parse_window).transpose()?;
-    let (u, about) = state_of(&scene, a.about)?;
+    let (u, about, forces) = state_of(&scene, a.about)?;
     let lin = linearize(&scene.chain, &u).map_err(|e| anyhow!("{}: {e}", scene.name))?;
     let modes = solve(&lin, window).map_err(|e| anyhow!("{}: {e}", scene.name))?;
     let nb = lin.mass.len();
     let bins = a.bins.unwrap_or((nb as f64).sqrt().ceil() as usize).max(1);
     let (edges, counts) = density_of_states(&modes.omega, bins);
     summary(&scene, &lin, &modes, about, window)?;
+    if let Some(line) = forces {
+        outln!("{line}");
+    }
     if modes.omega.iter().all(|w| *w == 0.0) {
         outln!("density of states: every mode at omega = 0");
     } else {
