@@ -261,3 +261,71 @@ fn impossible_balances_are_clear_errors() {
     let e = error("[chain]\nbeads = 3\nprecompression = 0.1\nprecompression_force = 1.0\n[run]\nuntil = 1.0\n");
     assert!(e.contains("[chain].precompression_force"), "{e}");
 }
+
+#[test]
+fn newton_between_two_walls_balances_random_chains() {
+    use beadchain::model::{Chain, Wall};
+    let mut rng = Rng(3535);
+    let mut newton = 0;
+    for trial in 0..20 {
+        let nb = 5 + trial;
+        let g = if trial < 10 { 1.0 } else { 1e-3 };
+        let wall = |rng: &mut Rng| Wall {
+            exponent: rng.range(1.5, 4.0),
+            prefactor: rng.range(0.2, 5.0),
+            precompression: rng.range(0.0, 0.1),
+            restitution: None,
+        };
+        let chain = Chain {
+            mass: (0..nb).map(|_| rng.range(0.5, 2.0)).collect(),
+            exponent: (1..nb).map(|_| rng.range(1.5, 4.0)).collect(),
+            prefactor: (1..nb).map(|_| rng.range(0.2, 5.0)).collect(),
+            precompression: Some((1..nb).map(|_| rng.range(-0.02, 0.05)).collect()),
+            // Strong fields (trials 0-9) leave the right wall loose; weak ones are held by both.
+            field: Some((0..nb).map(|_| g * rng.range(-1.0, 0.3)).collect()),
+            left_wall: Some(wall(&mut rng)),
+            right_wall: Some(wall(&mut rng)),
+            hard: None,
+            damping: None,
+        };
+        let e = beadchain::studies::equilibrium::equilibrium(&chain, &vec![0.0; nb], None)
+            .unwrap_or_else(|err| panic!("trial {trial}: {err}"));
+        let mut acc = vec![0.0; nb];
+        chain.accel(0, &e.u, &mut acc);
+        let wsum: f64 = chain.field.as_ref().unwrap().iter().map(|w| w.abs()).sum();
+        // An overlap is a difference of displacements, known to ~eps·max|u|: its force to
+        // k·eps·max|u| (measured up to 7.6e-13 where a wall with n = 1.5 barely touches).
+        let lin = beadchain::studies::modes::linearize(&chain, &e.u).unwrap();
+        let kmax = lin
+            .stiffness
+            .iter()
+            .chain([lin.ends[0].stiffness(), lin.ends[1].stiffness()].iter())
+            .fold(0.0f64, |m, k| m.max(*k));
+        let umax = e.u.iter().fold(0.0f64, |m, u| m.max(u.abs()));
+        let fmax = e
+            .contact_force
+            .iter()
+            .chain(e.wall_force.iter().flatten())
+            .fold(0.0f64, |m, f| m.max(*f));
+        for (i, a) in acc.iter().enumerate() {
+            let tol = (1e-12 * (fmax + wsum) + 1e-14 * kmax * umax) / chain.mass[i];
+            assert!(
+                a.abs() <= tol,
+                "trial {trial}, bead {i}: acceleration {a:e} (abs tol (1e-12·(F_max + Σ|W|) + 1e-14·k_max·max|u|)/m)"
+            );
+        }
+        eprintln!(
+            "trial {trial}: {} Newton iterations, gaps {:?}",
+            e.iterations, e.gaps
+        );
+        assert!(
+            e.iterations < 100,
+            "trial {trial}: {} Newton iterations",
+            e.iterations
+        );
+        newton += usize::from(e.iterations > 0);
+    }
+    // Measured: trials 11-14 and 16 solved by Newton (5-30 iterations), the others at the
+    // touching state.
+    assert!(newton >= 3, "only {newton} trials needed Newton's method");
+}
