@@ -97,3 +97,30 @@ def accuracy(scene: Scene, engines: Optional[list] = None, methods: Optional[lis
                                verlet_steps=verlet_steps, atol_ratio=atol_ratio, until=until,
                                repeat=repeat, reference_rtol=reference_rtol,
                                max_steps=max_steps)
+
+
+def modes(scene: Scene, about: str = "equilibrium", window: Optional[tuple] = None,
+          bins: Optional[int] = None) -> dict:
+    """``beadchain modes``: the linear modes of ``scene``'s chain about its static equilibrium
+    (``about="initial"``: about its initial displacements), docs/studies.md.
+
+    Returns ``omega`` (angular frequencies, increasing), ``omega2``, ``index``, ``shapes``
+    (N × M displacements, ``xᵀ M x = 1``), ``participation`` (``(Σx²)²/(N Σx⁴)``),
+    ``dos_edges``/``dos_counts`` (density of states, ``bins`` bins), ``mass``, ``overlap``,
+    ``stiffness`` (``n(n−1)aδ^{n−2}``, 0 where ``δ <= 0``), ``wall_stiffness``, ``ends`` (the
+    boundary conditions in words), ``open_contacts`` and ``state``. ``window=(lo, hi)`` keeps
+    the modes with ``lo <= omega <= hi``.
+    """
+    w = None if window is None else (float(window[0]), float(window[1]))
+    return _beadchain.modes(scene._s, about=about, window=w, bins=bins)
+
+
+def equilibrium(scene: Scene, force: Optional[float] = None) -> dict:
+    """The static equilibrium of ``scene``'s chain under its walls and field (as
+    ``[initial] equilibrium = true``; ``force``: the left wall's force, as ``[walls] force``).
+
+    Returns ``u``, ``contact_force``, ``wall_force`` (left, right; ``None`` without a wall),
+    ``gaps`` (contacts without force), ``iterations`` and ``right_precompression``. An
+    impossible balance raises :class:`SceneError`.
+    """
+    return _beadchain.equilibrium(scene._s, force=force)

@@ -25,6 +25,7 @@ mod run;
 mod scene;
 mod sim;
 mod snapfile;
+mod statics;
 mod study;
 
 use pyo3::create_exception;
@@ -82,6 +83,8 @@ fn _beadchain(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(snapfile::load, m)?)?;
     m.add_function(wrap_pyfunction!(run::energies, m)?)?;
     m.add_function(wrap_pyfunction!(study::check, m)?)?;
+    m.add_function(wrap_pyfunction!(statics::modes, m)?)?;
+    m.add_function(wrap_pyfunction!(statics::equilibrium, m)?)?;
     m.add_function(wrap_pyfunction!(analyze::_analyze, m)?)?;
     m.add_function(wrap_pyfunction!(analyze::_analyze_file, m)?)?;
     m.add_function(wrap_pyfunction!(accuracy::accuracy, m)?)?;

@@ -8,10 +8,13 @@ mod analyze_gas;
 mod check;
 mod ckpt;
 mod common;
+mod dispersion;
 mod export;
 mod files;
 mod fragments;
+mod modes;
 mod plot;
+mod plot_out;
 mod run;
 mod scene;
 mod select;
@@ -57,6 +60,9 @@ enum Cmd {
     Analyze(analyze::AnalyzeArgs),
     /// Reproduce the paper's key numbers (--quick: reduced checks, seconds).
     Validate(validate::ValidateArgs),
+    /// Linear modes about the static equilibrium: frequencies, mode shapes, participation
+    /// ratios, density of states (--out modes.npz).
+    Modes(modes::ModesArgs),
     /// Plots (PNG/SVG): spacetime, profile, trace, energy (of a snapshot); map (of a CSV).
     Plot(plot::PlotArgs),
     /// Run a parameter sweep (grid/list over scene keys and seeds) in parallel into one CSV.
@@ -99,6 +105,7 @@ pub fn dispatch(cli: Cli) -> Result<i32> {
         } => ckpt::cmd_resume(&file, until, checkpoint_every, limit, quiet),
         Cmd::Accuracy(a) => accuracy::cmd_accuracy(a),
         Cmd::Plot(a) => plot::cmd_plot(a),
+        Cmd::Modes(a) => modes::cmd_modes(a),
         Cmd::Sweep(a) => sweep::cmd_sweep(a),
         Cmd::Merge(a) => sweep::cmd_merge(a),
         Cmd::Scene(c) => scene::cmd_scene(c),

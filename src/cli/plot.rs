@@ -1,5 +1,6 @@
 //! `beadchain plot`: figures of snapshots and CSV tables (library: `beadchain::plot`).
 
+use super::plot_out::{size_of, written, Out};
 use anyhow::Result;
 use beadchain::plot::{
     self, animate, energy, font, profile, trace, AnimateOptions, Animation, BeadRange, Cmap,
@@ -100,6 +101,8 @@ enum PlotKind {
     /// Animated GIF of velocity (or displacement, kinetic energy) against bead index, one frame
     /// per snapshot frame, fixed y limits over the whole run.
     Animate(AnimateArgs),
+    /// Band structure omega(q) of a periodic chain's unit cell (Bloch problem), with its gaps.
+    Dispersion(super::dispersion::DispersionArgs),
     /// 2-D parameter map (heatmap) of a CSV with a header row, optional level contour.
     Map {
         /// CSV file (e.g. from `beadchain sweep` or validation).
@@ -220,61 +223,6 @@ impl UnitsArg {
     }
 }
 
-/// Output options shared by every plot.
-#[derive(clap::Args, Debug)]
-struct Out {
-    /// Output: X.png, X.svg, or a base name without extension for both
-    /// [default: <input stem>_<plot> (both formats) in the current directory].
-    #[arg(long)]
-    out: Option<PathBuf>,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = 900)]
-    width: u32,
-    /// Image height in pixels.
-    #[arg(long, default_value_t = 650)]
-    height: u32,
-    /// Figure title (several spacetime snapshots: the title above all panels).
-    #[arg(long)]
-    title: Option<String>,
-    /// x axis label (replaces the default, units included).
-    #[arg(long)]
-    xlabel: Option<String>,
-    /// y axis label (replaces the default, units included).
-    #[arg(long)]
-    ylabel: Option<String>,
-}
-
-/// The checked `--width`/`--height` of a plot.
-fn size_of(width: u32, height: u32) -> Result<(u32, u32)> {
-    if !(300..=8000).contains(&width) || !(200..=8000).contains(&height) {
-        anyhow::bail!(
-            "--width {width} --height {height}: the size must be 300..=8000 x 200..=8000 pixels"
-        );
-    }
-    Ok((width, height))
-}
-
-impl Out {
-    fn size(&self) -> Result<(u32, u32)> {
-        size_of(self.width, self.height)
-    }
-    fn labels(&self) -> Labels {
-        Labels {
-            title: self.title.clone(),
-            xlabel: self.xlabel.clone(),
-            ylabel: self.ylabel.clone(),
-        }
-    }
-    fn path(&self, input: &Path, kind: &str) -> PathBuf {
-        self.out.clone().unwrap_or_else(|| {
-            let stem = input
-                .file_stem()
-                .map_or("plot".into(), |s| s.to_string_lossy().into_owned());
-            PathBuf::from(format!("{stem}_{kind}"))
-        })
-    }
-}
-
 fn open(path: &Path) -> Result<Snapshot> {
     let snap = Snapshot::open(path)?;
     for w in snap.warnings() {
@@ -290,24 +238,6 @@ fn check_out(path: &Path, kind: &str, input: &Path) -> Result<()> {
         super::files::check_not_input(&f, "--out", &[(kind, input.to_path_buf())])?;
     }
     Ok(())
-}
-
-fn written<F: plot::Figure>(fig: &F, out: &Path) -> Result<i32> {
-    // the output rule is checked before any work is reported
-    for (f, _) in plot::output_paths(out)? {
-        super::files::clean_stale_temps(&f);
-    }
-    let files = plot::write_figure(fig, out)?;
-    if !font::font_available() {
-        eprintln!(
-            "beadchain: warning: no font file found (BEADCHAIN_FONT, {}): the plot has no text",
-            font::FONT_CANDIDATES.join(", ")
-        );
-    }
-    for f in files {
-        outln!("wrote {}", f.display());
-    }
-    Ok(0)
 }
 
 /// Runs `beadchain plot`; returns the exit code.
@@ -368,6 +298,7 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             energy_plot(&snapshot, &opts, &out)
         }
         PlotKind::Animate(a) => animate_plot(a),
+        PlotKind::Dispersion(a) => super::dispersion::cmd_dispersion(a),
         PlotKind::Map {
             csv,
             x,

@@ -225,6 +225,25 @@ pub fn export_npz(
     Ok(())
 }
 
+/// Writes named `f64` arrays (name without `.npy`, shape, values in C order) as an `.npz` with
+/// the same zip writer as [`export_npz`] (stored entries, fixed timestamp).
+pub fn write_npz_arrays(
+    arrays: &[(&str, Vec<u64>, &[f64])],
+    out: &mut dyn Write,
+) -> Result<(), SnapshotError> {
+    let mut z = ZipWriter::new(BufWriter::with_capacity(1 << 16, out));
+    for (name, shape, xs) in arrays {
+        debug_assert_eq!(shape.iter().product::<u64>(), xs.len() as u64);
+        z.entry(&format!("{name}.npy"), |w| {
+            w.write_all(&npy_header_shape(shape))?;
+            Ok(write_f64s(w, xs)?)
+        })?;
+    }
+    let mut w = z.finish()?;
+    w.flush()?;
+    Ok(())
+}
+
 fn write_f64s(w: &mut dyn Write, xs: &[f64]) -> io::Result<()> {
     for x in xs {
         w.write_all(&x.to_le_bytes())?;

@@ -26,6 +26,7 @@ pub mod cmap;
 pub mod colormap;
 pub mod contour;
 pub mod csvtable;
+pub mod dispersion;
 pub mod energy;
 pub mod font;
 pub mod keys;

@@ -23,6 +23,7 @@
 //! exponent = 2.5           # per contact (N-1 values), default 2.5; must be > 1 (warning below 2)
 //! prefactor = 1.0          # per contact, a in V = a*delta^n, default 1.0
 //! precompression = 0.0     # per contact, Delta; absent (or all zeros) = no precompression code path
+//! precompression_force = 0.1  # instead of precompression: every contact's Delta = (F0/(n a))^(1/(n-1)), walls' too
 //! radius = 1.0             # per bead, optional dimensionless sphere radii (see "Tapered chains")
 //!
 //! [initial]
@@ -32,6 +33,8 @@
 //! striker = 1.0            # sets bead 0's velocity to +v
 //! striker_right = 1.0      # sets bead N-1's velocity to -v (strikers from both ends)
 //! solitary = { at = 50, velocity = 1.0 }  # exact solitary wave centred at bead 50 (docs/studies.md)
+//! equilibrium = true       # u(0) = the static equilibrium under walls and field (not with displacement)
+//! mode = { index = 3, amplitude = 1e-4 }  # adds linear mode 3 (0 = lowest), largest bead displacement 1e-4
 //!
 //! [field]                  # constant external force W_i; absent (or all zeros) = no field code path
 //! force = 0.0              # per bead W_i; positive = towards increasing u (default 0)
@@ -40,6 +43,7 @@
 //! [walls]                  # rigid walls (default: free ends)
 //! left  = { exponent = 2.5, prefactor = 1.0, precompression = 0.0 }  # acts on bead 0
 //! right = { exponent = 2.5, prefactor = 1.0, precompression = 0.0 }  # acts on bead N-1
+//! force = 0.5              # static force of the left wall (needs both walls and [initial] equilibrium): sets the right wall's precompression
 //!
 //! [run]
 //! until = 150.0            # REQUIRED end time (computer units), > 0
@@ -218,6 +222,7 @@ pub mod selection;
 mod settings;
 pub mod show;
 mod solitary;
+mod statics;
 mod tables;
 pub mod units;
 pub mod validate;

@@ -6,7 +6,7 @@ use super::error::{one_line, SceneError};
 use super::plausible::BeadMaterial;
 use super::validate::validate_in;
 use super::values::{Ctx, Per};
-use super::{arrays, initial, material, settings, tables, walls, Scene};
+use super::{arrays, initial, material, settings, statics, tables, walls, Scene};
 use crate::model::Chain;
 use std::path::Path;
 use toml::Table;
@@ -99,7 +99,11 @@ fn build(
         Some(sc) => Some(sc),
         None => tables::computer_scales(ctx, &t)?,
     };
-    let precompression = precompression(ctx, &specs, len)?;
+    let pre_force = statics::precompression_force(ctx, &t)?;
+    let precompression = match pre_force {
+        Some(f) => Some(statics::precompression_of(f, &exponent, &inertia.prefactor)),
+        None => precompression(ctx, &specs, len)?,
+    };
     let (u0, v0) = initial::initial_state(ctx, &t, &specs, len, physical, scales)?;
     let field = initial::field(ctx, &t, &specs, len, scales, &inertia.mass)?;
     let defaults = walls::WallDefaults {
@@ -109,6 +113,7 @@ fn build(
         scales,
         material: inertia.material.as_ref(),
         physical,
+        precompression_force: pre_force,
     };
     let walls = walls::walls(ctx, &t, &defaults)?;
     let damping = damping(ctx, &t, &walls, (&inertia, &exponent), scales)?;
@@ -142,6 +147,7 @@ fn build(
     };
     super::solitary::apply(ctx, &t, physical, scales, &mut scene)?;
     super::hard::default_collapse_interval(&mut scene);
+    statics::apply(ctx, &t, &mut scene)?;
     Ok((scene, material))
 }
 

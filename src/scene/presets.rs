@@ -144,6 +144,16 @@ static PRESETS: &[PresetInfo] = &[
         description: "1-D soft granular gas: 1000 beads, random masses 1 +- 0.9 and velocities 0 +- 1 (uniform, seed 7), gaps of 1 (precompression -1), soft walls with the chain's law (n = 2.5): collision rate, kinetic temperature, velocity distribution",
         toml: include_str!("../../data/scenes/granular_gas.toml"),
     },
+    PresetInfo {
+        name: "dimer_dispersion",
+        description: "Precompressed dimer chain: 40 beads of masses 1 and 0.5 alternating (n = 2.5, a = 1) between soft walls, every contact at force 0.1: acoustic and optical bands with a gap (beadchain plot dispersion); starts in its lowest optical mode, amplitude 1e-4",
+        toml: include_str!("../../data/scenes/dimer_dispersion.toml"),
+    },
+    PresetInfo {
+        name: "gravity_column_at_rest",
+        description: "20 beads of random masses 1 +- 0.5 (seed 3) resting on a left wall under gravity g = 1, [initial] equilibrium = true: contact k carries g times the mass above it, and the column stays at rest",
+        toml: include_str!("../../data/scenes/gravity_column_at_rest.toml"),
+    },
 ];
 
 /// Every preset, the default (`striker`) first.

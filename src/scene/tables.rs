@@ -74,6 +74,7 @@ pub(super) fn read_tables<'a>(
             "exponent",
             "prefactor",
             "precompression",
+            "precompression_force",
             "radius",
             "law",
             "damping",
@@ -98,6 +99,8 @@ pub(super) fn read_tables<'a>(
             "striker_si",
             "striker_right_si",
             "solitary",
+            "equilibrium",
+            "mode",
         ],
     )?;
     let run = table(
@@ -114,7 +117,7 @@ pub(super) fn read_tables<'a>(
         "field",
         &["force", "gravity", "force_si", "gravity_si"],
     )?;
-    let walls = table(ctx, root, "walls", &["left", "right"])?;
+    let walls = table(ctx, root, "walls", &["left", "right", "force"])?;
     Ok(Tables {
         scene,
         chain,

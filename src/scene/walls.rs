@@ -22,6 +22,9 @@ pub(super) struct WallDefaults<'a> {
     pub scales: Option<UnitScales>,
     pub material: Option<&'a Material>,
     pub physical: bool,
+    /// `[chain] precompression_force`: the default precompression of a soft wall is the overlap
+    /// at which it carries this force.
+    pub precompression_force: Option<f64>,
 }
 
 /// The left and right walls (`None` where absent).
@@ -127,8 +130,12 @@ fn wall(
         }
         _ => d.prefactor[contact],
     };
-    let precompression = num("precompression")?.unwrap_or(0.0);
     let restitution = super::hard::wall_restitution(ctx, k, wt)?;
+    let from_force = match (d.precompression_force, restitution) {
+        (Some(f), None) => crate::studies::equilibrium::overlap_for_force(exponent, prefactor, f),
+        _ => 0.0,
+    };
+    let precompression = num("precompression")?.unwrap_or(from_force);
     Ok(Wall {
         exponent,
         prefactor,

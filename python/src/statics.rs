@@ -1,0 +1,102 @@
+//! `modes()` and `equilibrium()`: the linear modes of a scene's chain and its static
+//! equilibrium (`beadchain::studies`, as `beadchain modes`; docs/studies.md). Results are dicts
+//! of NumPy arrays and plain values.
+
+use crate::scene::Scene;
+use crate::SceneError;
+use beadchain::studies::equilibrium::equilibrium as lib_equilibrium;
+use beadchain::studies::modes::{density_of_states, linearize, solve};
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+fn err(scene: &Scene, e: impl std::fmt::Display) -> PyErr {
+    SceneError::new_err(format!("{}: {e}", scene.scene.name))
+}
+
+/// The static equilibrium of `scene`'s chain under its walls and field (`force`: the left
+/// wall's imposed force, as `[walls] force`): `u`, `contact_force`, `wall_force` (left, right;
+/// `None` without a wall), `gaps` (contacts without force), `iterations`,
+/// `right_precompression` (with `force`).
+#[pyfunction]
+#[pyo3(signature = (scene, force=None))]
+pub fn equilibrium<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    force: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let s = &scene.scene;
+    let e = lib_equilibrium(&s.chain, &s.u0, force).map_err(|e| err(scene, e))?;
+    let d = PyDict::new(py);
+    d.set_item("u", PyArray1::from_vec(py, e.u))?;
+    d.set_item("contact_force", PyArray1::from_vec(py, e.contact_force))?;
+    d.set_item("wall_force", (e.wall_force[0], e.wall_force[1]))?;
+    d.set_item("gaps", e.gaps)?;
+    d.set_item("iterations", e.iterations)?;
+    d.set_item("right_precompression", e.right_precompression)?;
+    Ok(d)
+}
+
+/// The linear modes of `scene`'s chain about its static equilibrium (`about="initial"`: its
+/// initial displacements), optionally only those with `window[0] <= omega <= window[1]`:
+/// `omega`, `omega2`, `index`, `shapes` (N × M), `participation`, `dos_edges`, `dos_counts`
+/// (`bins`, default ceil(sqrt(N))), `mass`, `overlap`, `stiffness`, `wall_stiffness`, `state`,
+/// `ends` (the boundary conditions in words), `open_contacts` (zero stiffness).
+#[pyfunction]
+#[pyo3(signature = (scene, about="equilibrium", window=None, bins=None))]
+pub fn modes<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    about: &str,
+    window: Option<(f64, f64)>,
+    bins: Option<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let s = &scene.scene;
+    let u = match about {
+        "equilibrium" => {
+            lib_equilibrium(&s.chain, &s.u0, None)
+                .map_err(|e| {
+                    err(
+                        scene,
+                        format!("static equilibrium: {e} (use about=\"initial\")"),
+                    )
+                })?
+                .u
+        }
+        "initial" => s.u0.clone(),
+        other => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "about: expected \"equilibrium\" or \"initial\", got {other:?}"
+            )))
+        }
+    };
+    let lin = linearize(&s.chain, &u).map_err(|e| err(scene, e))?;
+    let m = solve(&lin, window).map_err(|e| err(scene, e))?;
+    let nb = lin.mass.len();
+    let bins = bins.unwrap_or((nb as f64).sqrt().ceil() as usize).max(1);
+    let (edges, counts) = density_of_states(&m.omega, bins);
+    let k = m.omega.len();
+    let mut shapes = Vec::with_capacity(nb * k);
+    for i in 0..nb {
+        shapes.extend(m.shapes.iter().map(|x| x[i]));
+    }
+    let d = PyDict::new(py);
+    d.set_item("omega", PyArray1::from_vec(py, m.omega))?;
+    d.set_item("omega2", PyArray1::from_vec(py, m.omega2))?;
+    d.set_item("index", m.index)?;
+    d.set_item("shapes", PyArray1::from_vec(py, shapes).reshape([nb, k])?)?;
+    d.set_item("participation", PyArray1::from_vec(py, m.participation))?;
+    d.set_item("dos_edges", PyArray1::from_vec(py, edges))?;
+    d.set_item("dos_counts", PyArray1::from_vec(py, counts))?;
+    d.set_item(
+        "wall_stiffness",
+        (lin.ends[0].stiffness(), lin.ends[1].stiffness()),
+    )?;
+    d.set_item("ends", (lin.ends[0].describe(), lin.ends[1].describe()))?;
+    d.set_item("open_contacts", lin.open_contacts())?;
+    d.set_item("mass", PyArray1::from_vec(py, lin.mass))?;
+    d.set_item("overlap", PyArray1::from_vec(py, lin.overlap))?;
+    d.set_item("stiffness", PyArray1::from_vec(py, lin.stiffness))?;
+    d.set_item("state", PyArray1::from_vec(py, u))?;
+    Ok(d)
+}

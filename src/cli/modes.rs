@@ -1,0 +1,241 @@
+//! `beadchain modes SCENE`: the linear modes of a chain about its static equilibrium (or its
+//! initial state), their participation ratios and density of states, optionally as `.npz`
+//! (library: [`beadchain::studies::modes`], [`beadchain::studies::equilibrium`]).
+
+use super::common::load_scene;
+use anyhow::{anyhow, bail, Result};
+use beadchain::scene::Scene;
+use beadchain::studies::equilibrium::equilibrium;
+use beadchain::studies::modes::{density_of_states, linearize, solve, Linearized, Modes};
+use clap::ValueEnum;
+use std::path::PathBuf;
+
+/// The state the chain is linearised about.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq)]
+pub enum About {
+    /// The static equilibrium under the scene's walls and field (as `[initial] equilibrium`).
+    Equilibrium,
+    /// The scene's initial displacements (its precompression overlaps at `u = 0`).
+    Initial,
+}
+
+/// Arguments of `beadchain modes`.
+#[derive(clap::Args, Debug)]
+pub struct ModesArgs {
+    /// Scene file or preset name.
+    pub scene: String,
+    /// Write the modes as .npz: omega, omega2, index, shapes (N, M), participation, dos_edges,
+    /// dos_counts, mass, overlap, stiffness, wall_stiffness, state.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Linearise about the static equilibrium or the initial state.
+    #[arg(long, value_enum, default_value = "equilibrium")]
+    pub about: About,
+    /// Only the modes with angular frequency in LO:HI (computer units) [default: all].
+    #[arg(long, value_name = "LO:HI")]
+    pub window: Option<String>,
+    /// Bins of the density-of-states histogram (from 0 to the largest frequency)
+    /// [default: ceil(sqrt(N))].
+    #[arg(long)]
+    pub bins: Option<usize>,
+    /// Print every mode (index, omega, participation ratio), not only the summary.
+    #[arg(long)]
+    pub list: bool,
+}
+
+/// `LO:HI` → `(lo, hi)`.
+fn parse_window(w: &str) -> Result<(f64, f64)> {
+    let (lo, hi) = w
+        .split_once(':')
+        .ok_or_else(|| anyhow!("--window {w}: expected LO:HI"))?;
+    let num = |s: &str| -> Result<f64> {
+        s.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite() && *x >= 0.0)
+            .ok_or_else(|| anyhow!("--window {w}: `{s}` is not a finite frequency >= 0"))
+    };
+    let (lo, hi) = (num(lo)?, num(hi)?);
+    if lo > hi {
+        bail!("--window {w}: LO must not exceed HI");
+    }
+    Ok((lo, hi))
+}
+
+/// The state to linearise about, its description and (at equilibrium) a line on its forces:
+/// the walls' and the contacts that carry none (gaps or touching beads).
+pub fn state_of(scene: &Scene, about: About) -> Result<(Vec<f64>, &'static str, Option<String>)> {
+    match about {
+        About::Initial => Ok((
+            scene.u0.clone(),
+            "the initial state (the scene's displacements and precompression overlaps)",
+            None,
+        )),
+        About::Equilibrium => {
+            let eq = equilibrium(&scene.chain, &scene.u0, None).map_err(|e| {
+                anyhow!(
+                    "{}: static equilibrium: {e} (use --about initial)",
+                    scene.name
+                )
+            })?;
+            let wall = |f: Option<f64>| f.map_or("no wall".to_string(), |f| format!("{f:.6e}"));
+            let gaps: Vec<String> = eq.gaps.iter().take(10).map(|c| c.to_string()).collect();
+            let more = if eq.gaps.len() > 10 { ", ..." } else { "" };
+            let line = format!(
+                "static equilibrium: wall forces left {}, right {}; contacts without force (apart or just touching): {}",
+                wall(eq.wall_force[0]),
+                wall(eq.wall_force[1]),
+                if gaps.is_empty() {
+                    "none".to_string()
+                } else {
+                    format!("{} ({}{more})", eq.gaps.len(), gaps.join(", "))
+                }
+            );
+            Ok((
+                eq.u,
+                "the static equilibrium under the walls and field",
+                Some(line),
+            ))
+        }
+    }
+}
+
+/// `beadchain modes`.
+pub fn cmd_modes(a: ModesArgs) -> Result<i32> {
+    let scene = load_scene(&a.scene)?;
+    let window = a.window.as_deref().map(parse_window).transpose()?;
+    let (u, about, forces) = state_of(&scene, a.about)?;
+    let lin = linearize(&scene.chain, &u).map_err(|e| anyhow!("{}: {e}", scene.name))?;
+    let modes = solve(&lin, window).map_err(|e| anyhow!("{}: {e}", scene.name))?;
+    let nb = lin.mass.len();
+    let bins = a.bins.unwrap_or((nb as f64).sqrt().ceil() as usize).max(1);
+    let (edges, counts) = density_of_states(&modes.omega, bins);
+    summary(&scene, &lin, &modes, about, window)?;
+    if let Some(line) = forces {
+        outln!("{line}");
+    }
+    if modes.omega.iter().all(|w| *w == 0.0) {
+        outln!("density of states: every mode at omega = 0");
+    } else {
+        outln!(
+            "density of states: {bins} bins of width {:.6e} from 0 to {:.6e}",
+            edges[1] - edges[0],
+            edges[bins]
+        );
+    }
+    if a.list {
+        outln!("mode  omega  participation");
+        for k in 0..modes.omega.len() {
+            outln!(
+                "{} {:.12e} {:.6}",
+                modes.index[k],
+                modes.omega[k],
+                modes.participation[k]
+            );
+        }
+    }
+    if let Some(p) = &a.out {
+        super::files::check_not_input(p, "--out", &super::files::labelled_scene_inputs(&a.scene))?;
+        write_npz(p, &lin, &modes, &u, (&edges, &counts))?;
+        outln!("wrote {}", p.display());
+    }
+    Ok(0)
+}
+
+/// The summary lines: state, boundary conditions, open contacts, frequencies, localisation.
+fn summary(
+    scene: &Scene,
+    lin: &Linearized,
+    m: &Modes,
+    about: &str,
+    w: Option<(f64, f64)>,
+) -> Result<()> {
+    let nb = lin.mass.len();
+    outln!(
+        "modes of {}: {nb} beads, linearised about {about}",
+        scene.name
+    );
+    outln!("left end: {}", lin.ends[0].describe());
+    outln!("right end: {}", lin.ends[1].describe());
+    let open = lin.open_contacts();
+    if open.is_empty() {
+        outln!("contacts with zero stiffness: none");
+    } else {
+        let list: Vec<String> = open.iter().take(10).map(|c| c.to_string()).collect();
+        let more = if open.len() > 10 { ", ..." } else { "" };
+        outln!(
+            "contacts with zero stiffness (overlap <= 0, sonic vacuum: no linear coupling): {} of {} ({}{more})",
+            open.len(),
+            nb - 1,
+            list.join(", ")
+        );
+    }
+    match w {
+        Some((lo, hi)) => outln!("modes with omega in [{lo}, {hi}]: {}", m.omega.len()),
+        None => outln!("modes: {}", m.omega.len()),
+    }
+    if m.omega.is_empty() {
+        return Ok(());
+    }
+    let top = m.omega2.iter().fold(0.0f64, |t, x| t.max(x.abs()));
+    let zeros = m.omega2.iter().filter(|x| x.abs() <= 1e-12 * top).count();
+    outln!(
+        "omega: lowest {:.6e}, highest {:.6e}; zero modes (|omega^2| <= 1e-12 omega_max^2): {zeros}",
+        m.omega[0],
+        m.omega[m.omega.len() - 1]
+    );
+    let (k, pmin) = m
+        .participation
+        .iter()
+        .enumerate()
+        .fold(
+            (0, f64::INFINITY),
+            |b, (k, p)| if *p < b.1 { (k, *p) } else { b },
+        );
+    let mean = m.participation.iter().sum::<f64>() / m.participation.len() as f64;
+    outln!(
+        "participation ratio: mean {mean:.4}, smallest {pmin:.4} (mode {}, omega {:.6e}); 1/N = {:.4}",
+        m.index[k],
+        m.omega[k],
+        1.0 / nb as f64
+    );
+    Ok(())
+}
+
+/// Writes the `.npz` (see [`ModesArgs::out`]).
+fn write_npz(
+    p: &std::path::Path,
+    lin: &Linearized,
+    m: &Modes,
+    u: &[f64],
+    (edges, counts): (&[f64], &[f64]),
+) -> Result<()> {
+    let nb = lin.mass.len() as u64;
+    let k = m.omega.len() as u64;
+    // shapes[i, j]: bead i of mode j.
+    let mut shapes = Vec::with_capacity((nb * k) as usize);
+    for i in 0..nb as usize {
+        shapes.extend(m.shapes.iter().map(|x| x[i]));
+    }
+    let index: Vec<f64> = m.index.iter().map(|&i| i as f64).collect();
+    let walls = [lin.ends[0].stiffness(), lin.ends[1].stiffness()];
+    let arrays: Vec<(&str, Vec<u64>, &[f64])> = vec![
+        ("omega", vec![k], &m.omega),
+        ("omega2", vec![k], &m.omega2),
+        ("index", vec![k], &index),
+        ("shapes", vec![nb, k], &shapes),
+        ("participation", vec![k], &m.participation),
+        ("dos_edges", vec![edges.len() as u64], edges),
+        ("dos_counts", vec![counts.len() as u64], counts),
+        ("mass", vec![nb], &lin.mass),
+        ("overlap", vec![nb - 1], &lin.overlap),
+        ("stiffness", vec![nb - 1], &lin.stiffness),
+        ("wall_stiffness", vec![2], &walls),
+        ("state", vec![nb], u),
+    ];
+    super::files::clean_stale_temps(p);
+    beadchain::snapshot::write_atomically(p, |w| {
+        beadchain::export::wide::write_npz_arrays(&arrays, w)
+    })?;
+    Ok(())
+}
