@@ -27,7 +27,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("names", 0),       // named closed sets (method, engine, ...): one list, one parser
     ("linalg", 1),      // tridiagonal/banded solvers
     ("integrate", 2),   // Radau IIA, DOP853, Verlet, auto
-    ("studies", 2),     // solitary waves, linear modes, bands, static equilibrium (scene builds states)
+    ("studies", 2),     // solitary waves, linear modes, bands, static equilibrium
     ("scene", 3),       // TOML scenes → Scene (model + run settings)
     ("engine", 4),      // dense and hybrid engines, observers
     ("suggest", 4),     // "did you mean": nearest preset names (reads scene's preset list)

@@ -310,18 +310,29 @@ pub fn cmd_plot(args: PlotArgs) -> Result<i32> {
             zlabel,
             out,
         } => {
-            let opts = MapOptions {
-                x,
-                y,
-                z,
-                log_z,
-                contour,
-                cmap: Cmap::parse(&cmap)?,
-                size: out.size()?,
-            };
+            let opts = map_options([x, y, z], log_z, contour, &cmap, &out)?;
             map(&csv, &opts, zlabel, &out)
         }
     }
+}
+
+/// Options of `plot map` (`[x, y, z]`: the column names).
+fn map_options(
+    [x, y, z]: [String; 3],
+    log_z: bool,
+    contour: Option<f64>,
+    cmap: &str,
+    out: &Out,
+) -> Result<MapOptions> {
+    Ok(MapOptions {
+        x,
+        y,
+        z,
+        log_z,
+        contour,
+        cmap: Cmap::parse(cmap)?,
+        size: out.size()?,
+    })
 }
 
 /// Options of `plot spacetime`.

@@ -120,11 +120,7 @@ fn build(
     let [left_wall, right_wall] = walls;
     let (run, hard) = settings::run_settings(ctx, root, &t, scales, len.nb)?;
     let (name, description) = settings::name_and_description(ctx, &t, origin, scales)?;
-    let material = inertia.material.map(|m| BeadMaterial {
-        radius: m.radius,
-        young: m.young,
-        density: m.density,
-    });
+    let material = inertia.material.map(bead_material);
     let mut scene = Scene {
         name,
         description,
@@ -174,6 +170,15 @@ fn damping(
 
 /// `[chain].precompression` per contact, `None` when absent or zero everywhere (the chain then
 /// skips the term).
+/// The SI bead material of a physical scene, as `scene show` and the plausibility checks read it.
+fn bead_material(m: material::Material) -> BeadMaterial {
+    BeadMaterial {
+        radius: m.radius,
+        young: m.young,
+        density: m.density,
+    }
+}
+
 fn precompression(
     ctx: &Ctx,
     specs: &arrays::Specs,
