@@ -42,6 +42,10 @@ pub enum EngineError {
     /// The configuration is unusable.
     #[error("invalid run configuration: {0}")]
     Config(String),
+    /// An invariant of the engine itself failed (a bug, not a property of the scene or the
+    /// configuration).
+    #[error("internal error (a bug in beadchain; please report it with the scene): {0}")]
+    Internal(String),
     /// The observer asked to stop (after a checkpoint was written) at time `t`.
     #[error("interrupted at t = {0} (checkpoint written)")]
     Interrupted(f64),

@@ -61,7 +61,7 @@ impl Hybrid<'_> {
             self.flush_events(obs)?;
         }
         let Some((_, Reverse((t, _, _, _)))) = self.queue.peek() else {
-            return Err(EngineError::Config(
+            return Err(EngineError::Internal(
                 "event queue ran empty before the end time".into(),
             ));
         };
