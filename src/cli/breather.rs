@@ -7,7 +7,6 @@ use super::common::load_scene;
 use anyhow::{anyhow, bail, Result};
 use beadchain::experiments::breather::{continue_to, Breather, Shooter};
 use beadchain::experiments::floquet::floquet;
-use std::io::Write;
 use std::path::PathBuf;
 
 /// Arguments of `beadchain breather`.
@@ -29,7 +28,7 @@ pub struct BreatherArgs {
     #[arg(long, default_value = "0.02")]
     pub step: f64,
     /// Newton's tolerance on max |v(T/2)|.
-    #[arg(long, default_value = "1e-12")]
+    #[arg(long, default_value = "1e-11")]
     pub tol: f64,
     /// Relative tolerance of the dense engine (DOP853) for the period map.
     #[arg(long, default_value = "1e-12")]
@@ -52,7 +51,10 @@ pub struct BreatherArgs {
 fn check_args(a: &BreatherArgs) -> Result<()> {
     let pos = |x: f64| x.is_finite() && x > 0.0;
     if !pos(a.frequency) {
-        bail!("--frequency {}: expected a finite frequency > 0", a.frequency);
+        bail!(
+            "--frequency {}: expected a finite frequency > 0",
+            a.frequency
+        );
     }
     for (name, x) in [
         ("--seed-amplitude", a.seed_amplitude),
@@ -96,16 +98,21 @@ pub fn cmd_breather(a: BreatherArgs) -> Result<i32> {
         sh.len(),
         a.frequency
     );
-    let start = sh
-        .from_mode(k, a.seed_amplitude, a.tol)
-        .map_err(|e| anyhow!("{}: seed at amplitude {}: {e}", scene.name, a.seed_amplitude))?;
+    let start = sh.from_mode(k, a.seed_amplitude, a.tol).map_err(|e| {
+        anyhow!(
+            "{}: seed at amplitude {}: {e}",
+            scene.name,
+            a.seed_amplitude
+        )
+    })?;
     outln!(
         "seed: amplitude {:.3e}, omega {:.12} (mode {wk:.12}: shift {:.3e})",
         a.seed_amplitude,
         start.frequency(),
         start.frequency() - wk
     );
-    let path = continue_to(&sh, start, wk, a.frequency, a.step, a.tol).map_err(|e| anyhow!("{e}"))?;
+    let path =
+        continue_to(&sh, start, wk, a.frequency, a.step, a.tol).map_err(|e| anyhow!("{e}"))?;
     let b = &path[path.len() - 1];
     report(&sh, b, path.len() - 1)?;
     if !a.no_floquet {
@@ -116,14 +123,19 @@ pub fn cmd_breather(a: BreatherArgs) -> Result<i32> {
         let text = beadchain::scene::show::to_toml(&sh.scene_of(b, a.periods, 20));
         super::files::clean_stale_temps(p);
         beadchain::snapshot::write_atomically(p, |w| {
-            w.write_all(text.as_bytes())
-                .map_err(|e| beadchain::snapshot::SnapshotError::Io {
+            std::io::Write::write_all(w, text.as_bytes()).map_err(|e| {
+                beadchain::snapshot::SnapshotError::Io {
                     path: p.clone(),
                     action: "write".to_string(),
                     source: e,
-                })
+                }
+            })
         })?;
-        outln!("wrote {} (beadchain run {} runs it)", p.display(), p.display());
+        outln!(
+            "wrote {} (beadchain run {} runs it)",
+            p.display(),
+            p.display()
+        );
     }
     Ok(0)
 }

@@ -132,7 +132,12 @@ impl Shooter {
     }
 
     /// The state after time `t` from `(u, v)`.
-    pub fn flow(&self, u: &[f64], v: &[f64], t: f64) -> Result<(Vec<f64>, Vec<f64>), BreatherError> {
+    pub fn flow(
+        &self,
+        u: &[f64],
+        v: &[f64],
+        t: f64,
+    ) -> Result<(Vec<f64>, Vec<f64>), BreatherError> {
         let mut s = self.scene.clone();
         s.u0 = u.to_vec();
         s.v0 = v.to_vec();
@@ -142,9 +147,18 @@ impl Shooter {
         let out = engine::run(&s, &cfg, &mut rec)
             .map_err(|e| err(format!("{}: engine run to t = {t}: {e}", self.scene.name)))?;
         self.runs.set(self.runs.get() + 1);
-        let last = rec.t.len().checked_sub(1).ok_or_else(|| err("the run recorded no frame"))?;
-        if (rec.t[last] - t).abs() > 1e-12 * t.max(1.0) || (out.t_end - t).abs() > 1e-12 * t.max(1.0) {
-            return Err(err(format!("the run ended at {} instead of {t}", out.t_end)));
+        let last = rec
+            .t
+            .len()
+            .checked_sub(1)
+            .ok_or_else(|| err("the run recorded no frame"))?;
+        if (rec.t[last] - t).abs() > 1e-12 * t.max(1.0)
+            || (out.t_end - t).abs() > 1e-12 * t.max(1.0)
+        {
+            return Err(err(format!(
+                "the run ended at {} instead of {t}",
+                out.t_end
+            )));
         }
         Ok((rec.u[last].clone(), rec.v[last].clone()))
     }
@@ -162,7 +176,9 @@ impl Shooter {
 
     /// The amplitude `max_i |u_i − u*_i|` of displacements `u`.
     pub fn amplitude(&self, u: &[f64]) -> f64 {
-        u.iter().zip(&self.u_eq).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+        u.iter()
+            .zip(&self.u_eq)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
     }
 
     /// Newton's method on the half-period shooting from `(u, T)` until `max |v(T/2)| ≤ tol`.
@@ -196,7 +212,9 @@ impl Shooter {
                 x[i] += dx[(i, 0)];
             }
             if !x.iter().all(|v| v.is_finite()) || x[nb] <= 0.0 {
-                return Err(err("Newton's step left the admissible states (period <= 0)"));
+                return Err(err(
+                    "Newton's step left the admissible states (period <= 0)",
+                ));
             }
             r = self.residual(&x[..nb], x[nb], c)?;
         }
@@ -247,12 +265,16 @@ impl Shooter {
     pub fn from_mode(&self, k: usize, amp: f64, tol: f64) -> Result<Breather, BreatherError> {
         let (w, x) = self.mode(k)?;
         if w <= 0.0 {
-            return Err(err(format!("mode {k} has zero frequency: no breather from it")));
+            return Err(err(format!(
+                "mode {k} has zero frequency: no breather from it"
+            )));
         }
         let b = (0..x.len())
             .max_by(|&i, &j| x[i].abs().total_cmp(&x[j].abs()))
             .unwrap_or(0);
-        let u: Vec<f64> = (0..x.len()).map(|i| self.u_eq[i] + amp * x[i] / x[b]).collect();
+        let u: Vec<f64> = (0..x.len())
+            .map(|i| self.u_eq[i] + amp * x[i] / x[b])
+            .collect();
         let c = Constraint::Displacement {
             bead: b,
             value: self.u_eq[b] + amp,
@@ -299,7 +321,9 @@ impl Shooter {
 
 /// `max_i |a_i − b_i|`.
 pub fn max_diff(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
 }
 
 /// Continues `start` in frequency to `target` in steps of at most `step`, each at a fixed

@@ -56,7 +56,10 @@ impl Floquet {
 
     /// The pair at 1: `|mean − 1|` and `|product − 1|` of its two multipliers.
     pub fn unit_pair_error(&self) -> (f64, f64) {
-        let (a, b) = (self.multipliers[self.unit_pair[0]], self.multipliers[self.unit_pair[1]]);
+        let (a, b) = (
+            self.multipliers[self.unit_pair[0]],
+            self.multipliers[self.unit_pair[1]],
+        );
         let mean = ((a.0 + b.0) / 2.0 - 1.0, (a.1 + b.1) / 2.0);
         let p = mul(a, b);
         (modulus(mean), modulus((p.0 - 1.0, p.1)))
@@ -86,11 +89,18 @@ pub fn floquet(sh: &Shooter, b: &Breather, h: f64) -> Result<Floquet, BreatherEr
     let amp = sh.amplitude(&b.u).max(1e-12);
     let mut mono = vec![vec![0.0; 2 * nb]; 2 * nb];
     for j in 0..2 * nb {
-        let hj = if j < nb { h * amp } else { h * amp * b.frequency() };
+        let hj = if j < nb {
+            h * amp
+        } else {
+            h * amp * b.frequency()
+        };
         let (mut xp, mut xm) = (x0.clone(), x0.clone());
         xp[j] += hj;
         xm[j] -= hj;
-        let (fp, fm) = (period_map(sh, &xp, b.period)?, period_map(sh, &xm, b.period)?);
+        let (fp, fm) = (
+            period_map(sh, &xp, b.period)?,
+            period_map(sh, &xm, b.period)?,
+        );
         for i in 0..2 * nb {
             mono[i][j] = (fp[i] - fm[i]) / (2.0 * hj);
         }
@@ -127,7 +137,11 @@ fn flow_direction_residual(
     // v(−τ) = −v(τ) for a start from rest (time reversal), so (v(τ) − v(−τ)) / 2τ = v(τ)/τ,
     // accurate to O(τ²).
     let (_, v) = sh.flow(&b.u, &zero, tau)?;
-    let xdot: Vec<f64> = zero.iter().copied().chain(v.iter().map(|x| x / tau)).collect();
+    let xdot: Vec<f64> = zero
+        .iter()
+        .copied()
+        .chain(v.iter().map(|x| x / tau))
+        .collect();
     let mx: Vec<f64> = mono
         .iter()
         .map(|row| row.iter().zip(&xdot).map(|(a, b)| a * b).sum())
