@@ -24,7 +24,7 @@ pub struct BreatherArgs {
     /// Starting amplitude: the displacement of the mode's largest bead from equilibrium.
     #[arg(long, default_value = "1e-3")]
     pub seed_amplitude: f64,
-    /// Largest frequency step of the continuation.
+    /// Largest frequency step of the continuation (halved where Newton fails).
     #[arg(long, default_value = "0.02")]
     pub step: f64,
     /// Newton's tolerance on max |v(T/2)|.

@@ -330,7 +330,9 @@ pub fn max_diff(a: &[f64], b: &[f64]) -> f64 {
 /// period. The predictor is a secant in `s = √|ω − ω_edge|` through the last two solutions,
 /// the first of them the equilibrium (`s = 0`, `u = u*`) at the frequency `edge` the branch
 /// bifurcates from: near the edge the amplitude grows as `√|ω − ω_edge|`, so a secant in `ω`
-/// would start at the trivial solution. Every solution on the way, `start` first.
+/// would start at the trivial solution. A step whose Newton iteration fails is halved (down to
+/// `step/1024`), a step that succeeds lets the next grow by 1.5 (up to `step`). Every solution
+/// on the way, `start` first.
 pub fn continue_to(
     sh: &Shooter,
     start: Breather,
@@ -339,26 +341,39 @@ pub fn continue_to(
     step: f64,
     tol: f64,
 ) -> Result<Vec<Breather>, BreatherError> {
-    let w0 = start.frequency();
-    let n = ((target - w0).abs() / step.abs()).ceil().max(1.0) as usize;
     let sq = |w: f64| (w - edge).abs().sqrt();
-    // (s, u) of the last two points of the branch.
+    let dir = (target - start.frequency()).signum();
+    let mut h = step.abs();
+    // (s, u) of the point before the last.
     let mut prev = (0.0, sh.u_eq.clone());
     let mut path = vec![start];
-    for j in 1..=n {
-        let w = w0 + (target - w0) * j as f64 / n as f64;
+    loop {
         let last = &path[path.len() - 1];
-        let s_last = sq(last.frequency());
+        let w_last = last.frequency();
+        if (target - w_last) * dir <= 0.0 {
+            return Ok(path);
+        }
+        let w = if (target - w_last).abs() <= h {
+            target
+        } else {
+            w_last + dir * h
+        };
+        let s_last = sq(w_last);
         let f = (sq(w) - s_last) / (s_last - prev.0);
         let guess: Vec<f64> = (0..last.u.len())
             .map(|i| last.u[i] + f * (last.u[i] - prev.1[i]))
             .collect();
         let t = 2.0 * PI / w;
-        let b = sh
-            .newton(&guess, t, Constraint::Period(t), tol)
-            .map_err(|e| err(format!("continuation at omega = {w:.6}: {e}")))?;
-        prev = (s_last, last.u.clone());
-        path.push(b);
+        match sh.newton(&guess, t, Constraint::Period(t), tol) {
+            Ok(b) => {
+                prev = (s_last, last.u.clone());
+                path.push(b);
+                h = (1.5 * h).min(step.abs());
+            }
+            Err(e) if h < step.abs() / 1024.0 => {
+                return Err(err(format!("continuation stopped at omega = {w:.6}: {e}")));
+            }
+            Err(_) => h /= 2.0,
+        }
     }
-    Ok(path)
 }
