@@ -106,6 +106,16 @@ impl Shooter {
         }
         let eq = equilibrium(&scene.chain, &scene.u0, None)
             .map_err(|e| err(format!("{}: static equilibrium: {e}", scene.name)))?;
+        let lin =
+            linearize(&scene.chain, &eq.u).map_err(|e| err(format!("{}: {e}", scene.name)))?;
+        let m = solve(&lin, None).map_err(|e| err(format!("{}: {e}", scene.name)))?;
+        let top = m.omega2.iter().fold(0.0f64, |t, x| t.max(x.abs()));
+        if m.omega2.iter().any(|x| *x <= 1e-12 * top) {
+            return Err(err(format!(
+                "{}: the chain has a zero mode at its equilibrium (a free end or an open contact): no isolated breathers; hold both ends with walls",
+                scene.name
+            )));
+        }
         let mut cfg = RunConfig::from_scene(scene);
         cfg.engine = EngineKind::Dense;
         cfg.method = Method::Dop853;
