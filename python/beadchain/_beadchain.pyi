@@ -102,6 +102,17 @@ def run(
 ) -> dict[str, Any]: ...
 def load(path: str) -> dict[str, Any]: ...
 def energies(scene: Scene, u: _Array, v: _Array) -> tuple[_Array, _Array]: ...
+def breather(
+    scene: Scene,
+    frequency: float,
+    mode: Optional[int] = None,
+    seed_amplitude: float = 1e-3,
+    step: float = 0.02,
+    tol: float = 1e-11,
+    rtol: float = 1e-12,
+    floquet: bool = True,
+    periods: float = 100.0,
+) -> dict[str, Any]: ...
 def modes(
     scene: Scene,
     about: str = "equilibrium",

@@ -115,6 +115,29 @@ def modes(scene: Scene, about: str = "equilibrium", window: Optional[tuple] = No
     return _beadchain.modes(scene._s, about=about, window=w, bins=bins)
 
 
+def breather(scene: Scene, frequency: float, mode: Optional[int] = None,
+             seed_amplitude: float = 1e-3, step: float = 0.02, tol: float = 1e-11,
+             rtol: float = 1e-12, floquet: bool = True, periods: float = 100.0) -> dict:
+    """``beadchain breather``: a discrete breather of ``scene``'s chain at angular frequency
+    ``frequency`` (e.g. in a band gap) by Newton's method on the period map (dense engine,
+    DOP853 at ``rtol``), continued in frequency from linear mode ``mode`` (default: the mode
+    nearest the frequency), docs/studies.md.
+
+    Returns ``frequency``, ``period``, ``mode``, ``mode_frequency``, ``u`` (displacements at
+    t = 0; the breather starts from rest), ``amplitude``, ``residual`` (period map, max-norm),
+    ``half_residual``, ``steps``, ``runs``; with ``floquet``: ``multipliers`` (complex, by
+    decreasing modulus), ``max_modulus`` (other than the pair at 1), ``stable``,
+    ``reciprocity_error``, ``unit_pair_error``; ``scene``: the scene with the breather as its
+    initial state, ``periods`` periods with the dense engine (``scene_toml``: its TOML).
+    """
+    d = _beadchain.breather(scene._s, float(frequency), mode=mode,
+                            seed_amplitude=float(seed_amplitude), step=float(step),
+                            tol=float(tol), rtol=float(rtol), floquet=bool(floquet),
+                            periods=float(periods))
+    d["scene"] = Scene.from_toml(d["scene_toml"], name=scene.name + "_breather")
+    return d
+
+
 def equilibrium(scene: Scene, force: Optional[float] = None) -> dict:
     """The static equilibrium of ``scene``'s chain under its walls and field (as
     ``[initial] equilibrium = true``; ``force``: the left wall's force, as ``[walls] force``).

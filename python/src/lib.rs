@@ -20,6 +20,7 @@
 
 mod accuracy;
 mod analyze;
+mod breather;
 mod observe;
 mod run;
 mod scene;
@@ -84,6 +85,7 @@ fn _beadchain(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::energies, m)?)?;
     m.add_function(wrap_pyfunction!(study::check, m)?)?;
     m.add_function(wrap_pyfunction!(statics::modes, m)?)?;
+    m.add_function(wrap_pyfunction!(breather::breather, m)?)?;
     m.add_function(wrap_pyfunction!(statics::equilibrium, m)?)?;
     m.add_function(wrap_pyfunction!(analyze::_analyze, m)?)?;
     m.add_function(wrap_pyfunction!(analyze::_analyze_file, m)?)?;

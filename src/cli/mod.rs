@@ -5,6 +5,7 @@
 mod accuracy;
 mod analyze;
 mod analyze_gas;
+mod breather;
 mod check;
 mod ckpt;
 mod common;
@@ -63,6 +64,9 @@ enum Cmd {
     /// Linear modes about the static equilibrium: frequencies, mode shapes, participation
     /// ratios, density of states (--out modes.npz).
     Modes(modes::ModesArgs),
+    /// Discrete breather at a frequency (e.g. in a band gap): Newton on the period map from a
+    /// linear mode, continued in frequency; Floquet multipliers; --out breather.toml.
+    Breather(breather::BreatherArgs),
     /// Plots (PNG/SVG): spacetime, profile, trace, energy (of a snapshot); map (of a CSV).
     Plot(plot::PlotArgs),
     /// Run a parameter sweep (grid/list over scene keys and seeds) in parallel into one CSV.
@@ -106,6 +110,7 @@ pub fn dispatch(cli: Cli) -> Result<i32> {
         Cmd::Accuracy(a) => accuracy::cmd_accuracy(a),
         Cmd::Plot(a) => plot::cmd_plot(a),
         Cmd::Modes(a) => modes::cmd_modes(a),
+        Cmd::Breather(a) => breather::cmd_breather(a),
         Cmd::Sweep(a) => sweep::cmd_sweep(a),
         Cmd::Merge(a) => sweep::cmd_merge(a),
         Cmd::Scene(c) => scene::cmd_scene(c),

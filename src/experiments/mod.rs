@@ -10,9 +10,13 @@
 //! - [`composite`]: composite mass–exponent interfaces (Sec. 6, Fig. 25).
 //! - [`wavelength`]: Fig. 2 wave width; [`timings`]: the Fig. 5 gap timings;
 //!   [`impurities`]: Figs. 16–17; [`appendix`]: appendices A and B.
+//! - [`breather`], [`floquet`]: discrete breathers by shooting on the period map, their
+//!   Floquet multipliers (issue 35, part 4).
 
 pub mod appendix;
+pub mod breather;
 pub mod composite;
+pub mod floquet;
 pub mod impurities;
 pub mod paper;
 pub mod periodic;

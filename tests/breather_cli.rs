@@ -1,0 +1,96 @@
+//! `beadchain breather` (issue 35, part 4): the summary lines, the saved scene (it parses and
+//! holds the breather as its initial state, which is periodic), and the one-line errors.
+
+mod common;
+
+use beadchain::experiments::breather::{max_diff, Breather, Shooter};
+use common::{assert_ok, bc};
+
+/// 12-bead precompressed dimer between soft walls (the `dimer_dispersion` preset, shorter).
+const DIMER: &str = "[chain]\nbeads = 12\nmass = { alternate = [1.0, 0.5] }\nprecompression_force = 0.1\n\
+                     [walls]\nleft = {}\nright = {}\n[initial]\nequilibrium = true\n[run]\nuntil = 1.0\n";
+
+#[test]
+fn breather_writes_a_scene_that_is_periodic() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("c.toml"), DIMER).unwrap();
+    let o = bc(
+        d.path(),
+        &[
+            "breather",
+            "c.toml",
+            "--frequency",
+            "2.26",
+            "--out",
+            "b.toml",
+        ],
+    );
+    assert_ok(&o);
+    let text = String::from_utf8_lossy(&o.stdout);
+    for line in [
+        "from linear mode 6",
+        "solution: omega 2.260000000000",
+        "linearly stable",
+        "wrote b.toml",
+    ] {
+        assert!(text.contains(line), "missing `{line}` in:\n{text}");
+    }
+    let scene = beadchain::scene::load(d.path().join("b.toml").to_str().unwrap()).unwrap();
+    assert!(scene.v0.iter().all(|v| *v == 0.0));
+    let period = 2.0 * std::f64::consts::PI / 2.26;
+    assert!(
+        (scene.run.until - 100.0 * period).abs() < 1e-9,
+        "until {}",
+        scene.run.until
+    );
+    // The saved displacements (shortest round-trip decimals) are a breather: the period map
+    // returns to them within 1e-10 (max-norm over u and v).
+    let sh = Shooter::new(&scene, 1e-12).unwrap();
+    let b = Breather {
+        u: scene.u0.clone(),
+        period,
+        half_residual: 0.0,
+        iterations: 0,
+    };
+    let res = sh.period_residual(&b).unwrap();
+    assert!(
+        res <= 1e-10,
+        "period-map residual of the saved scene {res:.3e}"
+    );
+    assert!(
+        max_diff(&scene.u0, &sh.u_eq) > 1e-2,
+        "the saved state is the equilibrium"
+    );
+}
+
+#[test]
+fn breather_errors_are_one_line() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("c.toml"), DIMER).unwrap();
+    for (args, want) in [
+        (
+            vec!["breather", "c.toml", "--frequency", "-1"],
+            "--frequency -1: expected a finite frequency > 0",
+        ),
+        (
+            vec!["breather", "c.toml", "--frequency", "2.2", "--mode", "40"],
+            "mode 40: the chain has 12 modes",
+        ),
+        (
+            vec!["breather", "damped_striker", "--frequency", "1"],
+            "damped_striker: breathers need",
+        ),
+        (
+            vec!["breather", "striker", "--frequency", "1"],
+            "striker: the chain has a zero mode",
+        ),
+    ] {
+        let o = bc(d.path(), &args);
+        assert!(!o.status.success(), "{args:?} succeeded");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains(want) && err.trim().lines().count() == 1,
+            "{args:?}: {err}"
+        );
+    }
+}
