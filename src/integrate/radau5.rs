@@ -99,6 +99,9 @@ const RADAU_A: [[f64; 3]; 3] = [
 const NEWTON_MAXITER: usize = 6;
 /// A Newton increment below this fraction of the Newton tolerance counts as converged.
 const NEGLIGIBLE_NEWTON: f64 = 1e-3;
+/// A Newton increment component within this many ulps of the state component it moves is
+/// rounding noise ([`Radau5::newton`]).
+const ROUNDING_NEWTON: f64 = 64.0;
 /// A step that would leave less than this fraction of itself before `t_bound` is stretched to
 /// land on it (no sliver steps of a few ulps, whose stage times would coincide).
 const STRETCH: f64 = 1e-3;

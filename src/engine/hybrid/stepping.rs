@@ -238,7 +238,7 @@ impl Engine for HybridEngine<'_> {
         h.st.pinned = [false; 2];
         // the tolerances' scales and the contact threshold follow the new state
         h.tol.scales = h.chain.scales(&u, v);
-        h.theta = super::contact_threshold(h.chain, h.cfg.rtol, h.cfg.atol) * h.tol.scales.length;
+        h.theta = super::threshold(h.chain, h.cfg.rtol, h.cfg.atol, &h.tol.scales);
         h.init(t, &u, v);
         Ok(())
     }
