@@ -264,16 +264,8 @@ pub fn run_sweep(
         .collect::<Vec<_>>()
         .join(",");
     let mine: Vec<RunPoint> = keyed.iter().map(|(r, _)| r.clone()).collect();
-    let (partial, mut done) = resume_partial(spec, opts, &mine, &spec_line, &columns)?;
-    let resumed = done.len();
-    let todo: Vec<(RunPoint, u64)> = keyed
-        .into_iter()
-        .filter(|(r, _)| !done.contains_key(&r.index))
-        .collect();
-    let reused = reusable_rows(spec, &todo, &opts.out, &columns);
-    let skipped = reused.len();
-    done.extend(reused);
-    csv::write_atomic(&partial, &csv::render(&spec_line, &columns, &done))?;
+    let (partial, done, resumed, skipped) =
+        rows_done(spec, opts, keyed, &mine, &spec_line, &columns)?;
     let done_now = done.len();
     let mut pending: Vec<&RunPoint> = mine
         .iter()
@@ -334,6 +326,31 @@ pub fn run_sweep(
         complete,
         written,
     })
+}
+
+/// The rows done before anything runs: those of `OUT.partial` ([`resume_partial`]), then those
+/// the finished `OUT` holds for the other runs (by content key, [`reusable_rows`]); the partial
+/// file is rewritten with them (dropping a line cut short) so rows can be appended. Returns the
+/// partial file, the rows, and how many came from each.
+fn rows_done(
+    spec: &SweepSpec,
+    opts: &SweepOptions,
+    keyed: Vec<(RunPoint, u64)>,
+    mine: &[RunPoint],
+    spec_line: &str,
+    columns: &str,
+) -> Result<(PathBuf, BTreeMap<usize, String>, usize, usize), SweepError> {
+    let (partial, mut done) = resume_partial(spec, opts, mine, spec_line, columns)?;
+    let resumed = done.len();
+    let todo: Vec<(RunPoint, u64)> = keyed
+        .into_iter()
+        .filter(|(r, _)| !done.contains_key(&r.index))
+        .collect();
+    let reused = reusable_rows(spec, &todo, &opts.out, columns);
+    let skipped = reused.len();
+    done.extend(reused);
+    csv::write_atomic(&partial, &csv::render(spec_line, columns, &done))?;
+    Ok((partial, done, resumed, skipped))
 }
 
 /// The partial result file `OUT.partial` and the rows it already holds (checked against this
