@@ -58,13 +58,14 @@ the wave forms first). The preset has 1000 beads; here 200 beads to t = 6000 (th
 is near bead 200 by then), 6 seeds. `analyze` fits E/E_ref = a exp(−γ x) to the leading wave's
 energy over positions 20 … N − 10; γ is the decay rate per bead."""),
     ("code", """SEEDS = [1, 2, 3, 4, 5, 6]
-base = bc.Scene.preset("disorder_2.5_0.04").source
+base = bc.Scene.preset("disorder_2.5_0.04")
 
 
 def short_disorder(seed):
-    text = (base.replace("seed = 1", f"seed = {seed}").replace("beads = 1000", "beads = 200")
-            .replace("until = 33000.0", "until = 6000.0").replace("every = 150.0", "every = 20.0"))
-    return bc.Scene.from_toml(text, name=f"disorder_2.5_0.04_n200_seed{seed}")
+    # the sweep files' dotted keys (docs/sweeps.md): [scene] seed, [chain] beads, [run] ...
+    return base.with_overrides({"scene.seed": seed, "chain.beads": 200, "run.until": 6000.0,
+                                "run.every": 20.0,
+                                "scene.name": f"disorder_2.5_0.04_n200_seed{seed}"})
 
 
 gammas = []

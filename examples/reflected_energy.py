@@ -1,7 +1,8 @@
 """A parameter study from Python: the energy a solitary wave leaves behind at an exponent
 interface n1 = 3.0 -> n2, over n2 (paper Fig. 7's question, one row of its grid).
 
-Each run is the preset `interface_3.0_2.5` with the exponent of contacts 50.. replaced; the
+Each run is the preset `interface_3.0_2.5` with the exponent of contacts 50.. replaced
+(`Scene.with_overrides`, with a sweep file's dotted key `chain.exponent.segments.0.value`); the
 reflected energy is the library's interface split (`bc.analyze(run, interface=50)`, as
 `beadchain analyze --interface 50`): the energy left of the interface at the end, kinetic and
 potential, as a fraction of the total. A progress bar goes to standard error.
@@ -25,8 +26,8 @@ INTERFACE = 50
 def reflected(n2: float) -> tuple:
     """(n2, reflected energy fraction, steps) of one run."""
     base = bc.Scene.preset("interface_3.0_2.5")
-    text = base.source.replace("value = 2.5 }", f"value = {n2!r} }}")
-    scene = bc.Scene.from_toml(text, name=f"interface_3.0_{n2}")
+    scene = base.with_overrides({"chain.exponent.segments.0.value": n2,
+                                 "scene.name": f"interface_3.0_{n2}"})
     run = bc.run(scene, every=scene.until)   # first and last frame only
     split = bc.analyze(run, interface=INTERFACE)["interface"]
     return n2, float(split["reflected_fraction"]), run.stats["steps"]

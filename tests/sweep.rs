@@ -429,11 +429,13 @@ fn sweep_csv_header_is_the_first_line_and_values_are_written_as_given() {
     );
     assert!(!text.contains('#'), "{text}");
     // The spec line is in the sidecar, and merge/resume read it from there.
+    // (then one content key per row: tests/sweep_content.rs)
     let meta = read(&dir.path().join("p.csv.meta"));
     assert_eq!(
-        meta,
-        format!("# beadchain sweep spec={:016x} runs=16\n", s.hash)
+        meta.lines().next().unwrap(),
+        format!("# beadchain sweep spec={:016x} runs=16", s.hash)
     );
+    assert_eq!(meta.lines().count(), 17, "{meta}");
     // Values as written in the sweep file: [0.0, 0.1, 0.2, 0.4] x [1.0, 0.5], seeds 3, 4.
     let f = read_result(&out, false).unwrap();
     let params = |i: usize| split_fields(&f.rows[&i]).unwrap()[1..4].to_vec();

@@ -209,9 +209,26 @@ def _scalar(key: str, x: Any) -> Any:
     return x
 
 
-def _scene_from_state(state: bytes, text: Optional[str]) -> "Scene":
+def _scene_from_state(state: bytes, text: Optional[str], base_dir: str = ".") -> "Scene":
     """Unpickles a :class:`Scene` (see ``Scene.__reduce__``)."""
-    return Scene._wrap(_beadchain.Scene._from_state(state), text)
+    return Scene._wrap(_beadchain.Scene._from_state(state), text, base_dir)
+
+
+def _toml_plain(key: str, v: Any) -> Any:
+    """An override value as plain Python (bool, int, float, str, lists, dicts): NumPy arrays as
+    lists, NumPy scalars as their values (:func:`_plain`'s checks, naming ``key``)."""
+    v = _plain(key, v)
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, np.generic):
+        return v.item()
+    if isinstance(v, Mapping):
+        return {k: _toml_plain(f"{key}.{k}", x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_toml_plain(f"{key}[{i}]", x) for i, x in enumerate(v)]
+    if v is None:
+        raise TypeError(f"{key}: None is not a value (leave the key out instead)")
+    return v
 
 
 def _looks_like_text(s: str) -> bool:
@@ -238,7 +255,7 @@ class Scene:
     bead or contact.
     """
 
-    __slots__ = ("_s", "_text")
+    __slots__ = ("_s", "_text", "_dir")
 
     def __init__(self, **kwargs: Any):
         tables: dict = {t: {} for t in (*_KEYS, *_TABLES)}
@@ -255,12 +272,14 @@ class Scene:
         text = _toml.document(tables)
         self._s = _beadchain.Scene._from_text(text, origin, ".")
         self._text = text
+        self._dir = "."
 
     @classmethod
-    def _wrap(cls, s, text: Optional[str] = None) -> "Scene":
+    def _wrap(cls, s, text: Optional[str] = None, base_dir: str = ".") -> "Scene":
         obj = cls.__new__(cls)
         obj._s = s
         obj._text = text
+        obj._dir = base_dir
         return obj
 
     @classmethod
@@ -275,7 +294,8 @@ class Scene:
                 raise _beadchain.SceneError(f"{path}: cannot read scene file: no such file")
             with open(path, encoding="utf-8") as f:
                 text = f.read()
-            return cls._wrap(_beadchain.Scene._load(path), text)
+            return cls._wrap(_beadchain.Scene._load(path), text,
+                             os.path.dirname(os.path.abspath(path)))
         text = str(path_or_text)
         return cls._wrap(_beadchain.Scene._from_text(text, name or "scene", "."), text)
 
@@ -365,6 +385,35 @@ class Scene:
         """The resolved scene as TOML (every array written out)."""
         return self._s.to_toml()
 
+    def with_overrides(self, overrides: Mapping[str, Any]) -> "Scene":
+        """A new scene: this one's TOML source with the sweep's dotted keys written in, e.g.
+        ``s.with_overrides({"chain.exponent.segments.0.value": 2.4, "scene.seed": 7})``.
+
+        Keys and values as in a sweep file's ``[set]`` (docs/sweeps.md): ``"chain.exponent"`` is
+        ``exponent`` in ``[chain]``, further parts walk into inline tables and numbers index
+        arrays; values are numbers, strings, bools, lists, dicts or NumPy arrays. The sweep's
+        own functions write them in (in the order given) and the scene parser and validator
+        read the result, so every check and message is the sweep's: a key that cannot be
+        written raises :class:`SceneError` naming it (``with_overrides: "chain.exponent.base":
+        the base scene's `chain.exponent` is a number, not a table``), an unknown key the
+        parser's (``with_overrides: (chain.beadz=3): striker: [chain].beadz: unknown key``).
+        The name stays unless ``"scene.name"`` is given; CSV files resolve against the scene
+        file's directory. A scene read from a snapshot (no source) starts from
+        :meth:`to_toml`.
+        """
+        if not isinstance(overrides, Mapping):
+            raise TypeError("with_overrides: expected a dict of dotted keys, e.g. "
+                            f"{{'chain.exponent': 2.4}}, got {type(overrides).__name__}")
+        items = []
+        for k, v in overrides.items():
+            if not isinstance(k, str):
+                raise TypeError(f"with_overrides: keys are dotted scene keys such as "
+                                f"'chain.exponent', got {k!r}")
+            items.append((k, _toml_plain(f'with_overrides: "{k}"', v)))
+        text = self._text if self._text is not None else self.to_toml()
+        s, new_text = self._s._with_overrides(text, items, self._dir)
+        return Scene._wrap(s, new_text, self._dir)
+
     def __repr__(self) -> str:
         return f"Scene(name={self.name!r}, n_beads={self.n_beads}, until={self.until})"
 
@@ -405,7 +454,7 @@ class Scene:
     def __reduce__(self):
         """Pickled (and deep-copied) as the resolved scene's exact bytes (every array, the
         contact law, ``[run]`` and ``[output]``, the warnings) and its source text."""
-        return (_scene_from_state, (self._s._state(), self._text))
+        return (_scene_from_state, (self._s._state(), self._text, self._dir))
 
     def __eq__(self, other: object) -> bool:
         """Equal when the resolved scenes are (source text and origin aside)."""

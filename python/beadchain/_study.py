@@ -29,8 +29,9 @@ def check(scene: Scene, method: Optional[str] = None, rtol: Optional[float] = No
 
 def sweep_run(path: str | os.PathLike, index: int) -> dict:
     """Runs point ``index`` of the sweep file ``path``: one result row (a dict), the values
-    ``beadchain sweep`` writes for it. Each point is independent of the others, so this is
-    the function to hand to an executor."""
+    ``beadchain sweep`` writes for it; the swept values as numbers (``int`` or ``float``, as the
+    sweep file gives them). Each point is independent of the others, so this is a function to
+    hand to an executor."""
     return _beadchain._sweep_run(os.fspath(path), int(index))
 
 
@@ -39,42 +40,83 @@ def sweep_size(path: str | os.PathLike) -> int:
     return _beadchain._sweep_spec(os.fspath(path))["runs"]
 
 
+def _sweep_row(path: str, index: int) -> str:
+    """Point ``index``'s CSV row, the bytes ``beadchain sweep`` writes (what :func:`sweep` hands
+    to an executor: a module-level function, picklable)."""
+    return _beadchain._sweep_row(path, int(index))
+
+
+class SweepTable(dict):
+    """:func:`sweep`'s result: the columns (a ``dict``, ready for ``pandas.DataFrame``), with
+    ``skipped`` (runs whose result the ``out`` file already held: not run again), ``ran`` (runs
+    done now) and ``written`` (whether ``out`` was written; False when it already held these
+    bytes or without ``out``)."""
+
+    skipped: int = 0
+    ran: int = 0
+    written: bool = False
+
+
+def _column(vals: list) -> Any:
+    """A column as a NumPy array when every value is an int (int64), a number (float64) or a
+    bool; else the list (text, or None where a value is missing)."""
+    if not vals:
+        return np.asarray(vals)
+    if all(isinstance(v, bool) for v in vals):
+        return np.asarray(vals, dtype=bool)
+    if any(v is None or isinstance(v, (bool, str)) for v in vals):
+        return vals
+    if all(isinstance(v, int) for v in vals):
+        return np.asarray(vals, dtype=np.int64)
+    if all(isinstance(v, (int, float)) for v in vals):
+        return np.asarray(vals, dtype=np.float64)
+    return vals
+
+
 def sweep(path: str | os.PathLike, executor: Any = None,
-          progress: Optional[Callable[[int, int], Any]] = None) -> dict:
+          progress: Optional[Callable[[int, int], Any]] = None,
+          out: Optional[str | os.PathLike] = None) -> SweepTable:
     """Runs every point of the sweep file ``path`` (docs/sweeps.md) and returns the results
-    as columns (``run``, one column per swept key as text, ``status``, ``t_end``,
-    ``energy_error``, ``steps``, ``events`` and the ``[measure]`` columns), ready for
-    ``pandas.DataFrame``.
+    as columns (``run``, one column per swept key, ``status``, ``t_end``, ``energy_error``,
+    ``steps``, ``events`` and the ``[measure]`` columns), ready for ``pandas.DataFrame``.
+
+    Swept keys and seeds are numbers: an int64 array where every value is an integer, float64
+    where they are numbers (a list where they are text, or where a point leaves a key out:
+    None there). Counts (``steps``, ``events``, ``fragments``) are int64, the rest float64 (a
+    list with None where an error row has no value).
 
     ``executor``: None runs the points here one after the other (the GIL is released while
     each runs); any object with ``map(fn, *iterables)`` spreads them: a
     ``concurrent.futures.ThreadPoolExecutor`` or ``ProcessPoolExecutor``, Dask's
     ``distributed.Client.get_executor()``, or Ray's ``ray.util.multiprocessing.Pool``-style
     executors. ``progress(done, total)`` is called after each point (without an executor).
+
+    ``out``: also write the CLI's result file, the bytes of ``beadchain sweep PATH --out OUT``
+    (``OUT`` and ``OUT.meta``), and resume by content as the CLI does: points whose result
+    ``OUT`` already holds (the same resolved scene, run settings and measures) are not run
+    again (``result.skipped``); a file that already holds the result is not rewritten.
+
     A bad sweep file raises :class:`SceneError` before anything runs.
     """
     path = os.path.abspath(os.fspath(path))
     spec = _beadchain._sweep_spec(path)
     n = spec["runs"]
+    dest = None if out is None else os.fspath(out)
+    rows: dict = {} if dest is None else dict(_beadchain._sweep_reuse(path, dest))
+    skipped = len(rows)
+    todo = [i for i in range(n) if i not in rows]
     if executor is None:
-        rows = []
-        for i in range(n):
-            rows.append(sweep_run(path, i))
+        for i in todo:
+            rows[i] = _sweep_row(path, i)
             if progress is not None:
-                progress(i + 1, n)
+                progress(len(rows), n)
     else:
-        rows = list(executor.map(sweep_run, [path] * n, range(n)))
-    cols = ["run", *spec["columns"], "status", "t_end", "energy_error", "steps", "events",
-            *spec["measure"]]
-    out = {}
-    for c in cols:
-        vals = [r.get(c) for r in rows]
-        numeric = c not in spec["columns"] and c != "status"
-        if numeric and all(v is not None for v in vals):
-            out[c] = np.asarray(vals)
-        else:
-            out[c] = vals
-    return out
+        rows.update(zip(todo, executor.map(_sweep_row, [path] * len(todo), todo)))
+    ordered = [rows[i] for i in range(n)]
+    written = False if dest is None else _beadchain._sweep_write(path, dest, ordered)
+    table = SweepTable({c: _column(v) for c, v in _beadchain._sweep_table(path, ordered).items()})
+    table.skipped, table.ran, table.written = skipped, len(todo), bool(written)
+    return table
 
 
 def accuracy(scene: Scene, engines: Optional[list] = None, methods: Optional[list] = None,

@@ -28,6 +28,7 @@ mod sim;
 mod snapfile;
 mod statics;
 mod study;
+mod sweep;
 
 use pyo3::create_exception;
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
@@ -90,7 +91,11 @@ fn _beadchain(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analyze::_analyze, m)?)?;
     m.add_function(wrap_pyfunction!(analyze::_analyze_file, m)?)?;
     m.add_function(wrap_pyfunction!(accuracy::accuracy, m)?)?;
-    m.add_function(wrap_pyfunction!(study::_sweep_spec, m)?)?;
-    m.add_function(wrap_pyfunction!(study::_sweep_run, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::_sweep_spec, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::_sweep_run, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::_sweep_row, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::_sweep_reuse, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::_sweep_write, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::_sweep_table, m)?)?;
     Ok(())
 }

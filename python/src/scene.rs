@@ -197,6 +197,37 @@ impl Scene {
         scene::show::to_toml(&self.scene)
     }
 
+    /// This scene's TOML `text` (its source) with dotted-key `overrides` written in, in order, by
+    /// the sweep's functions (`beadchain::sweep::expand::override_scene`): the same key walk,
+    /// parser, validator and messages as a sweep's run scenes. `base_dir` resolves CSV files;
+    /// the name stays unless `scene.name` is set. Returns the scene and its TOML text.
+    fn _with_overrides(
+        &self,
+        text: &str,
+        overrides: Vec<(String, Bound<'_, PyAny>)>,
+        base_dir: &str,
+    ) -> PyResult<(Self, String)> {
+        const WHAT: &str = "with_overrides";
+        let base: toml::Table = toml::from_str(text).map_err(|e| {
+            PySceneError::new_err(format!(
+                "{WHAT}: the scene's source text is not TOML ({})",
+                e.message()
+            ))
+        })?;
+        let mut kv = Vec::with_capacity(overrides.len());
+        for (k, v) in overrides {
+            let value = toml_value(&v, 0).map_err(|why| {
+                pyo3::exceptions::PyTypeError::new_err(format!("{WHAT}: \"{k}\": {why}"))
+            })?;
+            kv.push((k, value));
+        }
+        let name = &self.scene.name;
+        let (s, text) =
+            beadchain::sweep::expand::override_scene(&base, &kv, Path::new(base_dir), name, name)
+                .map_err(|m| PySceneError::new_err(format!("{WHAT}: {m}")))?;
+        Ok((Self::new(s)?, text))
+    }
+
     /// The scene as bytes for pickling (bincode of the resolved scene, its `[output]` selection
     /// and its warnings: every field exactly, whatever its contact law or origin).
     fn _state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
@@ -226,6 +257,64 @@ impl Scene {
             self.scene.run.until
         )
     }
+}
+
+/// A Python value as a TOML value (bool, int, float, str, lists and str-keyed dicts of them;
+/// NumPy values are made plain by the Python layer first).
+fn toml_value(v: &Bound<'_, PyAny>, depth: usize) -> Result<toml::Value, String> {
+    use pyo3::types::{PyBool, PyFloat, PyInt, PyString, PyTuple};
+    use toml::Value;
+    if depth > 32 {
+        return Err("nested more than 32 levels deep".into());
+    }
+    if v.is_instance_of::<PyBool>() {
+        return Ok(Value::Boolean(
+            v.extract::<bool>().map_err(|e| e.to_string())?,
+        ));
+    }
+    if v.is_instance_of::<PyInt>() {
+        let i: i64 = v
+            .extract()
+            .map_err(|_| format!("the integer {v} does not fit in 64 bits"))?;
+        return Ok(Value::Integer(i));
+    }
+    if v.is_instance_of::<PyFloat>() {
+        return Ok(Value::Float(v.extract::<f64>().map_err(|e| e.to_string())?));
+    }
+    if v.is_instance_of::<PyString>() {
+        return Ok(Value::String(
+            v.extract::<String>().map_err(|e| e.to_string())?,
+        ));
+    }
+    if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
+        let items: Vec<Bound<'_, PyAny>> = v
+            .try_iter()
+            .map_err(|e| e.to_string())?
+            .collect::<PyResult<_>>()
+            .map_err(|e| e.to_string())?;
+        return items
+            .iter()
+            .map(|x| toml_value(x, depth + 1))
+            .collect::<Result<Vec<_>, _>>()
+            .map(Value::Array);
+    }
+    if let Ok(d) = v.cast::<PyDict>() {
+        let mut t = toml::Table::new();
+        for (k, x) in d.iter() {
+            let k: String = k
+                .extract()
+                .map_err(|_| format!("dict keys must be strings, got {k:?}"))?;
+            t.insert(k, toml_value(&x, depth + 1)?);
+        }
+        return Ok(Value::Table(t));
+    }
+    let ty = v
+        .get_type()
+        .name()
+        .map_or_else(|_| "?".to_string(), |n| n.to_string());
+    Err(format!(
+        "expected a number, string, bool, list or dict, got {ty}"
+    ))
 }
 
 /// The built-in presets: a list of `(name, description)`.

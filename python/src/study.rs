@@ -1,18 +1,13 @@
-//! `check()` (hybrid engine against the dense reference, as `beadchain check`) and the sweep
-//! glue (`beadchain sweep`'s file, one point at a time so a Python executor can spread them).
-//! Results are dicts of plain values or columns (DataFrame-ready).
+//! `check()`: the hybrid engine against the dense reference, as `beadchain check` (the sweep glue
+//! is in `sweep.rs`). Results are dicts of plain values or columns (DataFrame-ready).
 
 use crate::run::{config, Options};
 use crate::scene::Scene;
-use crate::{without_gil, RunError, SceneError};
+use crate::{without_gil, RunError};
 use beadchain::check::check as lib_check;
 use beadchain::engine::Deviation;
-use beadchain::sweep::exec::run_one;
-use beadchain::sweep::expand::format_value;
-use beadchain::sweep::SweepSpec;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use std::path::Path;
 
 fn deviation<'py>(py: Python<'py>, d: &Deviation) -> PyResult<Bound<'py, PyDict>> {
     let o = PyDict::new(py);
@@ -73,79 +68,5 @@ pub fn check<'py>(
     d.set_item("criteria", c)?;
     d.set_item("deviation", deviation(py, &rep.deviation)?)?;
     d.set_item("sensitivity", deviation(py, &rep.sensitivity)?)?;
-    Ok(d)
-}
-
-fn load_spec(path: &str) -> PyResult<SweepSpec> {
-    SweepSpec::load(Path::new(path)).map_err(|e| SceneError::new_err(e.to_string()))
-}
-
-/// A sweep file's runs: `{"runs": count, "columns": parameter columns, "measure": [...]}`.
-/// Every run's scene is built and checked (a bad sweep fails before anything runs).
-#[pyfunction]
-pub fn _sweep_spec<'py>(py: Python<'py>, path: &str) -> PyResult<Bound<'py, PyDict>> {
-    let spec = load_spec(path)?;
-    let runs = spec
-        .check_all()
-        .map_err(|e| SceneError::new_err(e.to_string()))?;
-    let m = &spec.measure;
-    let mut measure = Vec::new();
-    if m.interface.is_some() {
-        measure.push("left_fraction");
-    }
-    if m.decay.is_some() {
-        measure.extend(["gamma", "gamma_se"]);
-    }
-    if m.impurity.is_some() {
-        measure.push("v_ratio");
-    }
-    if m.fragments.is_some() {
-        measure.push("fragments");
-    }
-    let d = PyDict::new(py);
-    d.set_item("runs", runs.len())?;
-    d.set_item("columns", spec.param_columns())?;
-    d.set_item("measure", measure)?;
-    Ok(d)
-}
-
-/// Runs point `index` of a sweep file: one row (`run` index, parameters as text, `status`,
-/// `t_end`, `energy_error`, `steps`, `events` and the measured columns), as `beadchain sweep`
-/// writes it. Independent of every other point: hand it to any executor.
-#[pyfunction]
-pub fn _sweep_run<'py>(py: Python<'py>, path: &str, index: usize) -> PyResult<Bound<'py, PyDict>> {
-    let spec = load_spec(path)?;
-    let runs = spec.runs();
-    let Some(point) = runs.iter().find(|r| r.index == index) else {
-        return Err(SceneError::new_err(format!(
-            "{path}: run {index} does not exist (the sweep has {} runs)",
-            runs.len()
-        )));
-    };
-    let res = without_gil(py, || run_one(&spec, point));
-    let d = PyDict::new(py);
-    d.set_item("run", index)?;
-    for c in spec.param_columns() {
-        let v = point.params.iter().find(|(k, _)| *k == c);
-        d.set_item(c, v.map(|(_, v)| format_value(v)))?;
-    }
-    match res {
-        Err(msg) => d.set_item("status", format!("error: {msg}"))?,
-        Ok((r, problem)) => {
-            d.set_item(
-                "status",
-                problem.map_or("ok".to_string(), |p| format!("error: {p}")),
-            )?;
-            d.set_item("t_end", r.t_end)?;
-            d.set_item("energy_error", r.energy_error)?;
-            d.set_item("steps", r.steps)?;
-            d.set_item("events", r.events)?;
-            d.set_item("left_fraction", r.left_fraction)?;
-            d.set_item("gamma", r.gamma.map(|g| g.0))?;
-            d.set_item("gamma_se", r.gamma.map(|g| g.1))?;
-            d.set_item("v_ratio", r.v_ratio)?;
-            d.set_item("fragments", r.fragments)?;
-        }
-    }
     Ok(d)
 }

@@ -47,7 +47,8 @@ def test_sweep_matches_the_cli(cli, tmp_path):
     assert seen[-1] == (9, 9) and len(seen) == 9
     assert list(res["run"]) == list(range(9))
     for i, row in enumerate(rows):
-        assert res["chain.exponent.base"][i] == row["chain.exponent.base"]
+        # swept values come back as numbers (issue 36: they were the CSV text '2.5')
+        assert res["chain.exponent.base"][i] == float(row["chain.exponent.base"])
         assert res["status"][i] == row["status"] == "ok"
         for k in ("t_end", "energy_error", "left_fraction"):
             # the CLI writes the shortest round-trip form: the same double

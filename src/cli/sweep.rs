@@ -96,15 +96,19 @@ pub fn cmd_sweep(a: SweepArgs) -> Result<i32> {
     bar.finish_and_clear();
     let what = shard.map_or(String::new(), |s| format!(" (shard {}/{})", s.k, s.m));
     outln!(
-        "{}: {} runs{what}: {} resumed, {} run now, {} with errors",
+        "{}: {} runs{what}: {} resumed, {} skipped (result already in {}), {} run now, {} with errors",
         a.file.display(),
         s.runs,
         s.resumed,
+        s.skipped,
+        out.display(),
         s.ran,
         s.failed
     );
-    if s.complete {
+    if s.complete && s.written {
         outln!("wrote {}", out.display());
+    } else if s.complete {
+        outln!("{} is up to date (unchanged)", out.display());
     } else {
         outln!(
             "stopped with {} of {} runs done; rows are in {} (rerun the same command to continue)",

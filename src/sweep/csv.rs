@@ -5,7 +5,9 @@
 //! row per run (RFC 4180 quoting: a field with `,` or `"` is quoted, `"` doubled; no field holds
 //! a newline), so `pandas.read_csv(OUT)` needs no options. The spec line
 //! `# beadchain sweep spec=HASH runs=N` (what `merge` and resuming check) is in the sidecar
-//! `OUT.meta`. The unfinished `OUT.partial` keeps the spec line as its line 1.
+//! `OUT.meta`, followed by the content key of every row (`# run I content=KEY`: what a rerun
+//! matches to skip the runs whose results are already there). The unfinished `OUT.partial`
+//! keeps the spec line as its line 1.
 
 use super::{SweepError, SweepSpec};
 use std::collections::BTreeMap;
@@ -83,18 +85,59 @@ pub fn meta_path(out: &Path) -> PathBuf {
     PathBuf::from(s)
 }
 
-/// Writes a finished result: the spec line to `OUT.meta`, then the table to `OUT` (each
-/// atomically; `OUT` appears last).
+/// The sidecar `OUT.meta`: the spec line, then one line `# run I content=KEY` per row (KEY: the
+/// run's content key, [`super::SweepSpec::content_key`], 16 hex digits), in run order.
+pub fn meta_text(spec_line: &str, keys: &BTreeMap<usize, u64>) -> String {
+    let mut s = String::with_capacity(spec_line.len() + 1 + 40 * keys.len());
+    s.push_str(spec_line);
+    s.push('\n');
+    for (i, k) in keys {
+        s.push_str(&format!("{CONTENT_TAG}{i} content={k:016x}\n"));
+    }
+    s
+}
+
+/// Start of a content-key line of `OUT.meta`.
+const CONTENT_TAG: &str = "# run ";
+
+/// The content keys of a finished result's rows, from its sidecar `OUT.meta` (empty when it has
+/// none: a result of an older beadchain, or no sidecar). Lines that are not content lines are
+/// skipped.
+pub fn read_keys(out: &Path) -> BTreeMap<usize, u64> {
+    let Ok(text) = std::fs::read_to_string(meta_path(out)) else {
+        return BTreeMap::new();
+    };
+    text.lines()
+        .filter_map(|l| {
+            let (i, k) = l.strip_prefix(CONTENT_TAG)?.split_once(" content=")?;
+            Some((i.parse().ok()?, u64::from_str_radix(k.trim(), 16).ok()?))
+        })
+        .collect()
+}
+
+/// Writes a finished result: the spec line and content keys to `OUT.meta`, then the table to
+/// `OUT` (each atomically; `OUT` appears last). A file that already holds those bytes is left
+/// alone (its modification time too). Returns whether anything was written.
 pub fn write_result(
     out: &Path,
     spec_line: &str,
+    keys: &BTreeMap<usize, u64>,
     columns: &str,
     rows: &BTreeMap<usize, String>,
-) -> Result<(), SweepError> {
-    write_atomic(&meta_path(out), &format!("{spec_line}\n"))?;
+) -> Result<bool, SweepError> {
     let mut s = render(spec_line, columns, rows);
     s.drain(..=spec_line.len());
-    write_atomic(out, &s)
+    let mut wrote = false;
+    for (path, text) in [
+        (meta_path(out), meta_text(spec_line, keys)),
+        (out.to_path_buf(), s),
+    ] {
+        if std::fs::read(&path).ok().as_deref() != Some(text.as_bytes()) {
+            write_atomic(&path, &text)?;
+            wrote = true;
+        }
+    }
+    Ok(wrote)
 }
 
 /// A result file read back: its spec line, column header and its rows by run index.
@@ -322,7 +365,12 @@ pub fn merge(
             ),
         });
     }
-    write_result(out, &head.spec_line, &head.columns, &rows)?;
+    let keys: BTreeMap<usize, u64> = shards
+        .iter()
+        .flat_map(|s| read_keys(s))
+        .filter(|(i, _)| rows.contains_key(i))
+        .collect();
+    write_result(out, &head.spec_line, &keys, &head.columns, &rows)?;
     Ok(MergeSummary {
         rows: rows.len(),
         missing,

@@ -6,8 +6,9 @@
 //! as `experiments::paper::run_watched`), optionally wrapped in [`SteadyStateStop`] (appendix A). A
 //! stopped run reports the counters of the engine state handed to the observer at the stop.
 
+use super::content::reusable_rows;
 use super::csv::{self, field, ResultFile};
-use super::expand::{format_value, RunPoint};
+use super::expand::RunPoint;
 use super::{Decay, SweepError, SweepSpec};
 use crate::analysis::{
     energy_split, fit_exponential, fragmentation, AnalysisError, ExpFit, SteadyStateStop,
@@ -74,12 +75,16 @@ pub struct SweepSummary {
     pub runs: usize,
     /// Rows taken from an existing `OUT.partial`.
     pub resumed: usize,
+    /// Runs skipped because the finished `OUT` already holds their result (same content key).
+    pub skipped: usize,
     /// Runs done now.
     pub ran: usize,
     /// Rows with an error status (this shard, all rows).
     pub failed: usize,
-    /// Whether `OUT` was written (all runs of the shard done).
+    /// Whether all runs of the shard are done (`OUT` holds them).
     pub complete: bool,
+    /// Whether `OUT` or `OUT.meta` was written (false: they already held these bytes).
+    pub written: bool,
 }
 
 /// `OUT.partial`.
@@ -193,11 +198,7 @@ pub fn format_row(
     result: &Result<(Measured, Option<String>), String>,
     wall: Option<f64>,
 ) -> String {
-    let mut f = vec![run.index.to_string()];
-    for c in spec.param_columns() {
-        let v = run.params.iter().find(|(k, _)| *k == c);
-        f.push(v.map_or(String::new(), |(_, v)| field(&format_value(v))));
-    }
+    let mut f = run.fields(spec);
     let e = |x: f64| format!("{x:e}");
     let o = |x: Option<String>| x.unwrap_or_default();
     let m = &spec.measure;
@@ -249,20 +250,23 @@ pub fn run_sweep(
     opts: &SweepOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<SweepSummary, SweepError> {
-    let all = spec.check_all()?;
+    let all = spec.check_all_keyed()?;
     let total = all.len();
-    let mine: Vec<RunPoint> = all
+    let keyed: Vec<(RunPoint, u64)> = all
         .into_iter()
-        .filter(|r| opts.shard.is_none_or(|s| s.contains(r.index)))
+        .filter(|(r, _)| opts.shard.is_none_or(|s| s.contains(r.index)))
         .collect();
+    let keys: BTreeMap<usize, u64> = keyed.iter().map(|(r, k)| (r.index, *k)).collect();
     let spec_line = csv::spec_line(spec.hash, total);
     let columns = csv::columns(spec, opts.timing)
         .iter()
         .map(|c| field(c))
         .collect::<Vec<_>>()
         .join(",");
-    let (partial, done) = resume_partial(spec, opts, &mine, &spec_line, &columns)?;
-    let resumed = done.len();
+    let mine: Vec<RunPoint> = keyed.iter().map(|(r, _)| r.clone()).collect();
+    let (partial, done, resumed, skipped) =
+        rows_done(spec, opts, keyed, &mine, &spec_line, &columns)?;
+    let done_now = done.len();
     let mut pending: Vec<&RunPoint> = mine
         .iter()
         .filter(|r| !done.contains_key(&r.index))
@@ -271,13 +275,13 @@ pub fn run_sweep(
         pending.truncate(mx);
     }
     let file = open_append(&partial)?;
-    let sink = Mutex::new((file, done, resumed));
+    let sink = Mutex::new((file, done, done_now));
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.jobs.unwrap_or(0))
         .build()
         .map_err(|e| SweepError::Options(format!("--jobs: {e}")))?;
     let n_mine = mine.len();
-    progress(resumed, n_mine);
+    progress(done_now, n_mine);
     let result = pool.install(|| {
         use rayon::prelude::*;
         pending
@@ -304,8 +308,9 @@ pub fn run_sweep(
         .map_err(|_| SweepError::Options("a worker thread failed".into()))?;
     let failed = rows.values().filter(|r| is_error_row(r)).count();
     let complete = rows.len() == n_mine;
+    let mut written = false;
     if complete {
-        csv::write_result(&opts.out, &spec_line, &columns, &rows)?;
+        written = csv::write_result(&opts.out, &spec_line, &keys, &columns, &rows)?;
         std::fs::remove_file(&partial).map_err(|e| SweepError::Io {
             file: partial.display().to_string(),
             action: "cannot remove".into(),
@@ -315,14 +320,41 @@ pub fn run_sweep(
     Ok(SweepSummary {
         runs: n_mine,
         resumed,
+        skipped,
         ran: pending.len(),
         failed,
         complete,
+        written,
     })
 }
 
+/// The rows done before anything runs: those of `OUT.partial` ([`resume_partial`]), then those
+/// the finished `OUT` holds for the other runs (by content key, [`reusable_rows`]); the partial
+/// file is rewritten with them (dropping a line cut short) so rows can be appended. Returns the
+/// partial file, the rows, and how many came from each.
+fn rows_done(
+    spec: &SweepSpec,
+    opts: &SweepOptions,
+    keyed: Vec<(RunPoint, u64)>,
+    mine: &[RunPoint],
+    spec_line: &str,
+    columns: &str,
+) -> Result<(PathBuf, BTreeMap<usize, String>, usize, usize), SweepError> {
+    let (partial, mut done) = resume_partial(spec, opts, mine, spec_line, columns)?;
+    let resumed = done.len();
+    let todo: Vec<(RunPoint, u64)> = keyed
+        .into_iter()
+        .filter(|(r, _)| !done.contains_key(&r.index))
+        .collect();
+    let reused = reusable_rows(spec, &todo, &opts.out, columns);
+    let skipped = reused.len();
+    done.extend(reused);
+    csv::write_atomic(&partial, &csv::render(spec_line, columns, &done))?;
+    Ok((partial, done, resumed, skipped))
+}
+
 /// The partial result file `OUT.partial` and the rows it already holds (checked against this
-/// sweep), rewritten cleanly (drops a line cut short) so rows can be appended.
+/// sweep; the caller rewrites it cleanly, dropping a line cut short, before appending rows).
 fn resume_partial(
     spec: &SweepSpec,
     opts: &SweepOptions,
@@ -337,7 +369,6 @@ fn resume_partial(
         check_partial(spec, &partial, &old, spec_line, columns, mine)?;
         done = old.rows;
     }
-    csv::write_atomic(&partial, &csv::render(spec_line, columns, &done))?;
     Ok((partial, done))
 }
 

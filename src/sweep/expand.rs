@@ -4,6 +4,7 @@
 
 use super::{SweepError, SweepSpec};
 use crate::scene::{self, Scene};
+use std::path::Path;
 use toml::{Table, Value};
 
 /// One run of a sweep.
@@ -16,6 +17,17 @@ pub struct RunPoint {
 }
 
 impl RunPoint {
+    /// The row's first fields: the run index and the swept values in column order (CSV fields,
+    /// empty where the run has no value for a column).
+    pub fn fields(&self, spec: &SweepSpec) -> Vec<String> {
+        let mut f = vec![self.index.to_string()];
+        for c in spec.param_columns() {
+            let v = self.params.iter().find(|(k, _)| *k == c);
+            f.push(v.map_or(String::new(), |(_, v)| super::csv::field(&format_value(v))));
+        }
+        f
+    }
+
     /// `key=value, ...` for messages.
     pub fn describe(&self) -> String {
         self.params
@@ -113,59 +125,64 @@ impl SweepSpec {
 
     /// The base scene's TOML with `[set]` and the run's parameters written in.
     pub fn run_table(&self, run: &RunPoint) -> Result<Table, SweepError> {
-        let mut t = self.base.clone();
-        for (k, v) in self.set.iter().chain(&run.params) {
-            set_key(&mut t, k, v.clone()).map_err(|m| {
-                let in_set = self.set.iter().any(|(s, _)| s == k);
-                SweepError::Key {
-                    file: self.file.clone(),
-                    key: if in_set {
-                        format!("[set].\"{k}\"")
-                    } else {
-                        format!("\"{k}\"")
-                    },
-                    message: if in_set {
-                        m
-                    } else {
-                        format!("run {} ({}): {m}", run.index, run.describe())
-                    },
-                }
-            })?;
-        }
-        Ok(t)
+        write_overrides(&self.base, self.set.iter().chain(&run.params)).map_err(|(k, m)| {
+            let in_set = self.set.iter().any(|(s, _)| s == k);
+            SweepError::Key {
+                file: self.file.clone(),
+                key: if in_set {
+                    format!("[set].\"{k}\"")
+                } else {
+                    format!("\"{k}\"")
+                },
+                message: if in_set {
+                    m
+                } else {
+                    format!("run {} ({}): {m}", run.index, run.describe())
+                },
+            }
+        })
     }
 
     /// The resolved, validated scene of one run.
     pub fn scene_for(&self, run: &RunPoint) -> Result<Scene, SweepError> {
         let t = self.run_table(run)?;
-        let serr = |source| SweepError::Scene {
-            file: self.file.clone(),
-            run: run.index,
-            params: run.describe(),
-            source: Box::new(source),
-        };
-        let text = toml::to_string(&t).map_err(|e| SweepError::Key {
-            file: self.file.clone(),
-            key: format!("run {}", run.index),
-            message: format!("cannot write the run's scene as TOML: {e}"),
-        })?;
         let origin = format!("scene {}", self.scene_spec);
-        let mut s = scene::parse_str(&text, &self.base_dir, &origin).map_err(serr)?;
-        if t.get("scene").and_then(|s| s.get("name")).is_none() {
-            s.name = self.scene_spec.clone();
-        }
-        Ok(s)
+        parse_table(&t, &self.base_dir, &origin, &self.scene_spec).map_err(|e| match e {
+            TableError::Toml(m) => SweepError::Key {
+                file: self.file.clone(),
+                key: format!("run {}", run.index),
+                message: m,
+            },
+            TableError::Scene(source) => SweepError::Scene {
+                file: self.file.clone(),
+                run: run.index,
+                params: run.describe(),
+                source: Box::new(source),
+            },
+        })
     }
 
     /// Builds every run's scene once (nothing is run) and checks the measures fit the chains:
     /// the first problem fails the whole sweep.
     pub fn check_all(&self) -> Result<Vec<RunPoint>, SweepError> {
+        Ok(self
+            .check_all_keyed()?
+            .into_iter()
+            .map(|(r, _)| r)
+            .collect())
+    }
+
+    /// [`SweepSpec::check_all`], with each run's content key ([`SweepSpec::content_key`]).
+    pub fn check_all_keyed(&self) -> Result<Vec<(RunPoint, u64)>, SweepError> {
         let runs = self.runs();
-        for r in &runs {
-            let s = self.scene_for(r)?;
-            self.check_scene(r, &s)?;
+        let mut out = Vec::with_capacity(runs.len());
+        for r in runs {
+            let s = self.scene_for(&r)?;
+            self.check_scene(&r, &s)?;
+            let key = self.content_key(&s);
+            out.push((r, key));
         }
-        Ok(runs)
+        Ok(out)
     }
 
     fn check_scene(&self, r: &RunPoint, s: &Scene) -> Result<(), SweepError> {
@@ -232,6 +249,85 @@ impl SweepSpec {
         }
         Ok(())
     }
+}
+
+/// Why a scene's TOML table (with overrides written in) gave no scene.
+#[derive(Debug)]
+pub enum TableError {
+    /// The table could not be written as TOML text (the message says why).
+    Toml(String),
+    /// The scene parser or validator rejected it.
+    Scene(scene::SceneError),
+}
+
+/// Writes the dotted-key `overrides` into a copy of `base`, in order, as [`set_key`]: what a
+/// sweep does for each run. The first key that cannot be written gives `(key, reason)`.
+pub fn write_overrides<'a>(
+    base: &Table,
+    overrides: impl IntoIterator<Item = &'a (String, Value)>,
+) -> Result<Table, (&'a str, String)> {
+    let mut t = base.clone();
+    for (k, v) in overrides {
+        set_key(&mut t, k, v.clone()).map_err(|m| (k.as_str(), m))?;
+    }
+    Ok(t)
+}
+
+/// A scene file's table read by the scene parser and validator (`origin` names it in messages,
+/// `base_dir` resolves its CSV files); without a `[scene] name` the scene is called `name`.
+pub fn parse_table(
+    t: &Table,
+    base_dir: &Path,
+    origin: &str,
+    name: &str,
+) -> Result<Scene, TableError> {
+    let text = toml::to_string(t)
+        .map_err(|e| TableError::Toml(format!("cannot write the run's scene as TOML: {e}")))?;
+    let mut s = scene::parse_str(&text, base_dir, origin).map_err(TableError::Scene)?;
+    if t.get("scene").and_then(|s| s.get("name")).is_none() {
+        s.name = name.to_string();
+    }
+    Ok(s)
+}
+
+/// The message for a key that is not a dotted scene key of at least two parts (`table.key`).
+pub fn key_shape_error(k: &str) -> Option<String> {
+    let parts: Vec<&str> = k.split('.').collect();
+    (parts.len() < 2 || parts.iter().any(|p| p.is_empty())).then(|| {
+        "expected a quoted dotted scene key such as \"chain.exponent\" (table.key; a whole table cannot be replaced)".to_string()
+    })
+}
+
+/// A scene's TOML `base` with the dotted-key `overrides` written in (in order), read by the
+/// scene parser and validator, and that TOML text: a sweep's run scene from outside a sweep file
+/// (Python's `Scene.with_overrides`), by the same functions and with the same messages. Without a
+/// `scene.name` override the scene keeps `name`. Errors are one line naming the key:
+/// `"KEY": REASON` when a key is malformed or cannot be written (the sweep file's
+/// `[set]."KEY": REASON`), `(KEY=VALUE, ...): SCENE ERROR` when the scene is rejected (an
+/// unknown key is the parser's `[table].key: unknown key`).
+pub fn override_scene(
+    base: &Table,
+    overrides: &[(String, Value)],
+    base_dir: &Path,
+    origin: &str,
+    name: &str,
+) -> Result<(Scene, String), String> {
+    for (k, _) in overrides {
+        if let Some(m) = key_shape_error(k) {
+            return Err(format!("\"{k}\": {m}"));
+        }
+    }
+    let t = write_overrides(base, overrides).map_err(|(k, m)| format!("\"{k}\": {m}"))?;
+    let describe = RunPoint {
+        index: 0,
+        params: overrides.to_vec(),
+    }
+    .describe();
+    let scene = parse_table(&t, base_dir, origin, name).map_err(|e| match e {
+        TableError::Toml(m) => format!("({describe}): {m}"),
+        TableError::Scene(s) => format!("({describe}): {s}"),
+    })?;
+    Ok((scene, toml::to_string(&t).unwrap_or_default()))
 }
 
 /// Writes `value` at the dotted `key` of `root`: parts walk into tables (created when missing)

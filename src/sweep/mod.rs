@@ -2,7 +2,8 @@
 //! one CSV row per run (`beadchain sweep SWEEP.toml`, `beadchain merge`).
 //!
 //! Submodules: [`expand`] (grid/list expansion, scene overrides), [`exec`] (parallel execution and
-//! the measurements), [`csv`] (result rows, resuming, merging shards).
+//! the measurements), [`csv`] (result rows, resuming, merging shards), [`content`] (content
+//! keys: skipping runs whose results a finished `OUT` already holds).
 //!
 //! ## The sweep file
 //!
@@ -69,9 +70,12 @@
 //! the number of runs of the whole sweep. Rows are appended to `OUT.partial` (flushed per row) as
 //! runs finish; a restart skips the rows already there (refusing a partial file of another spec);
 //! at the end the rows are written sorted by run into `OUT` (temporary file + rename) and the
-//! partial file is removed. `--shard K/M` runs the runs with `run % M == K − 1`; `merge` joins
+//! partial file is removed. `OUT.meta` also keeps each row's content key ([`content`]): a rerun
+//! skips the runs whose result `OUT` already holds (same resolved scene, run settings, measures
+//! and version), so only new or changed points run. `--shard K/M` runs the runs with `run % M == K − 1`; `merge` joins
 //! shard files into the same bytes as an unsharded run.
 
+pub mod content;
 pub mod csv;
 pub mod exec;
 pub mod expand;

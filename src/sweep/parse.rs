@@ -133,14 +133,10 @@ fn table<'a>(root: &'a Table, name: &str, e: &KeyErr) -> Result<Option<&'a Table
 
 /// A scene key a sweep sets: quoted and dotted (`"chain.exponent"`).
 fn check_key(where_: &str, k: &str, e: &KeyErr) -> Result<(), SweepError> {
-    let parts: Vec<&str> = k.split('.').collect();
-    if parts.len() < 2 || parts.iter().any(|p| p.is_empty()) {
-        return Err(e(
-            &format!("{where_}.\"{k}\""),
-            "expected a quoted dotted scene key such as \"chain.exponent\" (table.key; a whole table cannot be replaced)".into(),
-        ));
+    match expand::key_shape_error(k) {
+        Some(m) => Err(e(&format!("{where_}.\"{k}\""), m)),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// The overrides of a `[set]` or `[[point]]` table.
