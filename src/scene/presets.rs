@@ -2,7 +2,7 @@
 //! `include_str!` so they work from any directory. `beadchain scenes` lists them.
 
 use super::error::SceneError;
-use super::parse::parse_with_material;
+use super::parse::{parse_full, Parsed};
 use super::plausible::BeadMaterial;
 use super::Scene;
 use std::path::Path;
@@ -170,15 +170,21 @@ pub fn preset(name: &str) -> Result<Scene, SceneError> {
     preset_with_material(name).map(|(s, _)| s)
 }
 
-/// [`preset`] with the SI bead material of a physical preset ([`parse_with_material`]).
+/// [`preset`] with the SI bead material of a physical preset
+/// ([`super::parse::parse_with_material`]).
 pub fn preset_with_material(name: &str) -> Result<(Scene, Option<BeadMaterial>), SceneError> {
+    preset_full(name).map(|p| (p.scene, p.material))
+}
+
+/// [`preset`] with the bead material and the warnings of its construction ([`Parsed`]).
+pub fn preset_full(name: &str) -> Result<Parsed, SceneError> {
     match PRESETS.iter().find(|p| p.name == name) {
-        Some(p) => parse_with_material(p.toml, Path::new("."), &format!("preset:{}", p.name)).map(
-            |(mut s, m)| {
-                s.name = p.name.to_string();
-                (s, m)
-            },
-        ),
+        Some(p) => {
+            parse_full(p.toml, Path::new("."), &format!("preset:{}", p.name)).map(|mut parsed| {
+                parsed.scene.name = p.name.to_string();
+                parsed
+            })
+        }
         None => Err(SceneError::NotFound {
             spec: super::error::one_line(name),
             presets: PRESETS
