@@ -150,6 +150,11 @@ static PRESETS: &[PresetInfo] = &[
         toml: include_str!("../../data/scenes/dimer_dispersion.toml"),
     },
     PresetInfo {
+        name: "dimer_gap_breather",
+        description: "The discrete gap breather of a precompressed dimer chain: 16 beads of masses 1 and 0.5 (n = 2.5, a = 1) between soft walls, every contact at force 0.1, omega = 2.25 in the gap below the optical band (beadchain breather, stored as [initial] displacements): it returns to itself every period T = 2.7925",
+        toml: include_str!("../../data/scenes/dimer_gap_breather.toml"),
+    },
+    PresetInfo {
         name: "gravity_column_at_rest",
         description: "20 beads of random masses 1 +- 0.5 (seed 3) resting on a left wall under gravity g = 1, [initial] equilibrium = true: contact k carries g times the mass above it, and the column stays at rest",
         toml: include_str!("../../data/scenes/gravity_column_at_rest.toml"),
