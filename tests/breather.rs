@@ -5,9 +5,10 @@
 //! A 12-bead precompressed dimer chain (masses 1 and 0.5, n = 2.5, every contact at force 0.1,
 //! soft walls: the `dimer_dispersion` preset, shorter) keeps every test a few seconds.
 
+use beadchain::engine::{run, Recorder, RunConfig};
 use beadchain::experiments::breather::{continue_to, max_diff, Breather, Shooter};
 use beadchain::experiments::floquet::floquet;
-use beadchain::scene::{parse::parse_str, Scene};
+use beadchain::scene::{parse::parse_str, preset, Scene};
 use beadchain::studies::modes::participation_ratio;
 use std::path::Path;
 
@@ -139,4 +140,34 @@ fn the_linear_seed_is_not_periodic_at_large_amplitude() {
     let res = sh.period_residual(&seed).unwrap();
     eprintln!("linear seed residual {res:.3e}");
     assert!(res > 1e-4, "residual of the linear seed {res:.3e}");
+}
+
+/// The `dimer_gap_breather` preset (this file's 16-bead gap breather at omega = 2.25, stored as
+/// explicit displacements) run as written (dense engine, DOP853, rtol 1e-12, 20 frames a
+/// period): one period in (frame 20) the state equals the start within 1e-10 (max-norm over u and
+/// v; measured 5e-13) and after 100 periods (the last frame) within 1e-8, while half a period in
+/// it is more than 1e-2 away (the check discriminates). Its displacements are the breather this
+/// file computes, within 1e-9.
+#[test]
+fn preset_gap_breather_runs_periodic() {
+    let s = preset("dimer_gap_breather").expect("preset");
+    let mut rec = Recorder::default();
+    run(&s, &RunConfig::from_scene(&s), &mut rec).expect("run");
+    let period = 2.0 * std::f64::consts::PI / 2.25;
+    assert_eq!(rec.t.len(), 2001);
+    let dist = |k: usize| max_diff(&rec.u[k], &rec.u[0]).max(max_diff(&rec.v[k], &rec.v[0]));
+    let (one, hundred, half) = (dist(20), dist(2000), dist(10));
+    eprintln!("after 1 period {one:.3e}, 100 periods {hundred:.3e}, half a period {half:.3e}");
+    assert!(
+        (rec.t[20] - period).abs() <= 1e-12 * period,
+        "t {}",
+        rec.t[20]
+    );
+    assert!((rec.t[2000] - 100.0 * period).abs() <= 1e-12 * 100.0 * period);
+    assert!(one <= 1e-10, "after one period: {one:.3e}");
+    assert!(hundred <= 1e-8, "after 100 periods: {hundred:.3e}");
+    assert!(half > 1e-2, "half a period: {half:.3e}");
+    let (_, b, _) = gap_breather();
+    let d = max_diff(&s.u0, &b.u);
+    assert!(d <= 1e-9, "preset vs computed breather: {d:.3e}");
 }

@@ -235,7 +235,7 @@ fn unsupported_chains_are_refused_with_the_bead() {
         ("[chain]\nbeads = 100\n[initial]\nsolitary = { at = 50, velocity_si = 1.0 }", "velocity_si"),
         ("[chain]\nbeads = 100\n[initial]\nsolitary = { at = 50, velocity = 1.0, energy = 1.0 }", "give only one of velocity, energy"),
         ("[chain]\nbeads = 100\n[initial]\nsolitary = { at = 50 }", "missing: give the peak velocity"),
-        ("[chain]\nbeads = 100\n[initial]\nsolitary = { at = 50, velocity = -1.0 }", "peak velocity must be > 0"),
+        ("[chain]\nbeads = 100\n[initial]\nsolitary = { at = 50, velocity = -1.0 }", "[initial].solitary.velocity: must be > 0, got -1"),
         ("[chain]\nbeads = 100\n[initial]\nsolitary = { at = 50, velocity = 1.0, direction = \"up\" }", "expected \"right\" or \"left\""),
         ("[chain]\nbeads = 100\n[initial]\nsolitary = 1.0", "expected a table"),
     ];

@@ -68,12 +68,18 @@ pub fn load_scene(spec: &str) -> Result<Scene> {
 }
 
 /// [`load_scene`], with the SI bead material of a physical scene (for [`warn_implausible`]).
+/// Also prints the warnings of the scene's construction ([`scene::Parsed::warnings`]: the gaps
+/// that `[initial] equilibrium = true` leaves).
 pub fn load_scene_with_material(spec: &str) -> Result<(Scene, Option<BeadMaterial>)> {
-    let (scene, material) = scene::load_with_material(spec).map_err(not_found_hint)?;
-    for w in scene::validate(&scene)? {
+    let parsed = scene::load_full(spec).map_err(not_found_hint)?;
+    for w in parsed
+        .warnings
+        .iter()
+        .chain(&scene::validate(&parsed.scene)?)
+    {
         eprintln!("beadchain: warning: {w}");
     }
-    Ok((scene, material))
+    Ok((parsed.scene, parsed.material))
 }
 
 /// A scene that is neither a file nor a preset: the nearest preset names instead of the whole

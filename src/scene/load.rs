@@ -3,7 +3,7 @@
 //! neither imports the other back.
 
 use super::error::{one_line, SceneError};
-use super::parse::parse_with_material;
+use super::parse::{parse_full, Parsed};
 use super::plausible::BeadMaterial;
 use super::presets;
 use super::Scene;
@@ -15,8 +15,14 @@ pub fn load(spec: &str) -> Result<Scene, SceneError> {
     load_with_material(spec).map(|(s, _)| s)
 }
 
-/// [`load`], with the SI bead material of a physical scene ([`parse_with_material`]).
+/// [`load`], with the SI bead material of a physical scene
+/// ([`super::parse::parse_with_material`]).
 pub fn load_with_material(spec: &str) -> Result<(Scene, Option<BeadMaterial>), SceneError> {
+    load_full(spec).map(|p| (p.scene, p.material))
+}
+
+/// [`load`], with the bead material and the warnings of the scene's construction ([`Parsed`]).
+pub fn load_full(spec: &str) -> Result<Parsed, SceneError> {
     let path = Path::new(spec);
     if path.exists() {
         let text = crate::files::read_text(path).map_err(|e| SceneError::Io {
@@ -24,10 +30,10 @@ pub fn load_with_material(spec: &str) -> Result<(Scene, Option<BeadMaterial>), S
             reason: one_line(&e.to_string()),
         })?;
         let base = path.parent().unwrap_or(Path::new("."));
-        return parse_with_material(&text, base, spec);
+        return parse_full(&text, base, spec);
     }
     if presets::presets().iter().any(|p| p.name == spec) {
-        return presets::preset_with_material(spec);
+        return presets::preset_full(spec);
     }
     Err(SceneError::NotFound {
         spec: one_line(spec),

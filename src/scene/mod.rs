@@ -24,6 +24,7 @@
 //! prefactor = 1.0          # per contact, a in V = a*delta^n, default 1.0
 //! precompression = 0.0     # per contact, Delta; absent (or all zeros) = no precompression code path
 //! precompression_force = 0.1  # instead of precompression: every contact's Delta = (F0/(n a))^(1/(n-1)), walls' too
+//! precompression_force_si = 5.0  # physical scenes: the same force in newtons
 //! radius = 1.0             # per bead, optional dimensionless sphere radii (see "Tapered chains")
 //!
 //! [initial]
@@ -44,6 +45,7 @@
 //! left  = { exponent = 2.5, prefactor = 1.0, precompression = 0.0 }  # acts on bead 0
 //! right = { exponent = 2.5, prefactor = 1.0, precompression = 0.0 }  # acts on bead N-1
 //! force = 0.5              # static force of the left wall (needs both walls and [initial] equilibrium): sets the right wall's precompression
+//! force_si = 3.0           # physical scenes: the same force in newtons
 //!
 //! [run]
 //! until = 150.0            # REQUIRED end time (computer units), > 0
@@ -140,8 +142,10 @@
 //! `time_unit` (s), `mu`, `n0` given (all required), so SI output and `--until-si` still work.
 //!
 //! Plain keys always mean computer units. Physical scenes also accept SI twins, converted with
-//! `β`: `[initial] striker_si`, `striker_right_si`, `velocity_si` (m/s), `pulse.velocity_si`;
-//! `[run] until_si`, `every_si` (s); `[field] force_si` (N), `gravity_si` (m/s²);
+//! `β`: `[initial] striker_si`, `striker_right_si`, `velocity_si` (m/s), `pulse.velocity_si`,
+//! `solitary.velocity_si` (m/s), `solitary.energy_si` (J, `E β²/m0`); `[run] until_si`,
+//! `every_si` (s); `[field] force_si` (N), `gravity_si` (m/s²); `[chain]
+//! precompression_force_si`, `[walls] force_si` (N, `W β²/m0`);
 //! `[walls].left/right.prefactor_si` (SI prefactor). Giving both a key and its twin is an error.
 //!
 //! **The paper's striker value.** For the Table 1 steel beads (R = 4 mm, Y = 2.26·10¹¹ Pa,
@@ -230,8 +234,8 @@ pub mod values;
 mod walls;
 
 pub use error::SceneError;
-pub use load::{load, load_with_material};
-pub use parse::parse_str;
+pub use load::{load, load_full, load_with_material};
+pub use parse::{parse_str, Parsed};
 pub use presets::{preset, presets, PresetInfo};
 pub use units::UnitScales;
 pub use validate::validate;

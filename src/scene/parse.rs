@@ -28,11 +28,28 @@ pub fn parse_with_material(
     base_dir: &Path,
     origin: &str,
 ) -> Result<(Scene, Option<BeadMaterial>), SceneError> {
+    parse_full(text, base_dir, origin).map(|p| (p.scene, p.material))
+}
+
+/// A parsed scene with what the resolved [`Scene`] does not keep.
+#[derive(Clone, Debug)]
+pub struct Parsed {
+    /// The resolved, validated scene.
+    pub scene: Scene,
+    /// The SI bead material of a physical scene ([`parse_with_material`]).
+    pub material: Option<BeadMaterial>,
+    /// Warnings of the construction, one line each naming the file and key (the gaps that
+    /// `[initial] equilibrium = true` leaves); [`super::validate`] adds those of the scene.
+    pub warnings: Vec<String>,
+}
+
+/// [`parse_str`], with the bead material and the construction's warnings ([`Parsed`]).
+pub fn parse_full(text: &str, base_dir: &Path, origin: &str) -> Result<Parsed, SceneError> {
     let origin = one_line(origin);
     let root: Table = toml::from_str(text).map_err(|e| syntax_error(&origin, text, &e))?;
-    let (scene, material) = build(&root, base_dir, &origin)?;
-    validate_in(&scene, &origin)?;
-    Ok((scene, material))
+    let parsed = build(&root, base_dir, &origin)?;
+    validate_in(&parsed.scene, &origin)?;
+    Ok(parsed)
 }
 
 /// Convert a TOML error into a one-line error with 1-based line/column.
@@ -67,11 +84,7 @@ fn syntax_error(file: &str, text: &str, e: &toml::de::Error) -> SceneError {
 /// ([`super::arrays`]), masses and prefactors ([`super::material`]), initial state and field
 /// ([`super::initial`]), walls ([`super::walls`]) and damping ([`super::damping`]), run settings
 /// with `[hard]` and `[output]` ([`super::settings`]).
-fn build(
-    root: &Table,
-    base_dir: &Path,
-    origin: &str,
-) -> Result<(Scene, Option<BeadMaterial>), SceneError> {
+fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Parsed, SceneError> {
     let pre = Ctx {
         file: origin,
         base_dir,
@@ -99,7 +112,7 @@ fn build(
         Some(sc) => Some(sc),
         None => tables::computer_scales(ctx, &t)?,
     };
-    let pre_force = statics::precompression_force(ctx, &t)?;
+    let pre_force = statics::precompression_force(ctx, &t, scales)?;
     let precompression = match pre_force {
         Some(f) => Some(statics::precompression_of(f, &exponent, &inertia.prefactor)),
         None => precompression(ctx, &specs, len)?,
@@ -143,8 +156,12 @@ fn build(
     };
     super::solitary::apply(ctx, &t, physical, scales, &mut scene)?;
     super::hard::default_collapse_interval(&mut scene);
-    statics::apply(ctx, &t, &mut scene)?;
-    Ok((scene, material))
+    let warnings = statics::apply(ctx, &t, &mut scene)?;
+    Ok(Parsed {
+        scene,
+        material,
+        warnings,
+    })
 }
 
 /// The contact law's damping (`[chain] law`, `damping`, …, and the walls'), given the chain's

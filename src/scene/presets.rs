@@ -2,7 +2,7 @@
 //! `include_str!` so they work from any directory. `beadchain scenes` lists them.
 
 use super::error::SceneError;
-use super::parse::parse_with_material;
+use super::parse::{parse_full, Parsed};
 use super::plausible::BeadMaterial;
 use super::Scene;
 use std::path::Path;
@@ -150,6 +150,11 @@ static PRESETS: &[PresetInfo] = &[
         toml: include_str!("../../data/scenes/dimer_dispersion.toml"),
     },
     PresetInfo {
+        name: "dimer_gap_breather",
+        description: "The discrete gap breather of a precompressed dimer chain: 16 beads of masses 1 and 0.5 (n = 2.5, a = 1) between soft walls, every contact at force 0.1, omega = 2.25 in the gap below the optical band (beadchain breather, stored as [initial] displacements): it returns to itself every period T = 2.7925",
+        toml: include_str!("../../data/scenes/dimer_gap_breather.toml"),
+    },
+    PresetInfo {
         name: "gravity_column_at_rest",
         description: "20 beads of random masses 1 +- 0.5 (seed 3) resting on a left wall under gravity g = 1, [initial] equilibrium = true: contact k carries g times the mass above it, and the column stays at rest",
         toml: include_str!("../../data/scenes/gravity_column_at_rest.toml"),
@@ -170,15 +175,21 @@ pub fn preset(name: &str) -> Result<Scene, SceneError> {
     preset_with_material(name).map(|(s, _)| s)
 }
 
-/// [`preset`] with the SI bead material of a physical preset ([`parse_with_material`]).
+/// [`preset`] with the SI bead material of a physical preset
+/// ([`super::parse::parse_with_material`]).
 pub fn preset_with_material(name: &str) -> Result<(Scene, Option<BeadMaterial>), SceneError> {
+    preset_full(name).map(|p| (p.scene, p.material))
+}
+
+/// [`preset`] with the bead material and the warnings of its construction ([`Parsed`]).
+pub fn preset_full(name: &str) -> Result<Parsed, SceneError> {
     match PRESETS.iter().find(|p| p.name == name) {
-        Some(p) => parse_with_material(p.toml, Path::new("."), &format!("preset:{}", p.name)).map(
-            |(mut s, m)| {
-                s.name = p.name.to_string();
-                (s, m)
-            },
-        ),
+        Some(p) => {
+            parse_full(p.toml, Path::new("."), &format!("preset:{}", p.name)).map(|mut parsed| {
+                parsed.scene.name = p.name.to_string();
+                parsed
+            })
+        }
         None => Err(SceneError::NotFound {
             spec: super::error::one_line(name),
             presets: PRESETS

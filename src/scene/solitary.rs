@@ -8,7 +8,8 @@
 //! solitary = [{ at = 30, velocity = 1.0 }, { at = 70, velocity = 1.0, direction = "left" }]
 //! ```
 //!
-//! Physical scenes also accept `velocity_si` (m/s). Bead `at` gets the peak velocity; beads ahead
+//! Physical scenes also accept `velocity_si` (m/s, converted by `v β`) and `energy_si` (J,
+//! converted by `E β² / m0`, paper eq. 11, [`UnitScales`]). Bead `at` gets the peak velocity; beads ahead
 //! of the wave stay at rest and unshifted, those behind are shifted by the wave's total
 //! compression `Σ r`, so every contact carries exactly the wave's overlap. The waves add to the
 //! `displacement`/`velocity`/`pulse`/`striker` state. Refused: a wave whose support (beads where
@@ -198,7 +199,10 @@ fn check_uniform(ctx: &Ctx, spec: &Spec, p: &Placement, scene: &Scene) -> Result
     Ok(())
 }
 
-/// One entry `{ at, velocity | velocity_si | energy, direction }`.
+/// The SI twins of an entry's amount (physical scenes only).
+const SI_KEYS: [&str; 2] = ["velocity_si", "energy_si"];
+
+/// One entry `{ at, velocity | velocity_si | energy | energy_si, direction }`.
 fn parse_entry(
     ctx: &Ctx,
     key: &str,
@@ -215,47 +219,32 @@ fn parse_entry(
             ),
         )
     })?;
-    let allowed: &[&str] = if physical {
-        &["at", "velocity", "velocity_si", "energy", "direction"]
-    } else {
-        &["at", "velocity", "energy", "direction"]
-    };
-    check_keys(ctx, key, t, allowed)?;
+    if !physical {
+        if let Some(k) = SI_KEYS.into_iter().find(|k| t.contains_key(*k)) {
+            return Err(ctx.err(
+                &format!("{key}.{k}"),
+                "only allowed in a physical scene ([units] system = \"physical\")",
+            ));
+        }
+    }
+    check_keys(
+        ctx,
+        key,
+        t,
+        &[
+            "at",
+            "velocity",
+            "velocity_si",
+            "energy",
+            "energy_si",
+            "direction",
+        ],
+    )?;
     let at = match t.get("at") {
         Some(b) => index(ctx, &format!("{key}.at"), b)?,
         None => return Err(ctx.err(&format!("{key}.at"), "missing (the wave's centre bead)")),
     };
-    let given: Vec<&str> = ["velocity", "velocity_si", "energy"]
-        .into_iter()
-        .filter(|k| t.contains_key(*k))
-        .collect();
-    let amount = match given.as_slice() {
-        ["velocity"] => {
-            Amount::PeakVelocity(number(ctx, &format!("{key}.velocity"), &t["velocity"])?)
-        }
-        ["velocity_si"] => {
-            let x = number(ctx, &format!("{key}.velocity_si"), &t["velocity_si"])?;
-            match scales {
-                Some(sc) => Amount::PeakVelocity(sc.velocity(x)),
-                None => {
-                    return Err(ctx.err(&format!("{key}.velocity_si"), "needs a physical scene"))
-                }
-            }
-        }
-        ["energy"] => Amount::Energy(number(ctx, &format!("{key}.energy"), &t["energy"])?),
-        [] => {
-            return Err(ctx.err(
-                &format!("{key}.velocity"),
-                "missing: give the peak velocity `velocity` (or `velocity_si`) or the `energy`",
-            ))
-        }
-        _ => {
-            return Err(ctx.err(
-                &format!("{key}.{}", given[1]),
-                format!("give only one of {}", given.join(", ")),
-            ))
-        }
-    };
+    let amount = amount(ctx, key, t, scales)?;
     let direction = match t.get("direction") {
         None => Direction::Right,
         Some(Value::String(s)) if s == "right" => Direction::Right,
@@ -272,5 +261,44 @@ fn parse_entry(
         at,
         amount,
         direction,
+    })
+}
+
+/// Exactly one of `velocity`, `velocity_si` (m/s, `v β`), `energy`, `energy_si` (J,
+/// `E β² / m0`), as written `> 0`; in computer units.
+fn amount(
+    ctx: &Ctx,
+    key: &str,
+    t: &Table,
+    scales: Option<UnitScales>,
+) -> Result<Amount, SceneError> {
+    let given: Vec<&str> = ["velocity", "velocity_si", "energy", "energy_si"]
+        .into_iter()
+        .filter(|k| t.contains_key(*k))
+        .collect();
+    // The amount as written, > 0 (the message names the key and the value given).
+    let num = |k: &str| match number(ctx, &format!("{key}.{k}"), &t[k])? {
+        x if x > 0.0 => Ok(x),
+        x => Err(ctx.err(&format!("{key}.{k}"), format!("must be > 0, got {x}"))),
+    };
+    let si =
+        |k: &str| scales.ok_or_else(|| ctx.err(&format!("{key}.{k}"), "needs a physical scene"));
+    Ok(match given.as_slice() {
+        ["velocity"] => Amount::PeakVelocity(num("velocity")?),
+        ["velocity_si"] => Amount::PeakVelocity(si("velocity_si")?.velocity(num("velocity_si")?)),
+        ["energy"] => Amount::Energy(num("energy")?),
+        ["energy_si"] => Amount::Energy(si("energy_si")?.energy(num("energy_si")?)),
+        [] => {
+            return Err(ctx.err(
+                &format!("{key}.velocity"),
+                "missing: give the peak velocity `velocity` (or `velocity_si`) or the `energy` (or `energy_si`)",
+            ))
+        }
+        _ => {
+            return Err(ctx.err(
+                &format!("{key}.{}", given[1]),
+                format!("give only one of {}", given.join(", ")),
+            ))
+        }
     })
 }

@@ -6,33 +6,69 @@
 //! `[initial] mode = { index = j, amplitude = A }` (mode `j` of the chain linearised about that
 //! state, [`crate::studies::modes`], scaled so that its largest bead displacement is `A`, added
 //! to the displacements).
+//!
+//! Physical scenes may give the forces in newtons instead, `precompression_force_si` and
+//! `[walls] force_si`, converted to computer units by `W β² / m0` (paper eq. 11,
+//! [`UnitScales::force`]). The contacts (and walls) that the balance leaves without force, apart
+//! or just touching, are returned as one warning line ([`apply`]).
 
 use super::error::SceneError;
-use super::keys::{get, opt_num};
+use super::keys::{exclusive, get, kp, opt_num};
 use super::tables::Tables;
+use super::units::UnitScales;
 use super::values::{check_keys, index, number, type_name, Ctx};
 use super::Scene;
-use crate::studies::equilibrium::{equilibrium, overlap_for_force};
+use crate::studies::equilibrium::{equilibrium, overlap_for_force, Equilibrium};
 use crate::studies::modes::{linearize, solve};
-use toml::Value;
+use toml::{Table, Value};
 
-/// `[chain] precompression_force`, checked positive (`None` when absent). Giving it with
-/// `precompression` is an error.
-pub(super) fn precompression_force(ctx: &Ctx, t: &Tables) -> Result<Option<f64>, SceneError> {
-    let Some(f) = opt_num(ctx, t.chain, "chain", "precompression_force")? else {
+/// How many gaps the warning names before summarising.
+const GAPS_LISTED: usize = 6;
+
+/// A force given as `key` (computer units) or `key_si` (newtons, physical scenes only; the
+/// tables refuse it elsewhere): `(value in computer units, key path given, value as written)`.
+/// Giving both is an error.
+fn force_key(
+    ctx: &Ctx,
+    t: Option<&Table>,
+    table: &str,
+    key: &str,
+    scales: Option<UnitScales>,
+) -> Result<Option<(f64, String, f64)>, SceneError> {
+    let si = format!("{key}_si");
+    exclusive(ctx, t, table, key, &si)?;
+    if let Some(f) = opt_num(ctx, t, table, key)? {
+        return Ok(Some((f, kp(table, key), f)));
+    }
+    let Some(f) = opt_num(ctx, t, table, &si)? else {
         return Ok(None);
     };
+    match scales {
+        Some(sc) => Ok(Some((sc.force(f), kp(table, &si), f))),
+        None => Err(ctx.err(&kp(table, &si), "needs a physical scene")),
+    }
+}
+
+/// `[chain] precompression_force` (or `precompression_force_si`), checked positive, in computer
+/// units (`None` when absent). Giving it with `precompression` is an error.
+pub(super) fn precompression_force(
+    ctx: &Ctx,
+    t: &Tables,
+    scales: Option<UnitScales>,
+) -> Result<Option<f64>, SceneError> {
+    let Some((f, key, raw)) = force_key(ctx, t.chain, "chain", "precompression_force", scales)?
+    else {
+        return Ok(None);
+    };
+    let name = key.trim_start_matches("[chain].");
     if get(t.chain, "precompression").is_some() {
         return Err(ctx.err(
-            "[chain].precompression_force",
-            "give either `precompression` or `precompression_force`, not both",
+            &key,
+            format!("give either `precompression` or `{name}`, not both"),
         ));
     }
-    if f <= 0.0 {
-        return Err(ctx.err(
-            "[chain].precompression_force",
-            format!("must be > 0, got {f}"),
-        ));
+    if raw <= 0.0 {
+        return Err(ctx.err(&key, format!("must be > 0, got {raw}")));
     }
     Ok(Some(f))
 }
@@ -58,15 +94,15 @@ fn wants_equilibrium(ctx: &Ctx, t: &Tables) -> Result<bool, SceneError> {
     }
 }
 
-/// Applies `[walls] force` and `[initial] equilibrium` to the built scene: the right wall's
-/// precompression and the displacements at rest.
-pub(super) fn apply(ctx: &Ctx, t: &Tables, scene: &mut Scene) -> Result<(), SceneError> {
+/// Applies `[walls] force` (`force_si`) and `[initial] equilibrium` to the built scene: the
+/// right wall's precompression and the displacements at rest. Returns the warnings: the gaps the
+/// balance leaves ([`gap_warning`]).
+pub(super) fn apply(ctx: &Ctx, t: &Tables, scene: &mut Scene) -> Result<Vec<String>, SceneError> {
     let eq = wants_equilibrium(ctx, t)?;
-    let force = opt_num(ctx, t.walls, "walls", "force")?;
-    if let Some(f) = force {
-        let k = "[walls].force";
-        if f < 0.0 {
-            return Err(ctx.err(k, format!("must be >= 0 (a compressive force), got {f}")));
+    let force = force_key(ctx, t.walls, "walls", "force", scene.units)?;
+    if let Some((_, k, raw)) = &force {
+        if *raw < 0.0 {
+            return Err(ctx.err(k, format!("must be >= 0 (a compressive force), got {raw}")));
         }
         if scene.chain.left_wall.is_none() || scene.chain.right_wall.is_none() {
             return Err(ctx.err(k, "needs both walls ([walls] left and right)"));
@@ -83,21 +119,70 @@ pub(super) fn apply(ctx: &Ctx, t: &Tables, scene: &mut Scene) -> Result<(), Scen
         {
             return Err(ctx.err(
                 "[walls].right.precompression",
-                "is set by `[walls] force` (the right wall is placed where it carries the force); remove it",
+                format!("is set by `{k}` (the right wall is placed where it carries the force); remove it"),
             ));
         }
     }
+    let mut warnings = Vec::new();
     if eq {
-        at_rest(ctx, t, scene, force)?;
+        let e = at_rest(ctx, t, scene, force.map(|f| f.0))?;
+        warnings.extend(gap_warning(&scene.name, &e, scene.chain.len()));
     }
     if let Some(m) = get(t.initial, "mode") {
         add_mode(ctx, m, scene)?;
     }
-    Ok(())
+    Ok(warnings)
+}
+
+/// One line naming the contacts (and walls) that carry no force at rest, `None` when every
+/// one is loaded: `NAME: [initial].equilibrium: gaps at rest (no force: ...): contacts 3
+/// (beads 3-4), 7 (beads 7-8); the right wall (bead 9)`, naming the scene as the validation
+/// warnings do. At most [`GAPS_LISTED`] contacts are named.
+fn gap_warning(name: &str, e: &Equilibrium, beads: usize) -> Option<String> {
+    let mut parts = Vec::new();
+    if !e.gaps.is_empty() {
+        let named: Vec<String> = e
+            .gaps
+            .iter()
+            .take(GAPS_LISTED)
+            .map(|c| format!("{c} (beads {c}-{})", c + 1))
+            .collect();
+        let more = e.gaps.len().saturating_sub(GAPS_LISTED);
+        let tail = if more > 0 {
+            format!(" and {more} more ({} of {})", e.gaps.len(), beads - 1)
+        } else {
+            String::new()
+        };
+        let noun = if e.gaps.len() == 1 {
+            "contact"
+        } else {
+            "contacts"
+        };
+        parts.push(format!("{noun} {}{tail}", named.join(", ")));
+    }
+    for (side, f, bead) in [
+        ("left", e.wall_force[0], 0),
+        ("right", e.wall_force[1], beads - 1),
+    ] {
+        if f == Some(0.0) {
+            parts.push(format!("the {side} wall (bead {bead})"));
+        }
+    }
+    (!parts.is_empty()).then(|| {
+        format!(
+            "{name}: [initial].equilibrium: gaps at rest (no force: the beads are apart or just touching): {}",
+            parts.join("; ")
+        )
+    })
 }
 
 /// `[initial] equilibrium = true`: the displacements at rest (and `Δ_R` for `[walls] force`).
-fn at_rest(ctx: &Ctx, t: &Tables, scene: &mut Scene, force: Option<f64>) -> Result<(), SceneError> {
+fn at_rest(
+    ctx: &Ctx,
+    t: &Tables,
+    scene: &mut Scene,
+    force: Option<f64>,
+) -> Result<Equilibrium, SceneError> {
     if get(t.initial, "displacement").is_some() {
         return Err(ctx.err(
             "[initial].displacement",
@@ -109,8 +194,8 @@ fn at_rest(ctx: &Ctx, t: &Tables, scene: &mut Scene, force: Option<f64>) -> Resu
     if let (Some(dr), Some(w)) = (e.right_precompression, scene.chain.right_wall.as_mut()) {
         w.precompression = dr;
     }
-    scene.u0 = e.u;
-    Ok(())
+    scene.u0 = e.u.clone();
+    Ok(e)
 }
 
 /// `[initial] mode = { index, amplitude }`: adds mode `index` (0 = lowest frequency) of the

@@ -75,6 +75,7 @@ pub(super) fn read_tables<'a>(
             "prefactor",
             "precompression",
             "precompression_force",
+            "precompression_force_si",
             "radius",
             "law",
             "damping",
@@ -117,7 +118,7 @@ pub(super) fn read_tables<'a>(
         "field",
         &["force", "gravity", "force_si", "gravity_si"],
     )?;
-    let walls = table(ctx, root, "walls", &["left", "right", "force"])?;
+    let walls = table(ctx, root, "walls", &["left", "right", "force", "force_si"])?;
     Ok(Tables {
         scene,
         chain,
@@ -193,9 +194,10 @@ pub(super) fn unit_system(ctx: &Ctx, t: &Tables) -> Result<bool, SceneError> {
             ctx,
             t.chain,
             "chain",
-            &["damping_si", "impact_speed_si"],
+            &["damping_si", "impact_speed_si", "precompression_force_si"],
             why,
         )?;
+        forbid(ctx, t.walls, "walls", &["force_si"], why)?;
     }
     Ok(physical)
 }

@@ -146,6 +146,11 @@ impl UnitScales {
         v * self.time
     }
 
+    /// Computer energy of `e` joules: `E β² / m0` (force × length, lengths unchanged).
+    pub fn energy(&self, e: f64) -> f64 {
+        e * self.time * self.time / self.mass
+    }
+
     /// Computer time of `t` seconds: `t / β`.
     pub fn time(&self, t: f64) -> f64 {
         t / self.time
