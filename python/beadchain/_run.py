@@ -30,7 +30,7 @@ class Run:
     A loaded snapshot reads its frames when ``u``/``v`` are first used; ``frames(index)`` reads
     only the frames asked for. ``meta``: the engine settings (``engine``, ``method``, ``rtol``,
     ``atol``) of :func:`run` and :func:`load` runs, and a snapshot's metadata (:func:`load`).
-    ``to_xarray()`` and ``events_to_xarray()`` give ``xarray.Dataset``\ s.
+    ``to_xarray()`` and ``events_to_xarray()`` give ``xarray.Dataset`` objects.
     """
 
     def __init__(self, raw: dict, scene: Scene, meta: Optional[dict] = None, file: Any = None):

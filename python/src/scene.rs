@@ -38,6 +38,16 @@ impl Scene {
         let warnings = scene::validate(&scene).map_err(scene_err)?;
         Ok(Self { scene, warnings })
     }
+
+    /// A parsed scene: the construction's warnings (the gaps `[initial] equilibrium = true`
+    /// leaves) first, then the validator's, as the CLI prints them.
+    fn parsed(parsed: scene::Parsed) -> PyResult<Self> {
+        let mut s = Self::new(parsed.scene)?;
+        let mut warnings = parsed.warnings;
+        warnings.append(&mut s.warnings);
+        s.warnings = warnings;
+        Ok(s)
+    }
 }
 
 fn array<'py>(py: Python<'py>, x: &[f64]) -> Bound<'py, PyArray1<f64>> {
@@ -51,19 +61,21 @@ impl Scene {
     #[staticmethod]
     #[pyo3(signature = (text, origin="scene", base_dir="."))]
     fn _from_text(text: &str, origin: &str, base_dir: &str) -> PyResult<Self> {
-        Self::new(scene::parse_str(text, Path::new(base_dir), origin).map_err(scene_err)?)
+        Self::parsed(
+            scene::parse::parse_full(text, Path::new(base_dir), origin).map_err(scene_err)?,
+        )
     }
 
     /// Loads a scene file, or a preset when no file of that name exists (as the CLI does).
     #[staticmethod]
     fn _load(spec: &str) -> PyResult<Self> {
-        Self::new(scene::load(spec).map_err(scene_err)?)
+        Self::parsed(scene::load_full(spec).map_err(scene_err)?)
     }
 
     /// A built-in preset by name (`presets()` lists them).
     #[staticmethod]
     fn _preset(name: &str) -> PyResult<Self> {
-        Self::new(scene::preset(name).map_err(scene_err)?)
+        Self::parsed(scene::presets::preset_full(name).map_err(scene_err)?)
     }
 
     /// Scene name.

@@ -45,3 +45,23 @@ def test_an_impossible_balance_raises():
     s = bc.Scene.from_toml("[chain]\nbeads = 3\n[field]\ngravity = 1.0\n[run]\nuntil = 1.0\n")
     with pytest.raises(bc.SceneError, match="no wall holds the chain"):
         bc.equilibrium(s)
+
+
+def test_equilibrium_gaps_are_a_scene_warning():
+    # Six beads between walls, the left three pulled left, the right three right: contact 2 is
+    # left without force at rest, and Python's Scene reports it as the CLI does.
+    text = ("[scene]\nname = \"split\"\n[chain]\nbeads = 6\n[field]\n"
+            "force = [-1.0, -1.0, -1.0, 1.0, 1.0, 1.0]\n[walls]\nleft = {}\nright = {}\n"
+            "[initial]\nequilibrium = true\n[run]\nuntil = 10.0\nevery = 1.0\n")
+    s = bc.Scene.from_toml(text)
+    gaps = [w for w in s.warnings if "gaps at rest" in w]
+    assert gaps == ["split: [initial].equilibrium: gaps at rest (no force: the beads are apart "
+                    "or just touching): contact 2 (beads 2-3)"]
+    # a column on its wall under gravity, below a ceiling it does not reach: only the ceiling
+    col = bc.Scene.from_toml(
+        "[scene]\nname = \"split\"\n[chain]\nbeads = 5\n[field]\ngravity = 1.0\n[walls]\n"
+        "left = {}\nright = { precompression = -1.0 }\n[initial]\nequilibrium = true\n"
+        "[run]\nuntil = 1.0\n")
+    assert [w for w in col.warnings if "gaps at rest" in w] == [
+        "split: [initial].equilibrium: gaps at rest (no force: the beads are apart or just "
+        "touching): the right wall (bead 4)"]
