@@ -141,7 +141,7 @@ impl Hybrid<'_> {
     /// `t` (a DOP853 step ending within [`NEAR_END`] of its length after `t`), so that no step
     /// needs to be redone to land there (module docs)?
     pub(super) fn output_suffices(&self, slot: u32, t: f64) -> bool {
-        let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
+        let cl = &self.clusters[slot];
         let (t1, t0) = (cl.integ.t(), cl.integ.t_prev());
         cl.integ.rate().is_some() && t1 > t0 && t1 - t <= NEAR_END * (t1 - t0)
     }
@@ -156,7 +156,7 @@ impl Hybrid<'_> {
         }
         let d_max = (mu * w * w / (2.0 * a)).powf(1.0 / n);
         let h = d_max / w * (2.0 * self.cfg.rtol / ONSET_SHARE).powf(1.0 / n);
-        let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
+        let cl = &mut self.clusters[slot];
         if h.is_finite() && h > 0.0 && cl.integ.step_size() > h {
             cl.integ.set_step_size(h);
         }

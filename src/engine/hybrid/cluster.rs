@@ -220,3 +220,81 @@ impl Cluster {
         }
     }
 }
+
+/// The live clusters, each in a slot (rapier's island set): the slot numbers are what the
+/// beads' owners, the event queue and checkpoints name a cluster by, and a removed cluster's
+/// slot is reused by the next one made ([`super::HybridData`]'s spare slots). Indexing a slot
+/// that holds no cluster is an engine defect, checked here once.
+#[derive(Default)]
+pub struct Clusters {
+    slots: Vec<Option<Cluster>>,
+}
+
+impl Clusters {
+    /// The clusters of a checkpoint, in their slots.
+    pub fn from_slots(slots: Vec<Option<Cluster>>) -> Self {
+        Self { slots }
+    }
+
+    /// Number of slots (live or free).
+    pub fn slots(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// The cluster in `slot`, if it is live.
+    pub fn get(&self, slot: u32) -> Option<&Cluster> {
+        self.slots.get(slot as usize).and_then(Option::as_ref)
+    }
+
+    /// The cluster in `slot`, if it is live.
+    pub fn get_mut(&mut self, slot: u32) -> Option<&mut Cluster> {
+        self.slots.get_mut(slot as usize).and_then(Option::as_mut)
+    }
+
+    /// Puts `cl` in `slot` (a free one) or, without one, in a new slot; returns the slot.
+    pub fn insert(&mut self, slot: Option<u32>, cl: Cluster) -> u32 {
+        match slot {
+            Some(s) => {
+                self.slots[s as usize] = Some(cl);
+                s
+            }
+            None => {
+                self.slots.push(Some(cl));
+                (self.slots.len() - 1) as u32
+            }
+        }
+    }
+
+    /// Takes the cluster out of `slot`, leaving it free.
+    pub fn remove(&mut self, slot: u32) -> Cluster {
+        self.slots[slot as usize].take().expect("live cluster")
+    }
+
+    /// Every slot, live (`Some`) or free.
+    pub fn iter_slots(&self) -> impl Iterator<Item = Option<&Cluster>> {
+        self.slots.iter().map(Option::as_ref)
+    }
+
+    /// The live clusters.
+    pub fn iter(&self) -> impl Iterator<Item = &Cluster> {
+        self.slots.iter().flatten()
+    }
+
+    /// The live clusters, mutably.
+    pub fn iter_mut(&mut self) -> impl Iterator<Item = &mut Cluster> {
+        self.slots.iter_mut().flatten()
+    }
+}
+
+impl std::ops::Index<u32> for Clusters {
+    type Output = Cluster;
+    fn index(&self, slot: u32) -> &Cluster {
+        self.get(slot).expect("live cluster")
+    }
+}
+
+impl std::ops::IndexMut<u32> for Clusters {
+    fn index_mut(&mut self, slot: u32) -> &mut Cluster {
+        self.get_mut(slot).expect("live cluster")
+    }
+}

@@ -130,16 +130,7 @@ impl Hybrid<'_> {
     /// Puts a new cluster in a free slot, gives it its beads and queues its first step at `t`.
     fn insert_cluster(&mut self, cl: Cluster, t: f64) {
         let (lo, hi) = (cl.lo, cl.hi);
-        let slot = match self.st.spare_slots.pop() {
-            Some(s) => {
-                self.clusters[s as usize] = Some(cl);
-                s
-            }
-            None => {
-                self.clusters.push(Some(cl));
-                (self.clusters.len() - 1) as u32
-            }
-        };
+        let slot = self.clusters.insert(self.st.spare_slots.pop(), cl);
         for i in lo..hi {
             self.st.owner[i] = slot;
             self.st.version[i] += 1;

@@ -56,7 +56,7 @@ impl Hybrid<'_> {
     /// maxima over its last step, up to `tb` (the step end, or an earlier time it is parked at).
     pub(super) fn update_peaks(&mut self, slot: u32, tb: f64) {
         let chain = self.chain;
-        let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
+        let cl = &self.clusters[slot];
         let ta = cl.integ.t_prev();
         let tb = tb.min(cl.integ.t()).max(ta);
         let m = cl.m();

@@ -61,7 +61,7 @@ impl Hybrid<'_> {
         match self.st.owner[i] {
             FREE => self.st.free[i].g,
             s => {
-                let cl = self.clusters[s as usize].as_ref().expect("live cluster");
+                let cl = &self.clusters[s];
                 let m = cl.m();
                 let z = cl.integ.state();
                 let mut acc = vec![0.0; m];

@@ -77,7 +77,7 @@ use crate::integrate::{Stats, Tolerances};
 use crate::model::damped::DampingLaw;
 use crate::model::Chain;
 use crate::scene::Scene;
-use cluster::Cluster;
+use cluster::{Cluster, Clusters};
 use free::Free;
 use ordered_float::OrderedFloat;
 use priority_queue::PriorityQueue;
@@ -244,7 +244,7 @@ pub struct Hybrid<'a> {
     // ---- state
     /// Plain data (the checkpoint stores it as it is).
     st: HybridData,
-    clusters: Vec<Option<Cluster>>,
+    clusters: Clusters,
     queue: Queue,
     /// The last frame (at the run's end time) has been emitted (reset by every advance).
     finished: bool,
@@ -315,7 +315,7 @@ impl<'a> Hybrid<'a> {
                 dissipated: 0.0,
                 wall_in: [false; 2],
             },
-            clusters: Vec::new(),
+            clusters: Clusters::default(),
             queue: Queue::default(),
             finished: false,
             pause: super::PauseAt::default(),
@@ -383,9 +383,7 @@ impl<'a> Hybrid<'a> {
         match self.st.owner[i] {
             FREE => self.st.free[i].at(t),
             s => {
-                let c = self.clusters[s as usize]
-                    .as_ref()
-                    .expect("owner slot is live");
+                let c = &self.clusters[s];
                 (c.u_at(t, i), c.v_at(t, i))
             }
         }
@@ -395,9 +393,7 @@ impl<'a> Hybrid<'a> {
     fn known_until(&self, i: usize) -> f64 {
         match self.st.owner[i] {
             FREE => f64::INFINITY,
-            s => self.clusters[s as usize]
-                .as_ref()
-                .map_or(f64::NEG_INFINITY, |c| c.t_now),
+            s => self.clusters.get(s).map_or(f64::NEG_INFINITY, |c| c.t_now),
         }
     }
 
@@ -529,14 +525,14 @@ impl<'a> Hybrid<'a> {
         let until = self.cfg.until;
         let chain = self.chain;
         let (bound, rough) = {
-            let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
+            let cl = &self.clusters[slot];
             let bound = self.opening_bound(cl, until);
             let bound = self.closing_bound(cl, bound);
             let h = cl.integ.step_size().min(bound - cl.integ.t());
             (bound, self.rough_step(cl, h))
         };
         let (lo, t0, t1) = {
-            let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
+            let cl = &mut self.clusters[slot];
             let sys = cluster::ClusterSys {
                 chain: self.fall.1.as_ref().unwrap_or(chain),
                 lo: cl.lo,
@@ -554,7 +550,7 @@ impl<'a> Hybrid<'a> {
         };
         self.count_step()?;
         // Boundary closings over the known part of the step.
-        let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
+        let cl = &self.clusters[slot];
         let earliest = self.first_boundary_closing(cl, t0, t1);
         // Hard walls: the cluster holding an end bead watches the wall gap itself.
         let wall_hit = self.hard_wall_hit(cl, t0, t1);
@@ -562,7 +558,7 @@ impl<'a> Hybrid<'a> {
             if earliest.is_none_or(|(te, _)| tw < te) {
                 self.update_peaks(slot, tw);
                 self.watch_walls(slot, tw);
-                let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
+                let cl = &mut self.clusters[slot];
                 cl.pending = Some(cluster::Pending::HardWall { side, t: tw });
                 cl.t_now = tw;
                 self.queue
@@ -580,7 +576,7 @@ impl<'a> Hybrid<'a> {
         let tb = earliest.map_or(t1, |(t, _)| t);
         self.update_peaks(slot, tb);
         self.watch_walls(slot, tb);
-        let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
+        let cl = &mut self.clusters[slot];
         if let Some((t, c)) = earliest {
             cl.pending = Some(cluster::Pending::Close {
                 contact: c,
@@ -606,7 +602,7 @@ impl<'a> Hybrid<'a> {
     fn dissipated_at(&self, t: f64) -> f64 {
         let mut e = self.st.dissipated;
         if self.chain.is_dissipative() {
-            for cl in self.clusters.iter().flatten() {
+            for cl in self.clusters.iter() {
                 let sys = cl.sys(self.fall.1.as_ref().unwrap_or(self.chain), &self.st.stuck);
                 e += crate::integrate::dissipated_at(&*cl.integ, &sys, t.min(cl.integ.t()));
             }

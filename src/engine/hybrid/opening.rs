@@ -215,7 +215,7 @@ impl Hybrid<'_> {
     pub(super) fn defer_open(&mut self, slot: u32, t: f64) {
         self.update_peaks(slot, t);
         self.watch_walls(slot, t);
-        let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
+        let cl = &mut self.clusters[slot];
         cl.pending = Some(Pending::Open { t });
         cl.t_now = t;
         let lo = cl.lo;
@@ -227,9 +227,9 @@ impl Hybrid<'_> {
     /// split rule holds in the landed state (module docs), or continues it from `t` otherwise.
     pub(super) fn open_at(&mut self, slot: u32, t: f64) -> Result<(), EngineError> {
         self.settle_at(slot, t)?;
-        let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
+        let cl = &self.clusters[slot];
         let (lo, split) = (cl.lo, self.needs_split(cl));
-        let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
+        let cl = &mut self.clusters[slot];
         let class = if split {
             cl.pending = Some(Pending::Split);
             1

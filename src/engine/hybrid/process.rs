@@ -28,7 +28,7 @@ impl Hybrid<'_> {
     ///   from a controller defect since fixed: `radau_step_after_a_zero_error_step_is_not_zero`);
     /// - from Radau IIA: no measurable gain (interface, striker, periodic decay: < 1 % steps).
     pub(super) fn inherited_step(&self, slot: u32) -> Option<f64> {
-        let cl = self.clusters[slot as usize].as_ref()?;
+        let cl = self.clusters.get(slot)?;
         let smooth = self.chain.exponent[cl.lo..cl.hi - 1]
             .iter()
             .all(|&n| n >= 2.0);
@@ -73,7 +73,7 @@ impl Hybrid<'_> {
     /// can read a cluster's state at `t` from the continuous output of a step that ends past
     /// `t`, and the merged cluster integrates the dissipation from `t` on).
     pub(super) fn remove_cluster(&mut self, slot: u32, t: f64) -> Cluster {
-        let cl = self.clusters[slot as usize].take().expect("live cluster");
+        let cl = self.clusters.remove(slot);
         if self.chain.is_dissipative() {
             let sys = cl.sys(self.fall.1.as_ref().unwrap_or(self.chain), &self.st.stuck);
             let t = t.min(cl.integ.t());
@@ -196,7 +196,7 @@ impl Hybrid<'_> {
         if i > 0 && self.st.owner[i - 1] != FREE {
             let theta = self.closing_offset(i - 1, t);
             let s = self.st.owner[i - 1];
-            let a = self.clusters[s as usize].as_ref().expect("live");
+            let a = &self.clusters[s];
             if a.t_now > t {
                 let c = i - 1;
                 let pre = self.pre(c);
@@ -210,7 +210,7 @@ impl Hybrid<'_> {
         if i + 1 < self.n && self.st.owner[i + 1] != FREE {
             let theta = self.closing_offset(i, t);
             let s = self.st.owner[i + 1];
-            let a = self.clusters[s as usize].as_ref().expect("live");
+            let a = &self.clusters[s];
             if a.t_now > t {
                 let c = i;
                 let pre = self.pre(c);
@@ -225,7 +225,7 @@ impl Hybrid<'_> {
         }
         if let Some((s, c, tc)) = found {
             let ver = (self.st.version[c], self.st.version[c + 1]);
-            let a = self.clusters[s as usize].as_mut().expect("live");
+            let a = &mut self.clusters[s];
             a.pending = Some(super::cluster::Pending::Close {
                 contact: c,
                 t: tc,
@@ -255,7 +255,7 @@ impl Hybrid<'_> {
     /// the (lower-order) continuous output.
     pub(super) fn settle_at(&mut self, slot: u32, t: f64) -> Result<(), EngineError> {
         let chain = self.chain;
-        let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
+        let cl = &mut self.clusters[slot];
         cl.t_now = t;
         if cl.integ.t() <= t {
             return Ok(());
@@ -263,10 +263,10 @@ impl Hybrid<'_> {
         let t0 = cl.integ.t_prev();
         // a redone step starts at a kink, or ends on the one it lands on (kinks module)
         let rough = {
-            let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
+            let cl = &self.clusters[slot];
             self.rough_at(cl, t0, t - t0) || self.rough_at(cl, t, t - t0)
         };
-        let cl = self.clusters[slot as usize].as_mut().expect("live cluster");
+        let cl = &mut self.clusters[slot];
         let m = cl.m();
         let z = &mut self.bz[..2 * m];
         let sys = ClusterSys {
@@ -310,11 +310,11 @@ impl Hybrid<'_> {
         // a free bead joins with its whole rigid group
         let lo = match self.st.owner[c] {
             FREE => self.group_of(c).lo,
-            s => self.clusters[s as usize].as_ref().expect("live").lo,
+            s => self.clusters[s].lo,
         };
         let hi = match self.st.owner[c + 1] {
             FREE => self.group_of(c + 1).hi,
-            s => self.clusters[s as usize].as_ref().expect("live").hi,
+            s => self.clusters[s].hi,
         };
         // the merged beads' states, in scratch taken out for the call (no allocation)
         let (mut u, mut v) = (std::mem::take(&mut self.eu), std::mem::take(&mut self.ev));
@@ -324,7 +324,7 @@ impl Hybrid<'_> {
             v[i - lo] = b;
         }
         for side in [self.st.owner[c], self.st.owner[c + 1]] {
-            if side != FREE && self.clusters[side as usize].is_some() {
+            if side != FREE && self.clusters.get(side).is_some() {
                 let cl = self.remove_cluster(side, t);
                 if cl.integ.exact_pair().is_some() {
                     self.st.exact_pairs[1] += 1;
@@ -371,7 +371,7 @@ impl Hybrid<'_> {
         }
         // Stale (the neighbour changed since): continue the cluster from t.
         self.settle_at(slot, t)?;
-        let lo = self.clusters[slot as usize].as_ref().expect("live").lo;
+        let lo = self.clusters[slot].lo;
         self.queue
             .push(Key::Cluster(slot), prio(t, 2, lo, Key::Cluster(slot)));
         Ok(())
@@ -405,7 +405,7 @@ impl Hybrid<'_> {
     /// Splits a cluster at every contact that opened (and frees a lone bead leaving a wall).
     pub(super) fn process_split(&mut self, slot: u32) {
         let (lo, hi, t) = {
-            let cl = self.clusters[slot as usize].as_ref().expect("live");
+            let cl = &self.clusters[slot];
             (cl.lo, cl.hi, cl.t_now)
         };
         self.release_and_unstick(slot, t);

@@ -1,6 +1,6 @@
 //! Saving and restoring the hybrid engine's state (checkpoints).
 
-use super::cluster::Cluster;
+use super::cluster::{Cluster, Clusters};
 use super::{prio, Hybrid, Key};
 use crate::engine::checkpoint::{ClusterState, HybridState, QueueEntry};
 use crate::integrate::new_integrator;
@@ -11,9 +11,9 @@ impl Hybrid<'_> {
     pub(super) fn save(&self) -> HybridState {
         let clusters = self
             .clusters
-            .iter()
+            .iter_slots()
             .map(|c| {
-                c.as_ref().map(|c| ClusterState {
+                c.map(|c| ClusterState {
                     lo: c.lo as u64,
                     hi: c.hi as u64,
                     frame: (c.frame_u, c.frame_v, c.frame_t),
@@ -63,7 +63,7 @@ impl Hybrid<'_> {
     pub(super) fn restore(&mut self, s: &HybridState) -> Result<(), String> {
         s.check(self.n)?;
         self.st.clone_from(&s.data);
-        self.clusters = s
+        let slots = s
             .clusters
             .iter()
             .enumerate()
@@ -99,6 +99,7 @@ impl Hybrid<'_> {
                 }))
             })
             .collect::<Result<_, String>>()?;
+        self.clusters = Clusters::from_slots(slots);
         self.queue.clear();
         for e in &s.queue {
             let key = match e.kind {

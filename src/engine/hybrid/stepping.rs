@@ -93,9 +93,7 @@ impl Hybrid<'_> {
     /// A cluster's queue entry: its pending event (a closing, split, hard-wall contact or
     /// opening it landed on), else its next step.
     fn process_cluster_entry(&mut self, slot: u32) -> Result<(), EngineError> {
-        let pending = self.clusters[slot as usize]
-            .as_mut()
-            .and_then(|c| c.pending.take());
+        let pending = self.clusters.get_mut(slot).and_then(|c| c.pending.take());
         match pending {
             Some(cluster::Pending::Close { contact, t, ver }) => {
                 self.process_close(slot, contact, t, ver)
@@ -223,10 +221,10 @@ impl Engine for HybridEngine<'_> {
         check_velocities(h.n, v)?;
         let t = h.st.t;
         let u: Vec<f64> = (0..h.n).map(|i| h.pos(i, t).0).collect();
-        for slot in 0..h.clusters.len() {
-            if let Some(cl) = h.clusters[slot].as_mut() {
+        for slot in 0..h.clusters.slots() as u32 {
+            if let Some(cl) = h.clusters.get_mut(slot) {
                 cl.t_now = t;
-                h.remove_cluster(slot as u32, t);
+                h.remove_cluster(slot, t);
             }
         }
         h.queue.clear();
@@ -247,7 +245,7 @@ impl Engine for HybridEngine<'_> {
         let h = &self.h;
         let mut stats = h.st.stats.clone();
         let mut implicit_steps = h.st.implicit_steps;
-        for c in h.clusters.iter().flatten() {
+        for c in h.clusters.iter() {
             stats.add(c.integ.stats());
             implicit_steps += c.integ.implicit_steps();
         }

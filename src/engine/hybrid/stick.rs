@@ -298,7 +298,7 @@ impl Hybrid<'_> {
     /// Before a split of cluster `slot` at `t`: releases a pin whose net force points away from
     /// its wall, and opens a resting contact that would carry tension.
     pub(super) fn release_and_unstick(&mut self, slot: u32, t: f64) {
-        let cl = self.clusters[slot as usize].as_ref().expect("live");
+        let cl = &self.clusters[slot];
         let (side, tense) = (
             self.release_pin(cl),
             cl.rigid.then(|| self.tension(cl)).flatten(),

@@ -65,7 +65,7 @@ impl Hybrid<'_> {
     /// After an accepted step of the cluster in `slot`, kept up to `tb` (its end, or where it is
     /// parked): schedules the first crossing of `θ` by each soft wall it holds (module docs).
     pub(super) fn watch_walls(&mut self, slot: u32, tb: f64) {
-        let cl = self.clusters[slot as usize].as_ref().expect("live cluster");
+        let cl = &self.clusters[slot];
         let ta = cl.integ.t_prev();
         let tb = tb.min(cl.integ.t());
         let mut found = [None; 2];
@@ -135,9 +135,7 @@ impl Hybrid<'_> {
         if slot == FREE {
             return;
         }
-        let cl = self.clusters[slot as usize]
-            .as_ref()
-            .expect("owner slot is live");
+        let cl = &self.clusters[slot];
         let rel = cl.v_at(t, i);
         let tb = cl.t_now.min(cl.integ.t());
         let k = self.n - 1 + side as usize;
@@ -154,9 +152,7 @@ impl Hybrid<'_> {
             self.log(t, i, EventKind::WallClose, rel, 0.0);
         }
         self.st.wall_in[side as usize] ^= true;
-        let cl = self.clusters[slot as usize]
-            .as_ref()
-            .expect("owner slot is live");
+        let cl = &self.clusters[slot];
         if let Some(next) = self.next_wall_crossing(cl, side, t, tb) {
             let key = Key::WallLog(side);
             self.queue.push(key, prio(next, 1, i, key));
