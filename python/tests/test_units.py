@@ -53,3 +53,25 @@ def test_dimensionless_scene_raises_a_clear_error():
         r.energy(units="si")
     with pytest.raises(ValueError):
         r.energy(units="furlongs")
+
+
+def test_si_force_keys_reach_python():
+    # [chain] precompression_force_si (N) through the shared parser: every contact carries
+    # F beta^2/m0 in computer units (rtol 1e-12), F newtons back in SI; the chain is the one
+    # precompression_force = F beta^2/m0 gives, bit for bit.
+    steel = ('[units]\nsystem = "physical"\nradius = 4.0e-3\nyoung = 2.26e11\npoisson = 0.3\n'
+             "density = 7650.0\n")
+    body = ("[chain]\nbeads = 10\nexponent = 2.5\n{key}\n[walls]\nleft = {{}}\nright = {{}}\n"
+            "[initial]\nequilibrium = true\n[run]\nuntil = 1.0\n")
+    f_si = 5.0
+    s = bc.Scene.from_toml(steel + body.format(key=f"precompression_force_si = {f_si!r}"))
+    units = s.chain.units
+    want = f_si * units.beta**2 / units.m0
+    c = s.chain
+    force = c.exponent * c.prefactor * c.precompression ** (c.exponent - 1.0)
+    np.testing.assert_allclose(force, want, rtol=1e-12, atol=0)
+    np.testing.assert_allclose(force * units.m0 / units.beta**2, f_si, rtol=1e-12, atol=0)
+    plain = bc.Scene.from_toml(steel + body.format(key=f"precompression_force = {want!r}"))
+    assert np.array_equal(plain.chain.precompression, c.precompression)
+    with pytest.raises(bc.SceneError, match="precompression_force_si"):
+        bc.Scene.from_toml(body.format(key="precompression_force_si = 1.0"))
