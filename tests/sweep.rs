@@ -10,26 +10,7 @@ use toml::Value;
 
 /// A small sweep on the dimensionless striker preset: 4 x 2 grid x 2 seeds = 16 runs of 30 beads
 /// with random masses `1 + eps r` from bead 5 on.
-const SMALL: &str = r#"
-scene = "striker"
-[set]
-"chain.beads" = 30
-"run.until" = 40.0
-"run.every" = 0.5
-"chain.mass" = { random = { mean = 1.0, eps = 0.0 }, start = 5 }
-[grid]
-"chain.mass.random.eps" = [0.0, 0.1, 0.2, 0.4]
-"initial.striker" = [1.0, 0.5]
-[seeds]
-key = "scene.seed"
-values = [3, 4]
-[measure]
-interface = 15
-decay = { from = 8, e0_bead = 6, jump = 1.5 }
-fragments = true
-[stop]
-margin = 4
-"#;
+const SMALL: &str = include_str!("common/small_sweep.toml");
 
 fn spec(text: &str) -> Result<SweepSpec, SweepError> {
     SweepSpec::parse_str(text, Path::new("."), "test.toml")

@@ -9,26 +9,7 @@ use std::process::Command;
 use std::time::SystemTime;
 
 /// 4 x 2 grid x 2 seeds = 16 runs of 30 beads (random masses from bead 5 on), as tests/sweep.rs.
-const SMALL: &str = r#"
-scene = "striker"
-[set]
-"chain.beads" = 30
-"run.until" = 40.0
-"run.every" = 0.5
-"chain.mass" = { random = { mean = 1.0, eps = 0.0 }, start = 5 }
-[grid]
-"chain.mass.random.eps" = [0.0, 0.1, 0.2, 0.4]
-"initial.striker" = [1.0, 0.5]
-[seeds]
-key = "scene.seed"
-values = [3, 4]
-[measure]
-interface = 15
-decay = { from = 8, e0_bead = 6, jump = 1.5 }
-fragments = true
-[stop]
-margin = 4
-"#;
+const SMALL: &str = include_str!("common/small_sweep.toml");
 
 fn spec_in(text: &str, dir: &Path) -> SweepSpec {
     SweepSpec::parse_str(text, dir, "test.toml").unwrap()

@@ -36,15 +36,19 @@ impl Radau5 {
             // two such increments says: near rounding level that ratio is noise (≈ 1) and would
             // be read as divergence, cutting the step down to nothing (Hairer's RADAU5 avoids
             // this with its carried-over FACCON; this is the stateless equivalent).
-            let negligible = dw_norm <= NEGLIGIBLE_NEWTON * self.newton_tol
-                || (dw_norm.is_finite() && self.increment_is_rounding());
-            if !negligible
+            let mut negligible = dw_norm <= NEGLIGIBLE_NEWTON * self.newton_tol;
+            let diverging = !negligible
                 && rate.is_finite()
                 && (rate >= 1.0
                     || rate.powi((NEWTON_MAXITER - it) as i32) / (1.0 - rate) * dw_norm
-                        > self.newton_tol)
-            {
-                return (false, it + 1, rate);
+                        > self.newton_tol);
+            if diverging {
+                // only then: an increment at the rounding level of the state is converged too
+                // (checked here, off the path of iterations that converge anyway)
+                negligible = dw_norm.is_finite() && self.increment_is_rounding();
+                if !negligible {
+                    return (false, it + 1, rate);
+                }
             }
             if !dw_norm.is_finite() {
                 return (false, it + 1, rate);
