@@ -21,6 +21,12 @@
 //! Its [`Integrator::step`] ends exactly at `t_e` with `δ = 0` (the second displacement is
 //! rounded from the first, so the engine's `Δ + w₀ − w₁` is exactly zero) and the engine splits
 //! the pair there.
+//!
+//! **One bead against a soft wall** ([`PairLaw::wall`]) is the same contact with the wall as a
+//! body of infinite mass: `μ = m₀`, the overlap is `δ = Δ_w + s·u` (`s = −1` at the left wall,
+//! `+1` at the right one, `Δ_w` the wall's precompression), and the bead's state is
+//! `u = s·(δ − Δ_w)`, `v = s·δ̇` (so `δ = 0` exactly at the end). No field: a wall does not
+//! fall with the bead.
 
 use super::{IntegrationError, Integrator, IntegratorState, Method, Stats, System};
 use crate::model::profile::Profile;
@@ -42,6 +48,30 @@ pub struct PairLaw {
     pub pre: f64,
     /// Acceleration of both beads by the field (equal for both: the eligibility rule).
     pub accel: f64,
+    /// `Some(s)`: one bead (`mass[0]`; `mass[1]` unused) against a soft wall whose overlap is
+    /// `pre + s·u` (`s = −1` left wall, `+1` right wall; module docs); `accel` must be 0.
+    pub wall: Option<f64>,
+}
+
+impl PairLaw {
+    /// Reduced mass `μ` of the contact (the bead's mass against a wall).
+    fn reduced_mass(&self) -> f64 {
+        let [m0, m1] = self.mass;
+        if self.wall.is_some() {
+            m0
+        } else {
+            m0 * m1 / (m0 + m1)
+        }
+    }
+
+    /// Number of beads integrated: 1 against a wall, else 2.
+    pub fn beads(&self) -> usize {
+        if self.wall.is_some() {
+            1
+        } else {
+            2
+        }
+    }
 }
 
 /// The trajectory: everything an exact pair needs to continue (checkpoints).
@@ -72,7 +102,7 @@ pub struct ExactPair {
     law: PairLaw,
     profile: Rc<Profile>,
     s: PairState,
-    /// `u₀, u₁, v₀, v₁` at `s.t`.
+    /// `u₀, u₁, v₀, v₁` at `s.t` (`u₀, v₀` against a wall, then two unused zeros).
     z: [f64; 4],
     /// Zero: an exact pair takes no integration steps (the engine counts the pairs).
     stats: Stats,
@@ -162,8 +192,13 @@ impl ExactPair {
         (s.d_max * x, sign * s.w0 * sp)
     }
 
-    /// The state `u₀, u₁, v₀, v₁` at `t` (`δ = 0` exactly at and after the end, module docs).
+    /// The state `u₀, u₁, v₀, v₁` at `t` (`δ = 0` exactly at and after the end, module docs);
+    /// `u₀, v₀, 0, 0` against a wall.
     fn eval(&self, t: f64) -> [f64; 4] {
+        if let Some(s) = self.law.wall {
+            let (d, dd) = self.relative(t);
+            return [s * (d - self.law.pre), s * dd, 0.0, 0.0];
+        }
         let [m0, m1] = self.law.mass;
         let mt = m0 + m1;
         let tau = t - self.s.t_r;
@@ -199,12 +234,17 @@ impl ExactPair {
     fn start(&mut self, t: f64, u: &[f64], v: &[f64]) {
         let [m0, m1] = self.law.mass;
         let mt = m0 + m1;
-        let mu = m0 * m1 / mt;
+        let mu = self.law.reduced_mass();
         let (n, a) = (self.law.n, self.law.a);
-        let d = self.law.pre + u[0] - u[1];
-        let w = v[0] - v[1];
+        let (d, w) = match self.law.wall {
+            Some(s) => (self.law.pre + s * u[0], s * v[0]),
+            None => (self.law.pre + u[0] - u[1], v[0] - v[1]),
+        };
         let s = &mut self.s;
-        s.cm = ((m0 * u[0] + m1 * u[1]) / mt, (m0 * v[0] + m1 * v[1]) / mt);
+        s.cm = match self.law.wall {
+            Some(_) => (0.0, 0.0),
+            None => ((m0 * u[0] + m1 * u[1]) / mt, (m0 * v[0] + m1 * v[1]) / mt),
+        };
         s.t_r = t;
         let flight = std::mem::take(&mut s.from_flight) && w > 0.0;
         let (w0, through) = if flight || d <= 0.0 {
@@ -284,11 +324,12 @@ impl Integrator for ExactPair {
     }
 
     fn state(&self) -> &[f64] {
-        &self.z
+        &self.z[..2 * self.law.beads()]
     }
 
     fn dense(&self, t: f64, z: &mut [f64]) {
-        z[..4].copy_from_slice(&self.at(t));
+        let k = 2 * self.law.beads();
+        z[..k].copy_from_slice(&self.at(t)[..k]);
     }
 
     fn dense_at(&self, t: f64, j: usize) -> f64 {

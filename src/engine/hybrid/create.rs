@@ -10,8 +10,9 @@ impl Hybrid<'_> {
     /// Creates a cluster of beads `lo..hi` at time `t` from global states `u`, `v`. Its first
     /// step is `h` where given (the step size of the cluster it comes from, see
     /// [`Self::inherited_step`]), else the method's starting-step estimate. Two beads alone on
-    /// a conservative contact take the exact path ([`super::exact`]); `from_flight`: the state
-    /// is the free flight of two free beads that have just closed their contact.
+    /// a conservative contact, or one bead alone against a soft wall, take the exact path
+    /// ([`super::exact`]); `from_flight`: the state is the free flight of two free beads (a
+    /// free bead and its wall) that have just closed their contact.
     pub(super) fn make_cluster(
         &mut self,
         lo: usize,
@@ -29,9 +30,11 @@ impl Hybrid<'_> {
         let (mass, pinned) = self.cluster_masses(lo, hi);
         let tol = self.cluster_tol(lo, hi, fv, t);
         let rigid = self.st.stuck[lo..hi - 1].contains(&true);
-        let exact = (m == 2 && !absolute && !rigid)
-            .then(|| self.exact_law(lo))
-            .flatten();
+        let exact = match (m, absolute) {
+            (2, false) if !rigid => self.exact_law(lo),
+            (1, true) if !pinned[0] && !pinned[1] => self.exact_wall_law(lo),
+            _ => None,
+        };
         let mut integ = match exact {
             Some(law) => {
                 self.st.exact_pairs[0] += 1;

@@ -102,7 +102,11 @@ impl Hybrid<'_> {
             let s = if side == 0 { -1.0 } else { 1.0 };
             let d = |t: f64| w.precompression + s * cl.u_at(t, i);
             let dd = |t: f64| s * cl.v_at(t, i);
-            let p = step_max(d, dd, ta, tb);
+            // a cluster that holds a wall and is exact is a lone bead's exact wall contact
+            let p = match cl.integ.exact_pair() {
+                Some(pair) => pair.peak_over(ta, tb),
+                None => step_max(d, dd, ta, tb),
+            };
             let k = self.n - 1 + side as usize;
             if p > self.st.peak[k] {
                 self.st.peak[k] = p;

@@ -7,8 +7,13 @@
 //! body reaching the pair during the contact is found on the pair's exact continuous output
 //! like any closing (the pair's edge beads have monotone velocities, so their boundary gaps stay
 //! convex in time, [`super::detect`]), and the merge reads the pair's exact state at that moment:
-//! the merged cluster is integrated from there ("hand-over"). A wall contact of a lone bead is
-//! still integrated.
+//! the merged cluster is integrated from there ("hand-over").
+//!
+//! A **lone bead against a soft wall** takes the same path, the wall being a body of infinite
+//! mass ([`PairLaw::wall`]): a conservative power-law wall (not hard, no damping in the scene),
+//! no field on the bead (the wall does not fall with it), and no second wall the bead touches.
+//! A neighbour reaching the bead during the contact is found on the exact output (the bead's
+//! velocity is monotone while the wall pushes it) and handed over like a pair's third body.
 
 use super::Hybrid;
 use crate::integrate::exact_pair::{ExactPair, PairLaw};
@@ -44,6 +49,39 @@ impl Hybrid<'_> {
             a,
             pre: self.pre(c),
             accel: g,
+            wall: None,
+        })
+    }
+
+    /// The law of the soft wall that lone bead `i` touches when it may take the exact path
+    /// (module docs); `None` otherwise.
+    pub(super) fn exact_wall_law(&self, i: usize) -> Option<PairLaw> {
+        let chain = self.chain;
+        // the walls (soft or hard) at bead i: exactly one, and soft
+        let left = i == 0 && chain.left_wall.is_some();
+        let right = i + 1 == self.n && chain.right_wall.is_some();
+        let side = match (left, right) {
+            (true, false) => 0,
+            (false, true) => 1,
+            _ => return None,
+        };
+        let w = self.soft_wall(side)?;
+        let field = chain.field.as_ref().is_some_and(|f| f[i] != 0.0);
+        let (n, a) = (w.exponent, w.prefactor);
+        if chain.is_dissipative()
+            || field
+            || !(n > 1.0 && n.is_finite() && a > 0.0 && a.is_finite())
+        {
+            return None;
+        }
+        let (pre, s) = self.wall_frame(side)?;
+        Some(PairLaw {
+            mass: [chain.mass[i], f64::INFINITY],
+            n,
+            a,
+            pre,
+            accel: 0.0,
+            wall: Some(s),
         })
     }
 

@@ -394,7 +394,7 @@ impl Hybrid<'_> {
         self.log(t, i, EventKind::WallClose, v, 0.0);
         self.st.wall_in[side as usize] = true;
         self.count_slow_closing(v, &[i]);
-        self.make_cluster(i, i + 1, t, (&[u], &[v]), None, false);
+        self.make_cluster(i, i + 1, t, (&[u], &[v]), None, true);
         if let Some(w) = self.soft_wall(side) {
             let law = (w.exponent, w.prefactor);
             let speed = if side == 0 { -v } else { v };

@@ -78,6 +78,12 @@ impl Hybrid<'_> {
                         })?;
                         self.exact_pair(law, false)
                     }
+                    (true, 1) => {
+                        let law = self.exact_wall_law(c.lo as usize).ok_or_else(|| {
+                            format!("cluster slot {k}: an exact wall contact on an ineligible wall")
+                        })?;
+                        self.exact_pair(law, false)
+                    }
                     _ => new_integrator(self.cfg.method, self.cfg.solver, m, tol),
                 };
                 integ

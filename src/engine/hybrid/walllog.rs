@@ -102,6 +102,13 @@ impl Hybrid<'_> {
         };
         // starting beyond θ while moving back: the crossing is measured from the start
         let back = dir * (d0 - self.theta) > 0.0 && dir * dd0 <= 0.0;
+        // an exact wall contact leaves θ at the profile's time (super::exact)
+        let leaving = (dir < 0.0 && !back)
+            .then(|| cl.integ.exact_pair().and_then(|p| p.leaving(self.theta)))
+            .flatten();
+        if let Some(t) = leaving {
+            return (ta < t && t <= tb).then_some(t);
+        }
         let thr = if back { d0 } else { self.theta };
         super::detect::first_crossing(|t| dir * (delta(t) - thr), ta, tb)
     }
