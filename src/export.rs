@@ -9,8 +9,13 @@
 //!
 //! This module writes the long layout (one row per bead and frame); [`wide`] the wide one (one
 //! row per frame; `.npz` with the chain arrays).
+//!
+//! Every CSV opens with `#` comment lines and every `.npz` holds an entry `provenance`: the
+//! version, build commit, command line, scene, engine settings and date of the run
+//! ([`provenance`]). Read CSVs with `pandas.read_csv(path, comment="#")`.
 
 mod inspect;
+pub mod provenance;
 mod units;
 pub mod wide;
 
@@ -93,7 +98,8 @@ impl fmt::Display for Num {
     }
 }
 
-/// Writes the selected frames as CSV: header `frame,t,bead,u,v`, one row per bead and frame.
+/// Writes the selected frames as CSV: the [provenance comments](provenance::csv_comments), then
+/// header `frame,t,bead,u,v`, one row per bead and frame.
 /// A snapshot with an output selection gives its stored beads (the real index in `bead`) and
 /// only the stored fields' columns (`frame,t,bead,u` or `frame,t,bead,v`).
 pub fn export_csv(
@@ -106,6 +112,7 @@ pub fn export_csv(
     let s = snap.selection();
     let (hu, hv) = (s.fields.has_u(), s.fields.has_v());
     let mut w = BufWriter::with_capacity(1 << 16, out);
+    w.write_all(provenance::csv_comments(snap.header()).as_bytes())?;
     writeln!(w, "frame,t,bead{}", long_columns(hu, hv))?;
     let mut f = Frame::default();
     for k in range {
@@ -169,13 +176,15 @@ pub fn export_npy(
     Ok(())
 }
 
-/// Writes the event log as CSV with header `t,contact,kind,rel_velocity,peak_overlap`.
+/// Writes the event log as CSV: the [provenance comments](provenance::csv_comments), then
+/// header `t,contact,kind,rel_velocity,peak_overlap`.
 pub fn export_events_csv(
     snap: &Snapshot,
     units: &ExportUnits,
     out: &mut dyn Write,
 ) -> Result<(), SnapshotError> {
     let mut w = BufWriter::with_capacity(1 << 16, out);
+    w.write_all(provenance::csv_comments(snap.header()).as_bytes())?;
     writeln!(w, "t,contact,kind,rel_velocity,peak_overlap")?;
     for e in snap.events() {
         writeln!(

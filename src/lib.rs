@@ -38,8 +38,11 @@ pub mod names;
 pub mod plot;
 pub mod prelude;
 pub mod progress;
+pub mod provenance;
 pub mod scene;
 pub mod snapshot;
 pub mod studies;
 pub mod suggest;
 pub mod sweep;
+
+pub use provenance::BUILD_COMMIT;

@@ -454,7 +454,11 @@ fn truncated_snapshot_keeps_whole_frames() {
     assert_eq!(o.status.code(), Some(0), "{err}");
     assert!(err.contains("warning") && err.contains("cut.snap") && err.contains("kept 2 whole"));
     let csv = String::from_utf8_lossy(&o.stdout).to_string();
-    assert_eq!(csv.lines().count(), 1 + 2 * TINY_BEADS);
+    // (provenance comment lines first: tests/provenance.rs)
+    assert_eq!(
+        csv.lines().filter(|l| !l.starts_with('#')).count(),
+        1 + 2 * TINY_BEADS
+    );
     for l in err.lines() {
         println!("truncated inside FRAME #2 (export, exit 0) | {l}");
     }
@@ -471,7 +475,7 @@ fn run_export_inspect_scenes() {
     let o = beadchain(p, &["export", "run.snap", "--format", "csv"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let csv = String::from_utf8(o.stdout).unwrap();
-    let mut lines = csv.lines();
+    let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
     assert_eq!(lines.next(), Some("frame,t,bead,u,v"));
     let rows: Vec<&str> = lines.collect();
     assert_eq!(rows.len(), TINY_BEADS * TINY_FRAMES);
@@ -501,11 +505,20 @@ fn run_export_inspect_scenes() {
     );
     assert_eq!(o.status.code(), Some(0));
     let last = std::fs::read_to_string(p.join("last.csv")).unwrap();
-    assert_eq!(last.lines().count(), 1 + TINY_BEADS);
+    assert_eq!(
+        last.lines().filter(|l| !l.starts_with('#')).count(),
+        1 + TINY_BEADS
+    );
 
     let o = beadchain(p, &["export", "run.snap", "--events"]);
     assert_eq!(o.status.code(), Some(0));
-    assert!(String::from_utf8_lossy(&o.stdout).starts_with("t,contact,kind,"));
+    let ev = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(ev.starts_with("# beadchain "), "{ev}");
+    assert!(ev
+        .lines()
+        .find(|l| !l.starts_with('#'))
+        .unwrap()
+        .starts_with("t,contact,kind,"));
 
     let o = beadchain(p, &["inspect", "run.snap"]);
     assert_eq!(o.status.code(), Some(0));

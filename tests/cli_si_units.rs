@@ -150,7 +150,14 @@ fn export_units_si_converts_frames_chain_and_events() {
     };
     let (ec, es) = (ev("computer"), ev("si"));
     assert!(ec.lines().count() > 1, "the run logs events");
-    for (lc, ls) in ec.lines().zip(es.lines()).skip(1) {
+    let body = |t: &str| {
+        t.lines()
+            .filter(|l| !l.starts_with('#'))
+            .skip(1)
+            .map(String::from)
+            .collect::<Vec<_>>()
+    };
+    for (lc, ls) in body(&ec).iter().zip(&body(&es)) {
         let c: Vec<&str> = lc.split(',').collect();
         let s: Vec<&str> = ls.split(',').collect();
         let num = |x: &str| x.parse::<f64>().unwrap();

@@ -47,6 +47,7 @@ fn export_wide_npz_holds_t_u_v_and_the_chain_arrays() {
             "mass.npy",
             "precompression.npy",
             "prefactor.npy",
+            "provenance.npy",
             "t.npy",
             "u.npy",
             "v.npy"
@@ -140,7 +141,7 @@ fn export_wide_npy_and_csv_have_one_row_per_frame() {
         &["export", "s.snap", "--out", "w.csv", "--layout", "wide"],
     ));
     let text = std::fs::read_to_string(d.path().join("w.csv")).unwrap();
-    let lines: Vec<&str> = text.lines().collect();
+    let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
     assert_eq!(lines[0], "t,u0,u1,u2,u3,v0,v1,v2,v3");
     assert_eq!(lines.len(), 6);
     let fr = snap.frame(4).unwrap();
@@ -166,14 +167,15 @@ fn export_format_follows_the_out_extension() {
     assert_eq!(row, [2.0, fr.t, 3.0, fr.u[3], fr.v[3]]);
     ok(&bc(d.path(), &["export", "s.snap", "--out", "l.csv"]));
     let text = std::fs::read_to_string(d.path().join("l.csv")).unwrap();
-    assert!(text.starts_with("frame,t,bead,u,v\n"), "{text}");
+    assert!(text.starts_with("# beadchain "), "{text}");
+    assert!(text.contains("\nframe,t,bead,u,v\n"), "{text}");
     // --format wins over the extension.
     ok(&bc(
         d.path(),
         &["export", "s.snap", "--out", "x.npy", "--format", "csv"],
     ));
     let text = std::fs::read_to_string(d.path().join("x.npy")).unwrap();
-    assert!(text.starts_with("frame,t,bead,u,v\n"), "{text}");
+    assert!(text.contains("\nframe,t,bead,u,v\n"), "{text}");
 }
 
 #[test]

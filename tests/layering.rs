@@ -25,6 +25,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("model", 0),       // chain, contact laws, energies: imports nothing of the crate
     ("files", 0),       // file-safety helpers (atomic outputs, temporaries, limited reads)
     ("names", 0),       // named closed sets (method, engine, ...): one list, one parser
+    ("provenance", 0),  // version, build commit and date recorded in every output
     ("linalg", 1),      // tridiagonal/banded solvers
     ("integrate", 2),   // Radau IIA, DOP853, Verlet, auto
     ("studies", 2),     // solitary waves, linear modes, bands, static equilibrium

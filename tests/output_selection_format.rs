@@ -111,6 +111,7 @@ fn golden_v2_still_reads() {
         s.header(),
         &Header {
             format_version: 2,
+            build_commit: None,
             ..h
         }
     );

@@ -19,7 +19,9 @@ fn csv_export_header_rows_and_round_trip() {
     let mut out = Vec::new();
     export_csv(&s, FrameSel::All, &ExportUnits::computer(), &mut out).unwrap();
     let text = String::from_utf8(out).unwrap();
-    let mut lines = text.lines();
+    // the provenance comments first (tests/provenance.rs): always 4 lines
+    assert_eq!(text.lines().take_while(|l| l.starts_with("# ")).count(), 4);
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
     assert_eq!(lines.next(), Some("frame,t,bead,u,v"));
     let rows: Vec<&str> = lines.collect();
     assert_eq!(rows.len(), 5 * 4);
@@ -38,7 +40,8 @@ fn csv_export_header_rows_and_round_trip() {
     }
     let mut last = Vec::new();
     export_csv(&s, FrameSel::Last, &ExportUnits::computer(), &mut last).unwrap();
-    assert_eq!(String::from_utf8(last).unwrap().lines().count(), 1 + 4);
+    let last = String::from_utf8(last).unwrap();
+    assert_eq!(last.lines().filter(|l| !l.starts_with('#')).count(), 1 + 4);
     let e = export_csv(
         &s,
         FrameSel::Index(9),
@@ -131,7 +134,7 @@ fn events_csv() {
     let mut out = Vec::new();
     export_events_csv(&s, &ExportUnits::computer(), &mut out).unwrap();
     let text = String::from_utf8(out).unwrap();
-    let lines: Vec<&str> = text.lines().collect();
+    let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
     assert_eq!(lines[0], "t,contact,kind,rel_velocity,peak_overlap");
     assert_eq!(lines.len(), 1 + events().len());
     assert_eq!(lines[2], "1.25,0,open,-0.99,0.0015");

@@ -176,6 +176,7 @@ fn golden_v1_still_reads() {
         s.header(),
         &Header {
             format_version: 1,
+            build_commit: None,
             ..h
         }
     );

@@ -416,7 +416,12 @@ fn sweep_csv_header_is_the_first_line_and_values_are_written_as_given() {
         meta.lines().next().unwrap(),
         format!("# beadchain sweep spec={:016x} runs=16", s.hash)
     );
-    assert_eq!(meta.lines().count(), 17, "{meta}");
+    // line 2: the provenance of the build that wrote it (tests/provenance.rs)
+    assert!(
+        meta.lines().nth(1).unwrap().starts_with("# beadchain "),
+        "{meta}"
+    );
+    assert_eq!(meta.lines().count(), 18, "{meta}");
     // Values as written in the sweep file: [0.0, 0.1, 0.2, 0.4] x [1.0, 0.5], seeds 3, 4.
     let f = read_result(&out, false).unwrap();
     let params = |i: usize| split_fields(&f.rows[&i]).unwrap()[1..4].to_vec();

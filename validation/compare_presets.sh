@@ -2,7 +2,10 @@
 # Every preset run by two beadchain binaries, compared byte for byte: the snapshot files (both
 # binaries are run through one symlink path with the same arguments, so the command line in the
 # header is the same), and the `export` of all frames and of the event log. Extra arguments go to
-# both runs (e.g. --rtol 1e-4).
+# both runs (e.g. --rtol 1e-4). Both run with BEADCHAIN_NO_BUILD_COMMIT=1 (for byte comparisons
+# across builds: the snapshot then holds no build commit; binaries older than the build commit
+# ignore it), and the export's provenance comment lines (`#`, which older binaries do not write)
+# are left out of the comparison.
 # Usage: validation/compare_presets.sh OLD NEW [RUN ARGS...]; exit 1 if any preset differs.
 set -euo pipefail
 old=$(realpath "$1") new=$(realpath "$2")
@@ -10,6 +13,7 @@ shift 2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 status=0
+export BEADCHAIN_NO_BUILD_COMMIT=1
 cd "$tmp"
 known=" $("$old" scenes | awk '{print $1}' | tr '\n' ' ') "
 for p in $("$new" scenes | awk '{print $1}'); do
@@ -19,7 +23,7 @@ for p in $("$new" scenes | awk '{print $1}'); do
     ln -sf "${!b}" "$tmp/beadchain"
     "$tmp/beadchain" run "$p" -q --out run.snap "$@" >/dev/null 2>&1 || { echo "$p: $b run failed"; status=1; continue 2; }
     mv run.snap "$b.snap"
-    { "$tmp/beadchain" export "$b.snap"; "$tmp/beadchain" export "$b.snap" --events 2>/dev/null || true; } >"$b.txt"
+    { "$tmp/beadchain" export "$b.snap"; "$tmp/beadchain" export "$b.snap" --events 2>/dev/null || true; } | grep -v '^#' >"$b.txt" || true
   done
   if cmp -s old.snap new.snap && cmp -s old.txt new.txt; then
     echo "$p: identical (snapshot bytes, frames, events)"

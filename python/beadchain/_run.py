@@ -358,7 +358,8 @@ def run(
         if bar is not None:
             bar.close()
     ran = Scene._wrap(raw["scene"], scene._text)
-    return Run(raw, ran, {k: raw[k] for k in ("engine", "method", "rtol", "atol")})
+    keys = ("engine", "method", "rtol", "atol", "crate_version", "build_commit", "created_by")
+    return Run(raw, ran, {k: raw[k] for k in keys})
 
 
 def _run_raw(scene, progress, engine, method, rtol, atol, every, until, out, record, max_steps,
@@ -378,10 +379,12 @@ def load(path: str | os.PathLike) -> Run:
     :class:`Run`: the same numbers, bit for bit. Only the header, the frame times, the event
     log and the summary are read here; the frames when ``u``/``v`` are first used, or
     selected ones with ``Run.frames(index)``. ``meta`` holds the engine settings, the
-    command that wrote it, the format version and any reader warnings (an unfinished file)."""
+    command that wrote it, its provenance (``crate_version``, ``build_commit`` and
+    ``created_at``, None where the file does not record them), the format version and any
+    reader warnings (an unfinished file)."""
     raw = _beadchain.load(os.fspath(path))
-    keys = ("engine", "method", "rtol", "atol", "created_by", "format_version", "complete",
-            "warnings")
+    keys = ("engine", "method", "rtol", "atol", "created_by", "crate_version", "build_commit",
+            "created_at", "format_version", "complete", "warnings")
     return Run(raw, Scene._wrap(raw["scene"]), {k: raw[k] for k in keys}, file=raw["file"])
 
 

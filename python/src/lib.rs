@@ -75,6 +75,8 @@ fn _beadchain(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("RunError", py.get_type::<RunError>())?;
     m.add("SnapshotError", py.get_type::<SnapshotError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // The git commit the beadchain crate was built from (`unknown` from an sdist; its build.rs).
+    m.add("__build_commit__", beadchain::BUILD_COMMIT)?;
     m.add_class::<scene::Scene>()?;
     m.add_class::<sim::Simulation>()?;
     m.add_class::<snapfile::SnapshotFile>()?;

@@ -265,6 +265,7 @@ pub fn run<'py>(
         _ => max_output_bytes.unwrap_or(DEFAULT_MAX_OUTPUT_BYTES),
     };
     check_output(&s, &cfg, &sel, limit)?;
+    let created_by = format!("python: beadchain.run({})", s.name);
     let writer = match &out {
         Some(path) => {
             let mut header = Header::new(
@@ -273,7 +274,7 @@ pub fn run<'py>(
                 cfg.method,
                 cfg.rtol,
                 cfg.atol,
-                format!("python: beadchain.run({})", s.name),
+                created_by.clone(),
             );
             header.output = sel.clone();
             Some(
@@ -306,6 +307,10 @@ pub fn run<'py>(
     d.set_item("method", cfg.method.name())?;
     d.set_item("rtol", cfg.rtol)?;
     d.set_item("atol", cfg.atol)?;
+    // Provenance, as a snapshot header stores it (no date: runs from Python record no timing).
+    d.set_item("crate_version", beadchain::provenance::VERSION)?;
+    d.set_item("build_commit", beadchain::provenance::recorded_commit())?;
+    d.set_item("created_by", created_by)?;
     d.set_item("scene", Scene::new(s)?)?;
     Ok(d)
 }

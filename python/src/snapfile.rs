@@ -99,6 +99,9 @@ pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
     d.set_item("rtol", h.rtol)?;
     d.set_item("atol", h.atol)?;
     d.set_item("created_by", h.created_by.clone())?;
+    d.set_item("crate_version", h.crate_version.clone())?;
+    d.set_item("build_commit", h.build_commit.clone())?;
+    d.set_item("created_at", h.created_at.clone())?;
     d.set_item("format_version", h.format_version)?;
     d.set_item("complete", snap.is_complete())?;
     d.set_item("warnings", snap.warnings().to_vec())?;

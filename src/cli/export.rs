@@ -103,6 +103,7 @@ pub fn cmd_export(a: ExportArgs) -> Result<i32> {
         .frame
         .parse()
         .map_err(|e| anyhow::anyhow!("--frame {}: {e}", a.frame))?;
+    let exported_by = std::env::args().collect::<Vec<_>>().join(" ");
     let write = |out: &mut dyn Write| -> Result<(), beadchain::snapshot::SnapshotError> {
         use beadchain::export::wide;
         match (a.events, format, layout) {
@@ -111,7 +112,7 @@ pub fn cmd_export(a: ExportArgs) -> Result<i32> {
             (_, Format::Npy, Layout::Long) => export::export_npy(&snap, sel, &units, out),
             (_, Format::Csv, Layout::Wide) => wide::export_csv_wide(&snap, sel, &units, out),
             (_, Format::Npy, Layout::Wide) => wide::export_npy_wide(&snap, sel, &units, out),
-            (_, Format::Npz, _) => wide::export_npz(&snap, sel, &units, out),
+            (_, Format::Npz, _) => wide::export_npz(&snap, sel, &units, &exported_by, out),
         }
     };
     let to_stdout = a.out.as_deref().is_none_or(|p| p.as_os_str() == "-");

@@ -30,7 +30,7 @@ use std::path::PathBuf;
 
 /// Simulator for one-dimensional granular chains with Hertz-like contacts.
 #[derive(Parser, Debug)]
-#[command(name = "beadchain", version, about)]
+#[command(name = "beadchain", version = beadchain::provenance::LONG_VERSION, about)]
 pub struct Cli {
     #[command(subcommand)]
     cmd: Cmd,

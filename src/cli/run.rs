@@ -35,8 +35,8 @@ pub struct RunArgs {
     /// also written on SIGINT/SIGTERM; `beadchain resume FILE.ckpt` continues the run).
     #[arg(long)]
     pub checkpoint_every: Option<f64>,
-    /// Also store the wall-clock time in the snapshot (then two runs no longer give identical
-    /// bytes; by default it is only printed).
+    /// Also store the wall-clock time and the date (UTC) in the snapshot (then two runs no
+    /// longer give identical bytes; by default the time is only printed).
     #[arg(long)]
     pub timing: bool,
     #[command(flatten)]
@@ -88,6 +88,10 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
     );
     note_output_size(&a, &scene, &cfg, &sel);
     header.output = sel;
+    if a.timing {
+        // Only with --timing: a plain run's bytes do not depend on the date.
+        header.created_at = Some(beadchain::provenance::utc_now());
+    }
     super::files::clean_stale_temps(&out_path);
     super::files::clean_stale_temps(&ckpt::ckpt_path(&out_path));
     let writer = SnapshotWriter::create(&out_path, &header)?;

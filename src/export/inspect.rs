@@ -1,5 +1,6 @@
-//! `beadchain inspect`: the human-readable report of a snapshot (header fields, frames and time
-//! span, the energy of paper eq. 1 plus kinetic energy at the first and last frame via
+//! `beadchain inspect`: the human-readable report of a snapshot (header fields with the
+//! provenance block: version, build commit, date, command line, scene, engine settings; frames
+//! and time span, the energy of paper eq. 1 plus kinetic energy at the first and last frame via
 //! [`Chain::energy`], run statistics, warnings), and the check of every frame's checksum.
 
 use super::Num;
@@ -60,7 +61,8 @@ pub fn inspect_with(snap: &Snapshot, chain: &Chain, damaged: &[(usize, String)])
     s
 }
 
-/// File, format and state, creator, scene, stored selection, engine settings.
+/// File, format and state, provenance (version, commit, date, command), scene, stored
+/// selection, engine settings.
 fn header_lines(s: &mut String, snap: &Snapshot, damaged: &[(usize, String)]) {
     let h = snap.header();
     let _ = writeln!(s, "file:        {}", snap.path().display());
@@ -83,6 +85,18 @@ fn header_lines(s: &mut String, snap: &Snapshot, damaged: &[(usize, String)]) {
         h.format_version,
     );
     let _ = writeln!(s, "written by:  beadchain {}", h.crate_version);
+    let _ = writeln!(
+        s,
+        "commit:      {}",
+        h.build_commit.as_deref().unwrap_or("not recorded")
+    );
+    let _ = writeln!(
+        s,
+        "created:     {}",
+        h.created_at
+            .as_deref()
+            .unwrap_or(super::provenance::NO_DATE)
+    );
     let _ = writeln!(s, "command:     {}", h.created_by);
     let _ = writeln!(s, "scene:       {} — {}", h.scene.name, h.scene.description);
     let _ = writeln!(s, "beads:       {}", h.n_beads);

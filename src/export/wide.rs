@@ -4,12 +4,14 @@
 //! - `.npz`: a zip archive (entries stored, not compressed) of `.npy` arrays that
 //!   `numpy.load(path)` opens as a dict: `t` `(F,)`, `u` `(F, N)`, `v` `(F, N)`, and the chain
 //!   `mass` `(N,)`, `exponent`, `prefactor`, `precompression` `(N−1,)` (zeros when the scene
-//!   declares none). Entries carry a data descriptor (CRC-32 and sizes after the data, zip
+//!   declares none), and `provenance`: a 0-d unicode array holding a JSON object (version, build
+//!   commit, command lines, scene, engine settings, date; [`super::provenance`]). Entries carry a data descriptor (CRC-32 and sizes after the data, zip
 //!   APPNOTE 4.3.9), so each array is streamed frame by frame; no ZIP64, so every entry and the
 //!   archive stay below 4 GiB (checked before anything is written).
 //! - `.npy`: one float64 array `(F, 2N+1)`: column 0 is `t`, columns `1..=N` are `u`, columns
 //!   `N+1..=2N` are `v` (`a[:, 0]`, `a[:, 1:N+1]`, `a[:, N+1:]`).
-//! - `.csv`: the same columns with header `t,u0,…,u{N−1},v0,…,v{N−1}`.
+//! - `.csv`: the same columns with header `t,u0,…,u{N−1},v0,…,v{N−1}`, after the provenance
+//!   comment lines (`#`) every exported CSV opens with.
 //!
 //! Numbers are the snapshot's f64 values, bit for bit (NPY) or in shortest round-trip text (CSV).
 //!
@@ -19,7 +21,7 @@
 //! order `t | u | v`; CSV columns are labelled with the real index (`u10,u11,…`). The chain arrays
 //! stay whole (`(N,)`, `(N−1,)`).
 
-use super::{ExportUnits, FrameSel, Num};
+use super::{provenance, ExportUnits, FrameSel, Num};
 use crate::snapshot::{Frame, Selection, Snapshot, SnapshotError};
 use std::io::{self, BufWriter, Write};
 
@@ -47,7 +49,8 @@ pub fn npy_header_shape(shape: &[u64]) -> Vec<u8> {
     h
 }
 
-/// Size in bytes of the whole `.npz` for `frames × beads` (entries, headers, directory).
+/// Size in bytes of the whole `.npz` for `frames × beads` (entries, headers, directory; without
+/// the few hundred bytes of the `provenance` entry).
 pub fn npz_bytes(frames: u64, beads: u64) -> u64 {
     npz_bytes_of(frames, beads, &Selection::default())
 }
@@ -74,10 +77,16 @@ pub fn npz_bytes_of(frames: u64, beads: u64, sel: &Selection) -> u64 {
         .iter()
         .map(|(name, shape)| {
             let data = npy_header_shape(shape).len() as u64 + 8 * shape.iter().product::<u64>();
-            30 + 16 + 46 + 2 * name.len() as u64 + data
+            entry_bytes(name, data)
         })
         .sum::<u64>()
         + 22
+}
+
+/// Bytes an entry named `name` with `data` bytes adds to the archive (local header, data
+/// descriptor, central directory entry).
+fn entry_bytes(name: &str, data: u64) -> u64 {
+    30 + 16 + 46 + 2 * name.len() as u64 + data
 }
 
 /// Writes the selected frames as one `(F, 2N+1)` float64 `.npy` array (`(F, 1+q·M)` for an
@@ -122,6 +131,7 @@ pub fn export_csv_wide(
     let s = snap.selection();
     let m = s.bead_count(snap.header().n_beads) as usize;
     let mut w = BufWriter::with_capacity(1 << 16, out);
+    w.write_all(provenance::csv_comments(snap.header()).as_bytes())?;
     w.write_all(b"t")?;
     for (c, on) in [('u', s.fields.has_u()), ('v', s.fields.has_v())] {
         for j in (0..m).filter(|_| on) {
@@ -151,11 +161,13 @@ enum Field {
     V,
 }
 
-/// Writes the selected frames and the chain arrays as an `.npz` (see module docs).
+/// Writes the selected frames, the chain arrays and the provenance (with `exported_by`, the
+/// export's command line) as an `.npz` (see module docs).
 pub fn export_npz(
     snap: &Snapshot,
     sel: FrameSel,
     units: &ExportUnits,
+    exported_by: &str,
     out: &mut dyn Write,
 ) -> Result<(), SnapshotError> {
     let range = sel.range(snap)?;
@@ -163,7 +175,8 @@ pub fn export_npz(
     let s = snap.selection();
     let m = s.bead_count(n);
     let frames = range.len() as u64;
-    let total = npz_bytes_of(frames, n, s);
+    let prov = provenance::npy_text(&provenance::json(snap.header(), exported_by));
+    let total = npz_bytes_of(frames, n, s) + entry_bytes("provenance.npy", prov.len() as u64);
     if total > ZIP_LIMIT {
         return Err(SnapshotError::Output(io::Error::other(format!(
             "the .npz would be {total} bytes, beyond the 4 GiB of a zip without ZIP64: select fewer frames (--frame) or write .npy"
@@ -220,6 +233,7 @@ pub fn export_npz(
             Ok(())
         })?;
     }
+    z.entry("provenance.npy", |w| Ok(w.write_all(&prov)?))?;
     let mut w = z.finish()?;
     w.flush()?;
     Ok(())

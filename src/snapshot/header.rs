@@ -165,6 +165,8 @@ pub(crate) fn decode_header(version: u32, payload: &[u8]) -> Result<Header, Stri
             n_beads: o.n_beads,
             created_by: o.created_by,
             output: o.output,
+            build_commit: None,
+            created_at: None,
         }
     } else {
         let o: HeaderV2 = decode_exact(payload)?;
@@ -180,6 +182,8 @@ pub(crate) fn decode_header(version: u32, payload: &[u8]) -> Result<Header, Stri
             n_beads: o.n_beads,
             created_by: o.created_by,
             output: Selection::default(),
+            build_commit: None,
+            created_at: None,
         }
     };
     h.output.check(h.n_beads)?;

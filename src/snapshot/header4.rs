@@ -4,7 +4,9 @@
 //!
 //! | key | value |
 //! |---|---|
-//! | `crate_version`, `created_by` | text |
+//! | `crate_version`, `created_by` | text (version of the writing beadchain; its command line, or `python: beadchain.run(NAME)`) |
+//! | `build_commit`? | text: git commit of the writing build (40 hex digits, `-dirty` suffix possible, or `unknown`); left out with `BEADCHAIN_NO_BUILD_COMMIT=1` and in files of builds before it |
+//! | `created_at`? | text: UTC start of the run, `YYYY-MM-DDTHH:MM:SSZ`; only `run --timing` writes it |
 //! | `engine`, `method` | text (`hybrid`/`dense`; `auto`, `radau5`, `dop853`, `verlet`) |
 //! | `rtol`, `atol` | real |
 //! | `seed`, `n_beads` | integer |
@@ -18,6 +20,12 @@
 //! | `chain.damping.law`? | text; `chain.damping.contact`: N − 1 reals; `.left_wall`, `.right_wall`: real |
 //! | `initial.u`, `initial.v` | N reals |
 //! | `run.until` | real; `run.every`?, `run.rtol`?, `run.atol`?: real; `run.method`?, `run.engine`?: text |
+//!
+//! `build_commit` and `created_at` came after the first format-4 files, as optional keys: files
+//! without them still read (golden file `data/golden/v4_no_provenance.snap`), so the format
+//! version stayed 4. A reader built before them refuses a file that has them (unknown key, as
+//! for any key added since: see [`super::record`]), with an error that names the key and says
+//! it was written by a newer beadchain.
 
 use super::record::{pick, RecordReader, RecordWriter, Value};
 use super::select::{Fields, Selection};
@@ -46,9 +54,17 @@ pub fn header_record(h: &Header) -> Vec<(String, Value)> {
         n_beads,
         created_by,
         output,
+        build_commit,
+        created_at,
     } = h;
     let mut w = RecordWriter::default();
     w.text("crate_version", crate_version);
+    if let Some(c) = build_commit {
+        w.text("build_commit", c);
+    }
+    if let Some(d) = created_at {
+        w.text("created_at", d);
+    }
     w.text("created_by", created_by);
     w.text("engine", engine.name());
     w.text("method", method.name());
@@ -76,6 +92,8 @@ pub fn header_record(h: &Header) -> Vec<(String, Value)> {
 pub fn header_from_record(entries: Vec<(String, Value)>) -> Result<Header, String> {
     let mut r = RecordReader::new(entries)?;
     let crate_version = r.text("crate_version")?;
+    let build_commit = r.opt_text("build_commit")?;
+    let created_at = r.opt_text("created_at")?;
     let created_by = r.text("created_by")?;
     let engine = pick("engine", &r.text("engine")?, &ENGINES, Engine::name)?;
     let method = pick("method", &r.text("method")?, &METHODS, Method::name)?;
@@ -111,6 +129,8 @@ pub fn header_from_record(entries: Vec<(String, Value)>) -> Result<Header, Strin
         n_beads,
         created_by,
         output,
+        build_commit,
+        created_at,
     })
 }
 

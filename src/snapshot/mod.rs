@@ -210,10 +210,17 @@ pub struct Header {
     /// What the frames store: beads, fields, frame cap (format version 3; older files hold
     /// every bead and both fields). See [`select`].
     pub output: Selection,
+    /// Git commit the writing beadchain was built from ([`crate::provenance::BUILD_COMMIT`]);
+    /// `None` in files written before it was recorded, or with `BEADCHAIN_NO_BUILD_COMMIT=1`.
+    pub build_commit: Option<String>,
+    /// When the run started, UTC, `YYYY-MM-DDTHH:MM:SSZ`; only runs that record timing
+    /// (`run --timing`) store it, so two plain runs give identical bytes.
+    pub created_at: Option<String>,
 }
 
 impl Header {
-    /// A header for `scene`, filling format/crate version, seed and bead count from it.
+    /// A header for `scene`, filling format/crate version, build commit
+    /// ([`crate::provenance::recorded_commit`]), seed and bead count from it (no `created_at`).
     pub fn new(
         scene: Scene,
         engine: Engine,
@@ -225,6 +232,8 @@ impl Header {
         Header {
             format_version: FORMAT_VERSION,
             crate_version: env!("CARGO_PKG_VERSION").to_string(),
+            build_commit: crate::provenance::recorded_commit(),
+            created_at: None,
             seed: scene.seed,
             n_beads: scene.chain.len() as u64,
             scene,

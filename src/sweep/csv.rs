@@ -5,7 +5,8 @@
 //! row per run (RFC 4180 quoting: a field with `,` or `"` is quoted, `"` doubled; no field holds
 //! a newline), so `pandas.read_csv(OUT)` needs no options. The spec line
 //! `# beadchain sweep spec=HASH runs=N` (what `merge` and resuming check) is in the sidecar
-//! `OUT.meta`, followed by the content key of every row (`# run I content=KEY`: what a rerun
+//! `OUT.meta`, followed by the provenance line `# beadchain VERSION commit COMMIT` (the build
+//! that wrote it; informative only, never checked) and the content key of every row (`# run I content=KEY`: what a rerun
 //! matches to skip the runs whose results are already there). The unfinished `OUT.partial`
 //! keeps the spec line as its line 1.
 
@@ -85,16 +86,31 @@ pub fn meta_path(out: &Path) -> PathBuf {
     PathBuf::from(s)
 }
 
-/// The sidecar `OUT.meta`: the spec line, then one line `# run I content=KEY` per row (KEY: the
-/// run's content key, [`super::SweepSpec::content_key`], 16 hex digits), in run order.
+/// The sidecar `OUT.meta`: the spec line, the [provenance line](provenance_line), then one line
+/// `# run I content=KEY` per row (KEY: the run's content key,
+/// [`super::SweepSpec::content_key`], 16 hex digits), in run order.
 pub fn meta_text(spec_line: &str, keys: &BTreeMap<usize, u64>) -> String {
-    let mut s = String::with_capacity(spec_line.len() + 1 + 40 * keys.len());
+    let mut s = String::with_capacity(spec_line.len() + 100 + 40 * keys.len());
     s.push_str(spec_line);
+    s.push('\n');
+    s.push_str(&provenance_line());
     s.push('\n');
     for (i, k) in keys {
         s.push_str(&format!("{CONTENT_TAG}{i} content={k:016x}\n"));
     }
     s
+}
+
+/// Line 2 of `OUT.meta`: `# beadchain VERSION commit COMMIT` of the build that wrote it
+/// (`# beadchain VERSION` with `BEADCHAIN_NO_BUILD_COMMIT=1`). Only informative: merging and
+/// resuming read the spec line and the content keys, so a sweep resumed or merged by another
+/// build is not refused.
+pub fn provenance_line() -> String {
+    let v = crate::provenance::VERSION;
+    match crate::provenance::recorded_commit() {
+        Some(c) => format!("# beadchain {v} commit {c}"),
+        None => format!("# beadchain {v}"),
+    }
 }
 
 /// Start of a content-key line of `OUT.meta`.
