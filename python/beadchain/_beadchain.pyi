@@ -122,6 +122,13 @@ def modes(
     window: Optional[tuple[float, float]] = None,
     bins: Optional[int] = None,
 ) -> dict[str, Any]: ...
+def bands(
+    scene: Scene,
+    cell: Optional[int] = None,
+    start: int = 0,
+    points: int = 201,
+    about: str = "equilibrium",
+) -> dict[str, Any]: ...
 def _modal_energies(
     scene: Scene,
     t: _Array,

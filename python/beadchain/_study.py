@@ -157,6 +157,22 @@ def modes(scene: Scene, about: str = "equilibrium", window: Optional[tuple] = No
     return _beadchain.modes(scene._s, about=about, window=w, bins=bins)
 
 
+def bands(scene: Scene, cell: Optional[int] = None, start: int = 0, points: int = 201,
+          about: str = "equilibrium") -> dict:
+    """``beadchain plot dispersion``'s band structure of ``scene``'s periodic chain: the unit
+    cell of ``cell`` beads from bead ``start`` (default: the smallest period of the masses and
+    contact stiffnesses) of the chain linearised about its static equilibrium
+    (``about="initial"``: its initial displacements), with Bloch conditions, docs/studies.md.
+
+    Returns ``q`` (``points`` wavenumbers per cell on [0, π]), ``omega`` (bands × points,
+    angular frequencies), ``edges`` (bands × 2: each band's lowest and highest ω, at q = 0 and
+    π), ``gaps`` (k × 2: the top of one band and the bottom of the next, where they do not
+    overlap), and the cell's ``mass`` and ``stiffness``.
+    """
+    return _beadchain.bands(scene._s, cell=cell, start=int(start), points=int(points),
+                            about=about)
+
+
 def modal_energies(scene: Scene, run: Any, about: str = "equilibrium",
                    window: Optional[tuple] = None) -> dict:
     """``beadchain modes SCENE --snapshot RUN.snap``: the energy of each linear mode of

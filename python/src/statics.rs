@@ -1,12 +1,14 @@
 //! `modes()` and `equilibrium()`: the linear modes of a scene's chain and its static
 //! equilibrium (`beadchain::studies`, as `beadchain modes`; docs/studies.md); `modal_energies()`:
 //! the energy per mode of a run's frames (`beadchain::analysis::modal`, as `beadchain modes
-//! --snapshot`). Results are dicts of NumPy arrays and plain values.
+//! --snapshot`); `bands()`: the band structure of a periodic chain (`beadchain::studies::bands`,
+//! as `beadchain plot dispersion`). Results are dicts of NumPy arrays and plain values.
 
 use crate::scene::Scene;
 use crate::SceneError;
 use beadchain::analysis::modal::{project_frames, project_snapshot, ModalEnergies, ModalError};
 use beadchain::snapshot::Snapshot;
+use beadchain::studies::bands::{bands as lib_bands, cell_of};
 use beadchain::studies::equilibrium::equilibrium as lib_equilibrium;
 use beadchain::studies::modal::ModalBasis;
 use beadchain::studies::modes::{density_of_states, linearize, solve};
@@ -189,4 +191,47 @@ pub fn _modal_energies_file<'py>(
     let snap = Snapshot::open(&path).map_err(|e| crate::SnapshotError::new_err(e.to_string()))?;
     let e = project_snapshot(&snap, &scene.scene.chain, &basis).map_err(modal_err)?;
     modal_dict(py, &basis, omega, e)
+}
+
+/// The band structure of `scene`'s periodic chain (as `beadchain plot dispersion`): the unit
+/// cell of `cell` beads from bead `start` (default: the smallest period of the masses and
+/// stiffnesses) of the chain linearised about `about`, sampled at `points` wavenumbers on
+/// `[0, π]`: `q` (points), `omega` (bands × points), `edges` (bands × 2: low, high), `gaps`
+/// (k × 2), `mass`, `stiffness` (the cell's).
+#[pyfunction]
+#[pyo3(signature = (scene, cell=None, start=0, points=201, about="equilibrium"))]
+pub fn bands<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    cell: Option<usize>,
+    start: usize,
+    points: usize,
+    about: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    if points < 2 {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "points: expected at least 2 wavenumbers, got {points}"
+        )));
+    }
+    let u = state_about(scene, about)?;
+    let lin = linearize(&scene.scene.chain, &u).map_err(|e| err(scene, e))?;
+    let c = cell_of(&lin, cell, start).map_err(|e| err(scene, e))?;
+    let b = lib_bands(&c, points);
+    let nb = b.omega.len();
+    let omega: Vec<f64> = b.omega.concat();
+    let edges: Vec<f64> = b.edges.iter().flat_map(|&(lo, hi)| [lo, hi]).collect();
+    let gaps = b.gaps();
+    let ng = gaps.len();
+    let gaps: Vec<f64> = gaps.into_iter().flat_map(|(lo, hi)| [lo, hi]).collect();
+    let d = PyDict::new(py);
+    d.set_item("q", PyArray1::from_vec(py, b.q))?;
+    d.set_item(
+        "omega",
+        PyArray1::from_vec(py, omega).reshape([nb, points])?,
+    )?;
+    d.set_item("edges", PyArray1::from_vec(py, edges).reshape([nb, 2])?)?;
+    d.set_item("gaps", PyArray1::from_vec(py, gaps).reshape([ng, 2])?)?;
+    d.set_item("mass", PyArray1::from_vec(py, c.mass))?;
+    d.set_item("stiffness", PyArray1::from_vec(py, c.stiffness))?;
+    Ok(d)
 }
