@@ -94,3 +94,39 @@ fn breather_errors_are_one_line() {
         );
     }
 }
+
+/// The defect of issue 35's audit: a continuation that collapses onto the equilibrium (a fixed
+/// point of every period map) was reported as a solution, exit 0, with the scene written. The
+/// `dimer_dispersion` chain's nonlinearity is soft at its band edges (the branch from the top
+/// optical mode, 2.772, falls in frequency), so nothing continues above the optical band
+/// (2.8) nor above an in-band mode (1.6 from the acoustic band's top mode 1.5992, just inside
+/// the gap): each is a one-line error, non-zero exit, no file.
+#[test]
+fn breather_collapsed_to_the_equilibrium_is_refused() {
+    let d = tempfile::tempdir().unwrap();
+    for (w, edge) in [("2.8", "2.772158"), ("1.6", "1.599206")] {
+        let o = bc(
+            d.path(),
+            &[
+                "breather",
+                "dimer_dispersion",
+                "--frequency",
+                w,
+                "--out",
+                "b.toml",
+            ],
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(o.status.code(), Some(2), "omega {w}: {text}\n{err}");
+        for want in [
+            format!("dimer_dispersion: the continuation to omega = {w} collapsed to the equilibrium at omega = "),
+            format!("the branch from the linear mode at omega {edge} exists only below it (its frequency falls as its amplitude grows"),
+        ] {
+            assert!(err.contains(&want), "omega {w}: missing `{want}` in {err}");
+        }
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(!text.contains("solution:"), "{text}");
+        assert!(!d.path().join("b.toml").exists(), "omega {w}: wrote b.toml");
+    }
+}

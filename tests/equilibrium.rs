@@ -2,7 +2,8 @@
 //! `[chain] precompression_force` (`beadchain::studies::equilibrium`).
 //!
 //! - A column under gravity on a wall: `n a δ_k^{n−1} = g · (mass above contact k)`, exactly
-//!   (relative tolerance 1e-12), the wall carrying the whole weight.
+//!   (relative tolerance 1e-12), the wall carrying the whole weight; on a hard wall too, the
+//!   bead on it at zero overlap.
 //! - A chain squeezed by `F0` between walls: every contact and both walls carry `F0`.
 //! - Two walls with given precompressions: the forces balance (`accel = 0`) and the overlaps
 //!   fit between the walls.
@@ -101,6 +102,45 @@ fn gravity_column_on_a_wall_carries_the_weight_above_each_contact() {
         );
     }
     assert_eq!(wall_forces(&s2)[1], 0.0);
+}
+
+#[test]
+fn gravity_column_on_a_hard_wall_carries_the_weight() {
+    // A hard wall (unilateral, rigid: `restitution`) has no overlap at rest: bead 0 touches it
+    // (u_0 = Δ_L) and the wall carries the whole weight, its force a reaction rather than a law
+    // of the overlap; the soft contacts above carry the weight above them.
+    let mut rng = Rng(354);
+    let text = format!(
+        "[chain]\nbeads = 9\nmass = {}\nexponent = {{ alternate = [2.5, 3.0] }}\nprefactor = 1.3\n\
+         [field]\ngravity = 0.7\n[walls]\nleft = {{ hard = true, restitution = 0.8 }}\n\
+         [initial]\nequilibrium = true\n[run]\nuntil = 1.0\n",
+        masses(&mut rng, 9)
+    );
+    let s = scene(&text);
+    let m = &s.chain.mass;
+    let total = 0.7 * m.iter().sum::<f64>();
+    let eq = beadchain::studies::equilibrium::equilibrium(&s.chain, &s.u0, None).unwrap();
+    let wall = eq.wall_force[0].expect("a left wall");
+    assert!(
+        (wall - total).abs() <= TOL * total,
+        "hard wall: {wall} vs g·Σm = {total} (abs tol 0, rel tol 1e-12)"
+    );
+    assert_eq!(eq.wall_force[1], None);
+    let delta_l = s.chain.left_wall.as_ref().unwrap().precompression;
+    assert_eq!(
+        s.u0[0], delta_l,
+        "bead 0 touches the hard wall (zero overlap)"
+    );
+    let f = contact_forces(&s);
+    for k in 0..8 {
+        let above: f64 = 0.7 * m[k + 1..].iter().sum::<f64>();
+        assert!(
+            (f[k] - above).abs() <= TOL * above,
+            "contact {k}: {} vs {above} (abs tol 0, rel tol 1e-12)",
+            f[k]
+        );
+    }
+    assert!(eq.gaps.is_empty(), "gaps {:?}", eq.gaps);
 }
 
 #[test]

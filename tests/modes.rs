@@ -392,3 +392,53 @@ fn mode_key_errors_name_the_key() {
         "{e}"
     );
 }
+
+#[test]
+fn a_light_mass_impurity_has_a_localised_mode_above_the_band() {
+    // A light bead m' = m/4 in a uniform chain (40 beads between walls of the same law): one
+    // mode above the band edge 2√(K/m), u_n = (−r)^{|n−c|} with r = m'/(2m − m') = 1/7 and
+    // ω² = 4 K m / (m' (2m − m')) (the infinite chain's impurity mode; the walls 20 beads away
+    // change it by about r^40). Its participation ratio (Σx²)²/(N Σx⁴) follows from the
+    // geometric sums, 0.0271, against ≥ 0.3 for every extended mode (measured: the smallest
+    // 0.386, a mode the light bead perturbs; a sine mode has 2(N+1)/(3N) = 0.683).
+    let (nb, c, m, n, a, d) = (40, 20, 1.0, 2.5, 1.0, 0.02);
+    let mut chain = uniform(nb, m, n, a, d, true);
+    let mi = 0.25 * m;
+    chain.mass[c] = mi;
+    let lin = linearize(&chain, &vec![0.0; nb]).unwrap();
+    let modes = solve(&lin, None).unwrap();
+    let k = stiffness(n, a, d);
+    let top = modes.omega[nb - 1];
+    assert!(
+        top > 2.0 * (k / m).sqrt(),
+        "the highest mode is above the band"
+    );
+    assert!(modes.omega[nb - 2] < 2.0 * (k / m).sqrt(), "one mode only");
+    let w2 = 4.0 * k * m / (mi * (2.0 * m - mi));
+    assert!(
+        (modes.omega2[nb - 1] - w2).abs() <= TOL * w2,
+        "impurity ω² {} vs {w2} (abs tol 0, rel tol 1e-12)",
+        modes.omega2[nb - 1]
+    );
+    let r: f64 = mi / (2.0 * m - mi);
+    let s2 = 1.0 + 2.0 * r * r / (1.0 - r * r);
+    let s4 = 1.0 + 2.0 * r.powi(4) / (1.0 - r.powi(4));
+    let p = s2 * s2 / (nb as f64 * s4);
+    let pi = modes.participation[nb - 1];
+    assert!(
+        (pi - p).abs() <= TOL * p,
+        "impurity mode's participation {pi} vs {p} (abs tol 0, rel tol 1e-12)"
+    );
+    let x = &modes.shapes[nb - 1];
+    assert!(
+        (0..nb).all(|i| x[c].abs() >= x[i].abs()),
+        "centred on the light bead"
+    );
+    let extended = modes.participation[..nb - 1]
+        .iter()
+        .fold(f64::INFINITY, |lo, p| lo.min(*p));
+    assert!(
+        extended >= 0.3 && pi <= 0.1 * extended,
+        "extended modes {extended} vs the impurity mode {pi}"
+    );
+}

@@ -17,12 +17,13 @@ from ._analyze import analyze
 from ._beadchain import RunError, SceneError, SnapshotError, __version__
 from ._run import Run, Simulation, State, Stop, load, run
 from ._scene import Chain, Scene, Units, presets
-from ._study import (SweepTable, accuracy, breather, check, equilibrium, modes, sweep, sweep_run,
-                     sweep_size)
+from ._study import (SweepTable, accuracy, bands, breather, check, equilibrium, modal_energies,
+                     modes, sweep, sweep_run, sweep_size)
 
 __all__ = [
     "Chain", "Run", "RunError", "Scene", "SceneError", "Simulation", "SnapshotError", "State",
-    "Stop", "Units", "__version__", "accuracy", "analyze", "breather", "check", "equilibrium", "load", "modes", "presets",
+    "Stop", "Units", "__version__", "accuracy", "analyze", "bands", "breather", "check", "equilibrium", "load", "modal_energies",
+    "modes", "presets",
     "run", "sweep", "sweep_run", "SweepTable",
     "sweep_size",
 ]

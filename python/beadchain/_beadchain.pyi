@@ -122,6 +122,28 @@ def modes(
     window: Optional[tuple[float, float]] = None,
     bins: Optional[int] = None,
 ) -> dict[str, Any]: ...
+def bands(
+    scene: Scene,
+    cell: Optional[int] = None,
+    start: int = 0,
+    points: int = 201,
+    about: str = "equilibrium",
+) -> dict[str, Any]: ...
+def _modal_energies(
+    scene: Scene,
+    t: _Array,
+    u: _Array,
+    v: _Array,
+    what: str,
+    about: str = "equilibrium",
+    window: Optional[tuple[float, float]] = None,
+) -> dict[str, Any]: ...
+def _modal_energies_file(
+    scene: Scene,
+    path: str,
+    about: str = "equilibrium",
+    window: Optional[tuple[float, float]] = None,
+) -> dict[str, Any]: ...
 def equilibrium(scene: Scene, force: Optional[float] = None) -> dict[str, Any]: ...
 def check(
     scene: Scene,

@@ -157,6 +157,49 @@ def modes(scene: Scene, about: str = "equilibrium", window: Optional[tuple] = No
     return _beadchain.modes(scene._s, about=about, window=w, bins=bins)
 
 
+def bands(scene: Scene, cell: Optional[int] = None, start: int = 0, points: int = 201,
+          about: str = "equilibrium") -> dict:
+    """``beadchain plot dispersion``'s band structure of ``scene``'s periodic chain: the unit
+    cell of ``cell`` beads from bead ``start`` (default: the smallest period of the masses and
+    contact stiffnesses) of the chain linearised about its static equilibrium
+    (``about="initial"``: its initial displacements), with Bloch conditions, docs/studies.md.
+
+    Returns ``q`` (``points`` wavenumbers per cell on [0, π]), ``omega`` (bands × points,
+    angular frequencies), ``edges`` (bands × 2: each band's lowest and highest ω, at q = 0 and
+    π), ``gaps`` (k × 2: the top of one band and the bottom of the next, where they do not
+    overlap), and the cell's ``mass`` and ``stiffness``.
+    """
+    return _beadchain.bands(scene._s, cell=cell, start=int(start), points=int(points),
+                            about=about)
+
+
+def modal_energies(scene: Scene, run: Any, about: str = "equilibrium",
+                   window: Optional[tuple] = None) -> dict:
+    """``beadchain modes SCENE --snapshot RUN.snap``: the energy of each linear mode of
+    ``scene``'s chain (about its static equilibrium; ``about="initial"``: its initial
+    displacements; ``window=(lo, hi)``: only those modes) in every frame of ``run``, a
+    :class:`Run` or a snapshot file's path (every bead and both fields stored), docs/studies.md.
+
+    With the mass-orthonormal modes ``x_j``: ``q_j = x_jᵀ M (u − u*)``, ``q̇_j = x_jᵀ M v``,
+    ``E_j = ½ (q̇_j² + ω_j² q_j²)``. Returns ``t`` (F,), ``energy`` (F, M): ``E_j`` per frame,
+    ``harmonic`` (F,): ``½ vᵀMv + ½ (u − u*)ᵀK(u − u*)``, which ``energy.sum(axis=1)`` equals
+    (Parseval) when every mode is kept, ``total`` (F,): the chain's full energy above ``u*``
+    at rest, ``omega`` and ``index`` (M,). A run of another bead count raises
+    :class:`SceneError` naming the file (or the run's scene).
+    """
+    w = None if window is None else (float(window[0]), float(window[1]))
+    if isinstance(run, (str, os.PathLike)):
+        return _beadchain._modal_energies_file(scene._s, os.fspath(run), about=about, window=w)
+    what = f"run of {run.scene.name}"
+    if run.u is None or run.v is None or run.beads is not None:
+        raise _beadchain.SceneError(
+            f"{what}: modal energies need every bead and both fields stored")
+    return _beadchain._modal_energies(
+        scene._s, np.ascontiguousarray(run.t, dtype=float),
+        np.ascontiguousarray(run.u, dtype=float).ravel(),
+        np.ascontiguousarray(run.v, dtype=float).ravel(), what, about=about, window=w)
+
+
 def breather(scene: Scene, frequency: float, mode: Optional[int] = None,
              seed_amplitude: float = 1e-3, step: float = 0.02, tol: float = 1e-11,
              rtol: float = 1e-12, floquet: bool = True, periods: float = 100.0) -> dict:

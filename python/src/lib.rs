@@ -88,6 +88,9 @@ fn _beadchain(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::energies, m)?)?;
     m.add_function(wrap_pyfunction!(study::check, m)?)?;
     m.add_function(wrap_pyfunction!(statics::modes, m)?)?;
+    m.add_function(wrap_pyfunction!(statics::_modal_energies, m)?)?;
+    m.add_function(wrap_pyfunction!(statics::bands, m)?)?;
+    m.add_function(wrap_pyfunction!(statics::_modal_energies_file, m)?)?;
     m.add_function(wrap_pyfunction!(breather::breather, m)?)?;
     m.add_function(wrap_pyfunction!(statics::equilibrium, m)?)?;
     m.add_function(wrap_pyfunction!(analyze::_analyze, m)?)?;

@@ -1,14 +1,21 @@
 //! `modes()` and `equilibrium()`: the linear modes of a scene's chain and its static
-//! equilibrium (`beadchain::studies`, as `beadchain modes`; docs/studies.md). Results are dicts
-//! of NumPy arrays and plain values.
+//! equilibrium (`beadchain::studies`, as `beadchain modes`; docs/studies.md); `modal_energies()`:
+//! the energy per mode of a run's frames (`beadchain::analysis::modal`, as `beadchain modes
+//! --snapshot`); `bands()`: the band structure of a periodic chain (`beadchain::studies::bands`,
+//! as `beadchain plot dispersion`). Results are dicts of NumPy arrays and plain values.
 
 use crate::scene::Scene;
 use crate::SceneError;
+use beadchain::analysis::modal::{project_frames, project_snapshot, ModalEnergies, ModalError};
+use beadchain::snapshot::Snapshot;
+use beadchain::studies::bands::{bands as lib_bands, cell_of};
 use beadchain::studies::equilibrium::equilibrium as lib_equilibrium;
+use beadchain::studies::modal::ModalBasis;
 use beadchain::studies::modes::{density_of_states, linearize, solve};
-use numpy::{PyArray1, PyArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::path::PathBuf;
 
 fn err(scene: &Scene, e: impl std::fmt::Display) -> PyErr {
     SceneError::new_err(format!("{}: {e}", scene.scene.name))
@@ -52,24 +59,7 @@ pub fn modes<'py>(
     bins: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let s = &scene.scene;
-    let u = match about {
-        "equilibrium" => {
-            lib_equilibrium(&s.chain, &s.u0, None)
-                .map_err(|e| {
-                    err(
-                        scene,
-                        format!("static equilibrium: {e} (use about=\"initial\")"),
-                    )
-                })?
-                .u
-        }
-        "initial" => s.u0.clone(),
-        other => {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "about: expected \"equilibrium\" or \"initial\", got {other:?}"
-            )))
-        }
-    };
+    let u = state_about(scene, about)?;
     let lin = linearize(&s.chain, &u).map_err(|e| err(scene, e))?;
     let m = solve(&lin, window).map_err(|e| err(scene, e))?;
     let nb = lin.mass.len();
@@ -98,5 +88,150 @@ pub fn modes<'py>(
     d.set_item("overlap", PyArray1::from_vec(py, lin.overlap))?;
     d.set_item("stiffness", PyArray1::from_vec(py, lin.stiffness))?;
     d.set_item("state", PyArray1::from_vec(py, u))?;
+    Ok(d)
+}
+
+/// The state `about` names: the static equilibrium or the initial displacements.
+fn state_about(scene: &Scene, about: &str) -> PyResult<Vec<f64>> {
+    let s = &scene.scene;
+    match about {
+        "equilibrium" => Ok(lib_equilibrium(&s.chain, &s.u0, None)
+            .map_err(|e| {
+                err(
+                    scene,
+                    format!("static equilibrium: {e} (use about=\"initial\")"),
+                )
+            })?
+            .u),
+        "initial" => Ok(s.u0.clone()),
+        other => Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "about: expected \"equilibrium\" or \"initial\", got {other:?}"
+        ))),
+    }
+}
+
+/// The linear modes of `scene` about `about` (in `window`) as a projection basis, and their
+/// frequencies.
+fn basis_of(
+    scene: &Scene,
+    about: &str,
+    window: Option<(f64, f64)>,
+) -> PyResult<(ModalBasis, Vec<f64>)> {
+    let u = state_about(scene, about)?;
+    let lin = linearize(&scene.scene.chain, &u).map_err(|e| err(scene, e))?;
+    let m = solve(&lin, window).map_err(|e| err(scene, e))?;
+    let basis = ModalBasis::new(&lin, &m, &u).map_err(|e| err(scene, e))?;
+    Ok((basis, m.omega))
+}
+
+/// The modal energies as a dict: `t` (F), `energy` (F × M), `harmonic`, `total` (F), `omega`,
+/// `index` (M).
+fn modal_dict<'py>(
+    py: Python<'py>,
+    basis: &ModalBasis,
+    omega: Vec<f64>,
+    e: ModalEnergies,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (f, m) = (e.t.len(), e.modes);
+    let d = PyDict::new(py);
+    d.set_item("t", PyArray1::from_vec(py, e.t))?;
+    d.set_item("energy", PyArray1::from_vec(py, e.energy).reshape([f, m])?)?;
+    d.set_item("harmonic", PyArray1::from_vec(py, e.harmonic))?;
+    d.set_item("total", PyArray1::from_vec(py, e.total))?;
+    d.set_item("omega", PyArray1::from_vec(py, omega))?;
+    d.set_item("index", basis.index.clone())?;
+    Ok(d)
+}
+
+fn modal_err(e: ModalError) -> PyErr {
+    match e {
+        ModalError::Snapshot(s) => crate::SnapshotError::new_err(s.to_string()),
+        ModalError::Mismatch(m) => SceneError::new_err(m),
+    }
+}
+
+/// Modal energies of frames in memory (`u`, `v` flat, F·N): `what` names the run in errors.
+#[pyfunction]
+#[pyo3(signature = (scene, t, u, v, what, about="equilibrium", window=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn _modal_energies<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    t: PyReadonlyArray1<'py, f64>,
+    u: PyReadonlyArray1<'py, f64>,
+    v: PyReadonlyArray1<'py, f64>,
+    what: &str,
+    about: &str,
+    window: Option<(f64, f64)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (basis, omega) = basis_of(scene, about, window)?;
+    let e = project_frames(
+        &scene.scene.chain,
+        &basis,
+        t.as_slice()?,
+        u.as_slice()?,
+        v.as_slice()?,
+        what,
+    )
+    .map_err(modal_err)?;
+    modal_dict(py, &basis, omega, e)
+}
+
+/// Modal energies of every frame of the snapshot file `path` (as `beadchain modes --snapshot`).
+#[pyfunction]
+#[pyo3(signature = (scene, path, about="equilibrium", window=None))]
+pub fn _modal_energies_file<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    path: PathBuf,
+    about: &str,
+    window: Option<(f64, f64)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (basis, omega) = basis_of(scene, about, window)?;
+    let snap = Snapshot::open(&path).map_err(|e| crate::SnapshotError::new_err(e.to_string()))?;
+    let e = project_snapshot(&snap, &scene.scene.chain, &basis).map_err(modal_err)?;
+    modal_dict(py, &basis, omega, e)
+}
+
+/// The band structure of `scene`'s periodic chain (as `beadchain plot dispersion`): the unit
+/// cell of `cell` beads from bead `start` (default: the smallest period of the masses and
+/// stiffnesses) of the chain linearised about `about`, sampled at `points` wavenumbers on
+/// `[0, π]`: `q` (points), `omega` (bands × points), `edges` (bands × 2: low, high), `gaps`
+/// (k × 2), `mass`, `stiffness` (the cell's).
+#[pyfunction]
+#[pyo3(signature = (scene, cell=None, start=0, points=201, about="equilibrium"))]
+pub fn bands<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    cell: Option<usize>,
+    start: usize,
+    points: usize,
+    about: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    if points < 2 {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "points: expected at least 2 wavenumbers, got {points}"
+        )));
+    }
+    let u = state_about(scene, about)?;
+    let lin = linearize(&scene.scene.chain, &u).map_err(|e| err(scene, e))?;
+    let c = cell_of(&lin, cell, start).map_err(|e| err(scene, e))?;
+    let b = lib_bands(&c, points);
+    let nb = b.omega.len();
+    let omega: Vec<f64> = b.omega.concat();
+    let edges: Vec<f64> = b.edges.iter().flat_map(|&(lo, hi)| [lo, hi]).collect();
+    let gaps = b.gaps();
+    let ng = gaps.len();
+    let gaps: Vec<f64> = gaps.into_iter().flat_map(|(lo, hi)| [lo, hi]).collect();
+    let d = PyDict::new(py);
+    d.set_item("q", PyArray1::from_vec(py, b.q))?;
+    d.set_item(
+        "omega",
+        PyArray1::from_vec(py, omega).reshape([nb, points])?,
+    )?;
+    d.set_item("edges", PyArray1::from_vec(py, edges).reshape([nb, 2])?)?;
+    d.set_item("gaps", PyArray1::from_vec(py, gaps).reshape([ng, 2])?)?;
+    d.set_item("mass", PyArray1::from_vec(py, c.mass))?;
+    d.set_item("stiffness", PyArray1::from_vec(py, c.stiffness))?;
     Ok(d)
 }

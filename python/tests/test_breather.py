@@ -2,6 +2,7 @@
 Python layer, periodic, with symplectic Floquet multipliers, saved as a runnable scene."""
 
 import numpy as np
+import pytest
 
 import beadchain as bc
 
@@ -35,3 +36,13 @@ def test_gap_breather_is_periodic_and_stable():
     r = bc.run(s, until=d["period"], every=None)
     assert np.max(np.abs(r.u[-1] - d["u"])) <= 1e-10
     assert np.max(np.abs(r.v[-1])) <= 1e-10
+
+
+def test_breather_collapsed_to_the_equilibrium_raises():
+    # above the optical band (top mode 2.772, soft: its branch falls in frequency) the
+    # continuation only finds the equilibrium: an error, not a "solution" of amplitude 1e-11
+    s = bc.Scene.preset("dimer_dispersion")
+    with pytest.raises(bc.SceneError, match=r"dimer_dispersion: the continuation to omega = 2\.8 "
+                       r"collapsed to the equilibrium at omega = .* the branch from the linear "
+                       r"mode at omega 2\.772158 exists only below it"):
+        bc.breather(s, 2.8, floquet=False)

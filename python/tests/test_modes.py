@@ -65,3 +65,28 @@ def test_equilibrium_gaps_are_a_scene_warning():
     assert [w for w in col.warnings if "gaps at rest" in w] == [
         "split: [initial].equilibrium: gaps at rest (no force: the beads are apart or just "
         "touching): the right wall (bead 4)"]
+
+
+def test_bands_of_the_dimer_match_the_closed_form_gap():
+    # dimer_dispersion: masses 1 and 0.5, n = 2.5, a = 1, every contact at force 0.1, so
+    # k = n(n-1) a Δ^(n-2) with Δ = (0.1/2.5)^(1/1.5); acoustic band [0, √(2k/m1)], optical
+    # band [√(2k/m2), √(2k(1/m1 + 1/m2))]
+    b = bc.bands(bc.Scene.preset("dimer_dispersion"), points=11)
+    delta = (0.1 / 2.5) ** (1 / 1.5)
+    k = 2.5 * 1.5 * delta ** 0.5
+    edges = np.array([[0.0, math.sqrt(2 * k)], [math.sqrt(4 * k), math.sqrt(6 * k)]])
+    top = edges[1, 1]
+    assert b["omega"].shape == (2, 11) and b["q"].shape == (11,)
+    assert list(b["mass"]) == [1.0, 0.5]
+    # ω² to abs tol 1e-12 of omega_max² (round-off leaves ω = √ε·ω_max at q = 0), rel tol 0
+    assert np.max(np.abs(b["edges"] ** 2 - edges ** 2)) <= 1e-12 * top ** 2
+    assert b["gaps"].shape == (1, 2)
+    assert np.max(np.abs(b["gaps"][0] - [edges[0, 1], edges[1, 0]])) <= 1e-12 * top
+    # the dimer's ω(q) at every sample (monoatomic-cell formula in cos q), same tolerance
+    q = b["q"]
+    s = 2 * k * (1 / 1.0 + 1 / 0.5)
+    disc = np.sqrt(s * s - 8 * k * k * (1 - np.cos(q)) / 0.5)
+    exact2 = np.array([(s - disc) / 2, (s + disc) / 2])
+    assert np.max(np.abs(b["omega"] ** 2 - exact2)) <= 1e-12 * top ** 2
+    with pytest.raises(bc.SceneError, match="a cell of 50 beads from bead 0 needs 50 contacts"):
+        bc.bands(bc.Scene.preset("dimer_dispersion"), cell=50)

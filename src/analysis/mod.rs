@@ -23,6 +23,7 @@
 //!   fragments of a state where no pair can collide again (`run --stop-when-fragmented`).
 //! - [`gas`]: collision rate from the event log, kinetic temperature per frame, velocity
 //!   distribution (gases: `granular_gas`).
+//! - [`modal`]: the energy of each linear mode in every frame (`modes --snapshot`, FPUT).
 //! - [`summary`]: the whole summary of a run's frames (`beadchain analyze`, Python's
 //!   `analyze()`): energies, the leading wave's speed and decay fit, the interface split.
 //!
@@ -37,6 +38,7 @@ pub mod decay;
 pub mod fit;
 pub mod gas;
 pub mod interface;
+pub mod modal;
 pub mod state;
 pub mod summary;
 pub mod timings;

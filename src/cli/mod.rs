@@ -13,6 +13,7 @@ mod dispersion;
 mod export;
 mod files;
 mod fragments;
+mod modal;
 mod modes;
 mod plot;
 mod plot_out;

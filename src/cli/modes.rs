@@ -1,11 +1,14 @@
 //! `beadchain modes SCENE`: the linear modes of a chain about its static equilibrium (or its
 //! initial state), their participation ratios and density of states, optionally as `.npz`
-//! (library: [`beadchain::studies::modes`], [`beadchain::studies::equilibrium`]).
+//! (library: [`beadchain::studies::modes`], [`beadchain::studies::equilibrium`]); with
+//! `--snapshot RUN.snap`, the energy of each mode in each frame of a run ([`super::modal`]).
 
 use super::common::load_scene;
+use super::modal;
 use anyhow::{anyhow, bail, Result};
 use beadchain::scene::Scene;
 use beadchain::studies::equilibrium::equilibrium;
+use beadchain::studies::modal::ModalBasis;
 use beadchain::studies::modes::{density_of_states, linearize, solve, Linearized, Modes};
 use clap::ValueEnum;
 use std::path::PathBuf;
@@ -41,6 +44,14 @@ pub struct ModesArgs {
     /// Print every mode (index, omega, participation ratio), not only the summary.
     #[arg(long)]
     pub list: bool,
+    /// A run of the scene's chain (every bead, both fields): the energy of each mode in each
+    /// of its frames, relative to the state linearised about (modal energy analysis).
+    #[arg(long, value_name = "RUN.snap")]
+    pub snapshot: Option<PathBuf>,
+    /// Write the modal energies of --snapshot (.csv: t,E_<index>...,harmonic,energy; .npz:
+    /// t, index, omega, energy (frames, modes), harmonic, total).
+    #[arg(long, value_name = "FILE", requires = "snapshot")]
+    pub energies: Option<PathBuf>,
 }
 
 /// `LO:HI` → `(lo, hi)`.
@@ -104,9 +115,29 @@ pub fn state_of(scene: &Scene, about: About) -> Result<(Vec<f64>, &'static str, 
 pub fn cmd_modes(a: ModesArgs) -> Result<i32> {
     let scene = load_scene(&a.scene)?;
     let window = a.window.as_deref().map(parse_window).transpose()?;
+    let energies = a
+        .energies
+        .as_deref()
+        .map(|p| check_energies_out(p, &a))
+        .transpose()?;
+    if let Some(p) = &a.out {
+        let mut inputs = super::files::labelled_scene_inputs(&a.scene);
+        inputs.extend(a.snapshot.iter().map(|s| ("snapshot", s.clone())));
+        super::files::check_not_input(p, "--out", &inputs)?;
+    }
     let (u, about, forces) = state_of(&scene, a.about)?;
     let lin = linearize(&scene.chain, &u).map_err(|e| anyhow!("{}: {e}", scene.name))?;
     let modes = solve(&lin, window).map_err(|e| anyhow!("{}: {e}", scene.name))?;
+    // The run is read before anything is written: a bad pairing leaves no output.
+    let projected = match &a.snapshot {
+        Some(snap) => {
+            let basis =
+                ModalBasis::new(&lin, &modes, &u).map_err(|e| anyhow!("{}: {e}", scene.name))?;
+            let e = modal::project_run(&scene, &basis, snap)?;
+            Some((snap, basis, e))
+        }
+        None => None,
+    };
     let nb = lin.mass.len();
     let bins = a.bins.unwrap_or((nb as f64).sqrt().ceil() as usize).max(1);
     let (edges, counts) = density_of_states(&modes.omega, bins);
@@ -124,22 +155,55 @@ pub fn cmd_modes(a: ModesArgs) -> Result<i32> {
         );
     }
     if a.list {
-        outln!("mode  omega  participation");
-        for k in 0..modes.omega.len() {
-            outln!(
-                "{} {:.12e} {:.6}",
-                modes.index[k],
-                modes.omega[k],
-                modes.participation[k]
-            );
-        }
+        list(&modes)?;
     }
     if let Some(p) = &a.out {
-        super::files::check_not_input(p, "--out", &super::files::labelled_scene_inputs(&a.scene))?;
         write_npz(p, &lin, &modes, &u, (&edges, &counts))?;
         outln!("wrote {}", p.display());
     }
+    if let Some((snap, basis, e)) = projected {
+        modal::summary(snap, &basis, &e)?;
+        if let (Some(p), Some(format)) = (&a.energies, energies) {
+            modal::write(p, format, &basis, &modes.omega, &e)?;
+            outln!("wrote {}", p.display());
+        }
+    }
     Ok(0)
+}
+
+/// `--list`: every mode's index, frequency and participation ratio.
+fn list(modes: &Modes) -> Result<()> {
+    outln!("mode  omega  participation");
+    for k in 0..modes.omega.len() {
+        outln!(
+            "{} {:.12e} {:.6}",
+            modes.index[k],
+            modes.omega[k],
+            modes.participation[k]
+        );
+    }
+    Ok(())
+}
+
+/// `--energies PATH`: its format, and that it is neither an input (scene, snapshot) nor the
+/// `--out` file.
+fn check_energies_out(p: &std::path::Path, a: &ModesArgs) -> Result<modal::EnergiesFormat> {
+    let format = modal::energies_format(p)?;
+    let mut inputs = super::files::labelled_scene_inputs(&a.scene);
+    if let Some(s) = &a.snapshot {
+        inputs.push(("snapshot", s.clone()));
+    }
+    super::files::check_not_input(p, "--energies", &inputs)?;
+    if a.out
+        .as_deref()
+        .is_some_and(|o| o == p || beadchain::files::same_file(p, o))
+    {
+        bail!(
+            "{}: --energies: is also the --out file (choose another output name)",
+            p.display()
+        );
+    }
+    Ok(format)
 }
 
 /// The summary lines: state, boundary conditions, open contacts, frequencies, localisation.

@@ -343,6 +343,11 @@ pub fn max_diff(a: &[f64], b: &[f64]) -> f64 {
 /// would start at the trivial solution. A step whose Newton iteration fails is halved (down to
 /// `step/1024`), a step that succeeds lets the next grow by 1.5 (up to `step`). Every solution
 /// on the way, `start` first.
+///
+/// A step that converges onto the equilibrium (the trivial solution, periodic with every
+/// period: amplitude below [`COLLAPSE_FRACTION`] of `start`'s or velocity scale below
+/// [`COLLAPSE_TOL_FACTOR`] `tol`) is an error saying on which side of `edge` the branch lies:
+/// the continuation was asked for a frequency the branch does not reach.
 pub fn continue_to(
     sh: &Shooter,
     start: Breather,
@@ -353,6 +358,11 @@ pub fn continue_to(
 ) -> Result<Vec<Breather>, BreatherError> {
     let sq = |w: f64| (w - edge).abs().sqrt();
     let dir = (target - start.frequency()).signum();
+    let seed = Seed {
+        amplitude: sh.amplitude(&start.u),
+        frequency: start.frequency(),
+        edge,
+    };
     let mut h = step.abs();
     // (s, u) of the point before the last.
     let mut prev = (0.0, sh.u_eq.clone());
@@ -376,14 +386,96 @@ pub fn continue_to(
         let t = 2.0 * PI / w;
         match sh.newton(&guess, t, Constraint::Period(t), tol) {
             Ok(b) => {
+                seed.check_not_collapsed(sh, &b, target, tol)?;
                 prev = (s_last, last.u.clone());
                 path.push(b);
                 h = (1.5 * h).min(step.abs());
             }
             Err(e) if h < step.abs() / 1024.0 => {
-                return Err(err(format!("continuation stopped at omega = {w:.6}: {e}")));
+                let why = if seed.heads_away(dir) {
+                    format!("; {}", seed.side())
+                } else {
+                    String::new()
+                };
+                return Err(err(format!(
+                    "continuation stopped at omega = {w:.6}: {e}{why}"
+                )));
             }
             Err(_) => h /= 2.0,
         }
+    }
+}
+
+/// A solution whose amplitude is below this fraction of the seed's has collapsed onto the
+/// equilibrium (a fixed point of every period map), whatever Newton's residual says.
+pub const COLLAPSE_FRACTION: f64 = 1e-6;
+
+/// A solution whose velocity scale `ω A` is below this many times Newton's tolerance is the
+/// equilibrium as far as the shooting can tell (a state of amplitude `A` that is no breather
+/// has `max |v(T/2)| ~ ω A`, so Newton stops on any such state once `ω A ≲ tol`).
+pub const COLLAPSE_TOL_FACTOR: f64 = 1e3;
+
+/// The branch's start, to recognise a continuation that collapsed onto the equilibrium.
+struct Seed {
+    /// `max |u − u*|` of the seed.
+    amplitude: f64,
+    /// Its frequency (shifted from `edge` by the nonlinearity, `∝ A²`).
+    frequency: f64,
+    /// The linear mode's frequency the branch bifurcates from.
+    edge: f64,
+}
+
+impl Seed {
+    /// Errors when `b` is the equilibrium to the shooting's resolution (amplitude below
+    /// [`COLLAPSE_FRACTION`] of the seed's, or `ω A` below [`COLLAPSE_TOL_FACTOR`] `tol`): the
+    /// branch does not reach `b`'s frequency from the mode.
+    fn check_not_collapsed(
+        &self,
+        sh: &Shooter,
+        b: &Breather,
+        target: f64,
+        tol: f64,
+    ) -> Result<(), BreatherError> {
+        let amp = sh.amplitude(&b.u);
+        if amp >= COLLAPSE_FRACTION * self.amplitude
+            && amp * b.frequency() > COLLAPSE_TOL_FACTOR * tol
+        {
+            return Ok(());
+        }
+        Err(err(format!(
+            "{}: the continuation to omega = {target} collapsed to the equilibrium at omega = {:.6} (amplitude {amp:.1e}, seed {:.1e}): {}",
+            sh.scene.name,
+            b.frequency(),
+            self.amplitude,
+            self.side()
+        )))
+    }
+
+    /// Where the branch lies, from the seed's frequency shift. A soft branch (frequency falling
+    /// with amplitude) is what precompressed Hertzian chains (n > 2) have at the edges of their
+    /// optical bands: a power-law contact expanded about its static overlap `Δ`,
+    /// `F(Δ + x) − F(Δ) = k (x + α x² + β x³)` with `α = (p−1)/(2Δ)`, `β = (p−1)(p−2)/(6Δ²)`
+    /// (`p = n − 1`), shifts an oscillator's frequency by `(3β/8 − 5α²/12) A² ω =
+    /// −(p−1)(2p+1) A² ω/(48Δ²)` (Landau & Lifshitz, Mechanics §28), negative for `n > 2`. In a
+    /// finite chain the shift of a mode inside a band may take either sign (resonances with
+    /// other modes; `docs/studies.md`), so the message states the measured one.
+    fn side(&self) -> String {
+        if self.frequency < self.edge {
+            format!(
+                "the branch from the linear mode at omega {:.6} exists only below it (its frequency falls as its amplitude grows: a soft nonlinearity, as at the band edges of precompressed Hertzian chains, n > 2, whose breathers bifurcate from the lower edge of an optical band into the gap below it, none above the top band)",
+                self.edge
+            )
+        } else {
+            format!(
+                "the branch from the linear mode at omega {:.6} exists only above it (its frequency rises with its amplitude: a hard nonlinearity for this mode)",
+                self.edge
+            )
+        }
+    }
+
+    /// Whether stepping in direction `dir` (±1) from the seed crosses the mode's frequency to
+    /// the side where the branch does not exist.
+    fn heads_away(&self, dir: f64) -> bool {
+        (self.edge - self.frequency) * dir > 0.0
     }
 }

@@ -2,7 +2,8 @@
 //! layer builds with them (docs/studies.md):
 //!
 //! - [`solitary`]: the exact travelling (solitary) wave of the discrete sonic-vacuum chain;
-//! - [`modes`]: linear modes about a state; [`bands`]: the band structure of a periodic chain;
+//! - [`modes`]: linear modes about a state; [`modal`]: the energy per mode of a state (FPUT);
+//!   [`bands`]: the band structure of a periodic chain;
 //! - [`equilibrium`]: the static equilibrium under walls, fields and imposed wall forces.
 //!
 //! Layer 2 (`tests/layering.rs`): it imports only [`crate::model`] and [`crate::linalg`] (and
@@ -11,6 +12,7 @@
 
 pub mod bands;
 pub mod equilibrium;
+pub mod modal;
 pub mod modes;
 pub mod solitary;
 
