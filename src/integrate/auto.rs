@@ -27,7 +27,9 @@
 
 use super::dop853::Dop853;
 use super::radau5::Radau5;
-use super::{IntegrationError, Integrator, IntegratorState, Stats, System, Tolerances};
+use super::{
+    IntegrationError, Integrator, IntegratorState, LoadError, Method, Stats, System, Tolerances,
+};
 use crate::linalg::SolverKind;
 use crate::names::Named;
 use serde::{Deserialize, Serialize};
@@ -364,13 +366,10 @@ impl Integrator for Auto {
         s
     }
 
-    fn load(&mut self, s: &IntegratorState) -> Result<(), String> {
-        let mode = s.auto.ok_or_else(|| {
-            format!(
-                "the state of a {} integrator cannot continue as auto",
-                s.method.name()
-            )
-        })?;
+    fn load(&mut self, s: &IntegratorState) -> Result<(), LoadError> {
+        let mode = s
+            .auto
+            .ok_or_else(|| LoadError::wrong_method(&s.method, Method::Auto.name()))?;
         let before = self.mode;
         self.mode = mode;
         if mode.implicit {
@@ -470,5 +469,54 @@ mod tests {
         }
         assert_eq!(a.save(), b.save(), "after 30 steps");
         assert_eq!(a.stats(), b.stats());
+    }
+
+    /// A method's state is a typed variant ([`crate::integrate::MethodState`]): an exact
+    /// pair's trajectory never loads into an integrator, nor an integrator's state into an
+    /// exact pair; each refusal names both methods (the pair's state used to call itself
+    /// "auto") and leaves the integrator unchanged.
+    #[test]
+    fn exact_pair_and_integrator_states_do_not_cross() {
+        use crate::integrate::exact_pair::{ExactPair, PairLaw};
+        use crate::model::profile::Profile;
+        use std::rc::Rc;
+        let chain = uniform_chain(2);
+        let (u, v) = striker(2, 1.0);
+        let tol = Tolerances {
+            rtol: 1e-8,
+            atol: 1e-12,
+            scales: chain.scales(&u, &v),
+            v_frame: 0.0,
+            u_origin: 0.0,
+            dissipation: Default::default(),
+        };
+        let sys = ChainRange::whole(&chain);
+        let law = PairLaw {
+            mass: [1.0, 1.0],
+            n: 2.5,
+            a: 0.4,
+            pre: 0.0,
+            accel: 0.0,
+            wall: None,
+        };
+        let mut pair = ExactPair::new(law, Rc::new(Profile::new(2.5)), false);
+        pair.reset(&sys, 0.0, &u, &v);
+        let mut dop = Dop853::new(2, tol);
+        dop.reset(&sys, 0.0, &u, &v);
+        let mut auto = Auto::new(2, tol, SolverKind::Auto, false);
+        auto.reset(&sys, 0.0, &u, &v);
+        let (ps, ds, autos) = (pair.save(), dop.save(), auto.save());
+        let e = dop.load(&ps).expect_err("a trajectory into DOP853");
+        let m = "the state of a two-body (exact) integrator cannot continue as dop853";
+        assert_eq!(e.to_string(), m);
+        let e = pair
+            .load(&ds)
+            .expect_err("DOP853 arrays into an exact pair");
+        let m = "the state of a dop853 integrator cannot continue as two-body (exact)";
+        assert_eq!(e.to_string(), m);
+        let e = auto.load(&ps).expect_err("a trajectory into auto");
+        let m = "the state of a two-body (exact) integrator cannot continue as auto";
+        assert_eq!(e.to_string(), m);
+        assert_eq!((pair.save(), dop.save(), auto.save()), (ps, ds, autos));
     }
 }

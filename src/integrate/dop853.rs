@@ -40,7 +40,9 @@ mod stages;
 mod start;
 mod state;
 
-use super::{IntegrationError, Integrator, IntegratorState, Stats, System, Tolerances};
+pub use state::Dop853State;
+
+use super::{IntegrationError, Integrator, IntegratorState, LoadError, Stats, System, Tolerances};
 
 /// Multiplier of the asymptotically optimal step.
 const SAFETY: f64 = 0.9;
@@ -442,7 +444,7 @@ impl Integrator for Dop853 {
         self.save_state()
     }
 
-    fn load(&mut self, s: &IntegratorState) -> Result<(), String> {
+    fn load(&mut self, s: &IntegratorState) -> Result<(), LoadError> {
         self.load_state(s)
     }
 }

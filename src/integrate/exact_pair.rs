@@ -28,7 +28,7 @@
 //! `u = s·(δ − Δ_w)`, `v = s·δ̇` (so `δ = 0` exactly at the end). No field: a wall does not
 //! fall with the bead.
 
-use super::{IntegrationError, Integrator, IntegratorState, Method, Stats, System};
+use super::{IntegrationError, Integrator, IntegratorState, LoadError, MethodState, Stats, System};
 use crate::model::profile::Profile;
 use serde::{Deserialize, Serialize};
 use std::cell::Cell;
@@ -353,14 +353,16 @@ impl Integrator for ExactPair {
             t: self.s.t,
             t_prev: self.s.t_prev,
             stats: self.stats.clone(),
-            exact: Some(self.s),
-            method: Method::Auto,
-            ..IntegratorState::default()
+            dissipated: (0.0, 0.0),
+            auto: None,
+            method: MethodState::Exact(self.s),
         }
     }
 
-    fn load(&mut self, s: &IntegratorState) -> Result<(), String> {
-        let p = s.exact.ok_or("not an exact pair's state")?;
+    fn load(&mut self, s: &IntegratorState) -> Result<(), LoadError> {
+        let MethodState::Exact(p) = s.method else {
+            return Err(LoadError::wrong_method(&s.method, super::EXACT_NAME));
+        };
         self.s = p;
         self.stats = s.stats.clone();
         self.memo.set((f64::NAN, [0.0; 4]));

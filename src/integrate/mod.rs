@@ -352,53 +352,102 @@ pub enum IntegrationError {
     Budget(u64),
 }
 
-/// Everything an integrator needs to continue bit-identically (checkpoints). Scratch buffers
-/// that every step recomputes are not part of it.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+/// Everything an integrator needs to continue bit-identically (checkpoints): what every
+/// method has (times, counters, dissipated energy, the switching state of [`auto::Auto`]) and
+/// the method's own typed state ([`MethodState`]). Scratch buffers that every step recomputes
+/// are not part of it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct IntegratorState {
     /// Current time.
     pub t: f64,
     /// Start of the last accepted step.
     pub t_prev: f64,
-    /// Step-size proposal.
-    pub h: f64,
-    /// Previous accepted step size (step-size controller memory).
-    pub h_old: Option<f64>,
-    /// Previous error norm (step-size controller memory).
-    pub err_old: Option<f64>,
-    /// Whether the continuous output of the last step is valid.
-    pub have_sol: bool,
-    /// Method-specific arrays (state, previous state, derivatives, output coefficients).
-    pub vecs: Vec<Vec<f64>>,
     /// Counters.
     pub stats: Stats,
-    /// Switching state of the [`auto::Auto`] integrator (`None` for the others).
-    pub auto: Option<auto::AutoState>,
     /// Energy dissipated since the last reset, at `t_prev` and at `t` ([`Integrator::dissipated`]).
     pub dissipated: (f64, f64),
-    /// The method whose arrays `vecs` holds (for [`auto::Auto`], the active one): checked on
-    /// load ([`check_state`]), so a state never continues in another method.
-    pub method: Method,
-    /// The trajectory of an [`exact_pair::ExactPair`] (`None` for every other integrator).
-    pub exact: Option<exact_pair::PairState>,
+    /// Switching state of the [`auto::Auto`] integrator (`None` for the others).
+    pub auto: Option<auto::AutoState>,
+    /// The state of the method (for [`auto::Auto`], the active one).
+    pub method: MethodState,
 }
 
-/// The consistency check of [`Integrator::load`]: `s` was saved by `method` and its arrays
-/// have the lengths `lens` (the loading integrator's own).
-pub fn check_state(s: &IntegratorState, method: Method, lens: &[usize]) -> Result<(), String> {
-    if s.method != method {
-        return Err(format!(
-            "the state of a {} integrator cannot continue as {}",
-            s.method.name(),
-            method.name()
-        ));
+/// The state of one method, typed: a state loads only into the method that saved it (the
+/// variant is checked by `match`, the array lengths against the loading integrator's).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum MethodState {
+    /// [`dop853::Dop853`].
+    Dop853(dop853::Dop853State),
+    /// [`radau5::Radau5`].
+    Radau5(radau5::Radau5State),
+    /// [`verlet::Verlet`].
+    Verlet(verlet::VerletState),
+    /// The trajectory of an [`exact_pair::ExactPair`].
+    Exact(exact_pair::PairState),
+}
+
+/// The name of the exact two-body contact ([`exact_pair::ExactPair`]) in messages.
+pub const EXACT_NAME: &str = "two-body (exact)";
+
+impl MethodState {
+    /// The method's name as messages write it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Dop853(_) => Method::Dop853.name(),
+            Self::Radau5(_) => Method::Radau5.name(),
+            Self::Verlet(_) => Method::Verlet.name(),
+            Self::Exact(_) => EXACT_NAME,
+        }
     }
-    let got: Vec<usize> = s.vecs.iter().map(Vec::len).collect();
-    if got != lens {
-        return Err(format!(
-            "{} state arrays have lengths {got:?}, expected {lens:?}",
-            method.name()
-        ));
+}
+
+/// Why [`Integrator::load`] refused a state (the integrator is left unchanged).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LoadError {
+    /// The state was saved by another method.
+    #[error("the state of a {saved} integrator cannot continue as {loading}")]
+    WrongMethod {
+        /// The method that saved the state.
+        saved: &'static str,
+        /// The method of the loading integrator.
+        loading: &'static str,
+    },
+    /// The state's arrays do not fit the loading integrator's beads.
+    #[error("{method} state arrays have lengths {got:?}, expected {expected:?}")]
+    Lengths {
+        /// The method.
+        method: &'static str,
+        /// The state's array lengths.
+        got: Vec<usize>,
+        /// The loading integrator's.
+        expected: Vec<usize>,
+    },
+}
+
+impl LoadError {
+    /// The state `s` was not saved by `loading`.
+    pub fn wrong_method(s: &MethodState, loading: &'static str) -> Self {
+        Self::WrongMethod {
+            saved: s.name(),
+            loading,
+        }
+    }
+}
+
+/// The length check of [`Integrator::load`]: the state's arrays `got` have the lengths
+/// `expected` (the loading integrator's own).
+pub fn check_lengths(
+    method: Method,
+    got: &[&Vec<f64>],
+    expected: &[usize],
+) -> Result<(), LoadError> {
+    let got: Vec<usize> = got.iter().map(|v| v.len()).collect();
+    if got != expected {
+        return Err(LoadError::Lengths {
+            method: method.name(),
+            got,
+            expected: expected.to_vec(),
+        });
     }
     Ok(())
 }
@@ -492,8 +541,8 @@ pub trait Integrator {
     /// The state needed to continue exactly (see [`IntegratorState`]).
     fn save(&self) -> IntegratorState;
     /// Restores a state saved by the same method for the same number of beads; any other
-    /// state is an error ([`check_state`]) and leaves the integrator unchanged.
-    fn load(&mut self, s: &IntegratorState) -> Result<(), String>;
+    /// state is an error ([`LoadError`]) and leaves the integrator unchanged.
+    fn load(&mut self, s: &IntegratorState) -> Result<(), LoadError>;
 }
 
 /// Gauss–Legendre nodes (on `[0, 1]`) and weights of order 8, for [`dissipated_at`].

@@ -14,7 +14,7 @@
 //! comes for free with the force evaluation at the start of every step (same `powf`), so it is
 //! always current and both systems are refactorised per step attempt, in `O(m)`.
 
-use super::{IntegrationError, Integrator, IntegratorState, Stats, System, Tolerances};
+use super::{IntegrationError, Integrator, IntegratorState, LoadError, Stats, System, Tolerances};
 use crate::linalg::{new_solver, SolverKind, TridiagSolver};
 use num_complex::Complex64;
 
@@ -22,6 +22,8 @@ mod linear;
 mod newton;
 mod state;
 mod step;
+
+pub use state::Radau5State;
 
 const S6: f64 = 2.449_489_742_783_178; // sqrt(6)
 /// Collocation nodes.
@@ -514,7 +516,7 @@ impl Integrator for Radau5 {
         self.save_state()
     }
 
-    fn load(&mut self, s: &IntegratorState) -> Result<(), String> {
+    fn load(&mut self, s: &IntegratorState) -> Result<(), LoadError> {
         self.load_state(s)
     }
 }

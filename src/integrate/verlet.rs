@@ -20,7 +20,12 @@
 //! cubic Hermite interpolant on each step: for `u` from `(u, v)` at both ends, for `v` from
 //! `(v, a)` at both ends (third order, exact at the step ends).
 
-use super::{IntegrationError, Integrator, IntegratorState, Stats, System, Tolerances};
+use super::{
+    check_lengths, IntegrationError, Integrator, IntegratorState, LoadError, Method, MethodState,
+    Stats, System, Tolerances,
+};
+use crate::names::Named;
+use serde::{Deserialize, Serialize};
 
 /// Fixed-step velocity Verlet for an `m`-bead [`System`]; all scratch is allocated by
 /// [`Verlet::new`], a step allocates nothing.
@@ -212,54 +217,67 @@ impl Integrator for Verlet {
         IntegratorState {
             t: self.t,
             t_prev: self.t_prev,
-            h: self.dt,
-            h_old: self.h_once,
-            err_old: None,
-            have_sol: true,
-            vecs: vec![
-                self.z.clone(),
-                self.z_old.clone(),
-                self.acc.clone(),
-                self.acc_old.clone(),
-                vec![self.t_grid, self.k as f64],
-            ],
             stats: self.stats.clone(),
-            auto: None,
             dissipated: (0.0, 0.0),
-            method: super::Method::Verlet,
-            exact: None,
+            auto: None,
+            method: MethodState::Verlet(VerletState {
+                dt: self.dt,
+                h_once: self.h_once,
+                t_grid: self.t_grid,
+                k: self.k,
+                z: self.z.clone(),
+                z_old: self.z_old.clone(),
+                acc: self.acc.clone(),
+                acc_old: self.acc_old.clone(),
+            }),
         }
     }
 
-    fn load(&mut self, s: &IntegratorState) -> Result<(), String> {
+    fn load(&mut self, s: &IntegratorState) -> Result<(), LoadError> {
+        let MethodState::Verlet(w) = &s.method else {
+            return Err(LoadError::wrong_method(&s.method, Method::Verlet.name()));
+        };
         let lens = [
             self.z.len(),
             self.z_old.len(),
             self.acc.len(),
             self.acc_old.len(),
-            2,
         ];
-        super::check_state(s, super::Method::Verlet, &lens)?;
+        check_lengths(Method::Verlet, &[&w.z, &w.z_old, &w.acc, &w.acc_old], &lens)?;
         self.t = s.t;
         self.t_prev = s.t_prev;
-        self.dt = s.h;
-        self.h_once = s.h_old;
-        for (d, v) in [
-            &mut self.z,
-            &mut self.z_old,
-            &mut self.acc,
-            &mut self.acc_old,
-        ]
-        .into_iter()
-        .zip(&s.vecs)
-        {
-            d.copy_from_slice(v);
-        }
-        self.t_grid = s.vecs[4][0];
-        self.k = s.vecs[4][1] as u64;
+        self.dt = w.dt;
+        self.h_once = w.h_once;
+        self.t_grid = w.t_grid;
+        self.k = w.k;
+        self.z.copy_from_slice(&w.z);
+        self.z_old.copy_from_slice(&w.z_old);
+        self.acc.copy_from_slice(&w.acc);
+        self.acc_old.copy_from_slice(&w.acc_old);
         self.stats = s.stats.clone();
         Ok(())
     }
+}
+
+/// The state of a [`Verlet`] ([`MethodState::Verlet`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct VerletState {
+    /// Fixed step.
+    pub dt: f64,
+    /// One-shot upper bound on the next step.
+    pub h_once: Option<f64>,
+    /// Start of the current grid `t_grid + k·dt`.
+    pub t_grid: f64,
+    /// Steps taken on the current grid.
+    pub k: u64,
+    /// State at `t` (u then v, `2m`).
+    pub z: Vec<f64>,
+    /// State at `t_prev`.
+    pub z_old: Vec<f64>,
+    /// Accelerations at `t`.
+    pub acc: Vec<f64>,
+    /// Accelerations at `t_prev`.
+    pub acc_old: Vec<f64>,
 }
 
 #[cfg(test)]

@@ -3,7 +3,7 @@
 use super::cluster::{Cluster, Clusters};
 use super::{prio, Hybrid, Key};
 use crate::engine::checkpoint::{ClusterState, HybridState, QueueEntry};
-use crate::integrate::new_integrator;
+use crate::integrate::{new_integrator, MethodState};
 use std::cmp::Reverse;
 
 impl Hybrid<'_> {
@@ -71,7 +71,8 @@ impl Hybrid<'_> {
                 let Some(c) = c else { return Ok(None) };
                 let m = (c.hi - c.lo) as usize;
                 let tol = self.cluster_tol(c.lo as usize, c.hi as usize, c.frame.1, c.frame.2);
-                let mut integ = match (c.integ.exact.is_some(), m) {
+                let exact = matches!(c.integ.method, MethodState::Exact(_));
+                let mut integ = match (exact, m) {
                     (true, 2) => {
                         let law = self.exact_law(c.lo as usize).ok_or_else(|| {
                             format!("cluster slot {k}: an exact pair on an ineligible contact")

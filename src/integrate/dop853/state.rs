@@ -7,7 +7,11 @@
 //! [`Integrator::renew`]: crate::integrate::Integrator::renew
 
 use super::{Dop853, N_DENSE, N_MAIN, N_STAGES};
-use crate::integrate::{IntegratorState, Stats, Tolerances};
+use crate::integrate::{
+    check_lengths, IntegratorState, LoadError, Method, MethodState, Stats, Tolerances,
+};
+use crate::names::Named;
+use serde::{Deserialize, Serialize};
 
 impl Dop853 {
     /// The stages as a checkpoint stores them: before the first step since the integrator was
@@ -58,51 +62,58 @@ impl Dop853 {
         IntegratorState {
             t: self.t,
             t_prev: self.t_prev,
-            h: self.h,
-            h_old: None,
-            err_old: None,
-            have_sol: true,
-            vecs: vec![
-                self.z.clone(),
-                self.z_old.clone(),
-                self.saved_stages(),
-                self.f.clone(),
-                vec![self.pw[0]],
-            ],
             stats: self.stats.clone(),
-            auto: None,
             dissipated: self.diss,
-            method: crate::integrate::Method::Dop853,
-            exact: None,
+            auto: None,
+            method: MethodState::Dop853(Dop853State {
+                h: self.h,
+                z: self.z.clone(),
+                z_old: self.z_old.clone(),
+                k: self.saved_stages(),
+                f: self.f.clone(),
+                p0: self.pw[0],
+            }),
         }
     }
 
     /// `Integrator::load`.
-    pub(super) fn load_state(&mut self, s: &IntegratorState) -> Result<(), String> {
-        let lens = [
-            self.z.len(),
-            self.z_old.len(),
-            self.k.len(),
-            self.f.len(),
-            1,
-        ];
-        crate::integrate::check_state(s, crate::integrate::Method::Dop853, &lens)?;
+    pub(super) fn load_state(&mut self, s: &IntegratorState) -> Result<(), LoadError> {
+        let MethodState::Dop853(d) = &s.method else {
+            return Err(LoadError::wrong_method(&s.method, Method::Dop853.name()));
+        };
+        let lens = [self.z.len(), self.z_old.len(), self.k.len(), self.f.len()];
+        check_lengths(Method::Dop853, &[&d.z, &d.z_old, &d.k, &d.f], &lens)?;
         self.t = s.t;
         self.t_prev = s.t_prev;
-        self.h = s.h;
-        for (d, v) in [&mut self.z, &mut self.z_old, &mut self.k, &mut self.f]
-            .into_iter()
-            .zip(&s.vecs[..4])
-        {
-            d.copy_from_slice(v);
-        }
+        self.h = d.h;
+        self.z.copy_from_slice(&d.z);
+        self.z_old.copy_from_slice(&d.z_old);
+        self.k.copy_from_slice(&d.k);
+        self.f.copy_from_slice(&d.f);
         let n = self.z.len();
         for (s, ks) in self.k.chunks_exact(n.max(1)).enumerate() {
             super::packed::pack(&mut self.kp, s, ks);
         }
         self.stats = s.stats.clone();
         self.diss = s.dissipated;
-        self.pw[0] = s.vecs[4][0];
+        self.pw[0] = d.p0;
         Ok(())
     }
+}
+
+/// The state of a [`Dop853`] ([`MethodState::Dop853`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Dop853State {
+    /// Step-size proposal.
+    pub h: f64,
+    /// State at `t` (u then v, `2m`).
+    pub z: Vec<f64>,
+    /// State at `t_prev`.
+    pub z_old: Vec<f64>,
+    /// The stages of the last step (`12 · 2m`; see [`Dop853::saved_stages`]).
+    pub k: Vec<f64>,
+    /// Dense-output coefficients of the last step.
+    pub f: Vec<f64>,
+    /// Dissipated power at `z` (stage 0, reused by the next step; 0 when conservative).
+    pub p0: f64,
 }
