@@ -1,115 +1,44 @@
-//! The snapshot observer of `run`/`resume`: streams frames and event blocks, writes checkpoints
-//! on schedule and on SIGINT/SIGTERM, and finishes or detaches the output. A checkpoint records
+//! `run`/`resume` into a [`SnapshotSink`] (the library's snapshot-writing observer with its
+//! checkpoint policy: on schedule and on SIGINT/SIGTERM), finishing or detaching the output
+//! and reporting what a failed run leaves on disk. A checkpoint records
 //! the writer's mark (frames and event blocks already in the file) and the engine state (with
 //! the events not yet handed over), so memory never holds the whole event log.
 
 use anyhow::{Context, Result};
-use beadchain::engine::{self, Control, EngineError, EngineState, Observer, RunConfig, RunOutcome};
+use beadchain::engine::{self, EngineError, RunConfig, RunOutcome};
 use beadchain::scene::Scene;
-use beadchain::snapshot::ckpt::{read_checkpoint, write_checkpoint, CheckpointFile};
-use beadchain::snapshot::{EventRecord, RunSummary, SnapshotWriter};
+use beadchain::snapshot::ckpt::read_checkpoint;
+use beadchain::snapshot::{CheckpointPolicy, RunSummary, SnapshotSink, SnapshotWriter};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 /// Exit code of an interrupted run (128 + SIGINT).
 pub const EXIT_INTERRUPTED: i32 = 130;
 
-/// Streams frames into a snapshot writer and checkpoints the engine.
-pub struct SnapshotSink {
-    /// The output.
-    pub writer: SnapshotWriter,
+/// A sink for `run`/`resume`: the output `writer`, checkpoints to `ckpt_path` every `every`
+/// and when SIGINT/SIGTERM arrives (the handler raises the policy's stop flag).
+pub fn sink(
+    writer: SnapshotWriter,
     ckpt_path: PathBuf,
     every: Option<f64>,
-    next: f64,
-    stop: Arc<AtomicBool>,
-    scene: Scene,
-    cfg: RunConfig,
+    scene: &Scene,
+    cfg: &RunConfig,
     timing: bool,
-    wrote_checkpoint: bool,
-    /// A resumed run: its checkpoint and temporary output predate this process and are kept
-    /// when the run fails (the previous state stays resumable).
-    resumed: bool,
-    /// Notes the driver adds to the snapshot's run summary (e.g. why the run ended early).
-    pub notes: Vec<String>,
-}
-
-impl SnapshotSink {
-    /// A sink writing checkpoints to `ckpt_path` every `every` (and on SIGINT/SIGTERM).
-    pub fn new(
-        writer: SnapshotWriter,
-        ckpt_path: PathBuf,
-        every: Option<f64>,
-        scene: &Scene,
-        cfg: &RunConfig,
-        timing: bool,
-    ) -> Result<Self> {
-        let stop = Arc::new(AtomicBool::new(false));
-        for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
-            signal_hook::flag::register(sig, Arc::clone(&stop))
-                .context("installing the SIGINT/SIGTERM handler")?;
-        }
-        Ok(Self {
-            writer,
-            ckpt_path,
-            every,
-            next: f64::NEG_INFINITY,
-            stop,
-            scene: scene.clone(),
-            cfg: cfg.clone(),
-            timing,
-            wrote_checkpoint: false,
-            resumed: false,
-            notes: Vec::new(),
-        })
+) -> Result<SnapshotSink> {
+    let stop = Arc::new(AtomicBool::new(false));
+    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        signal_hook::flag::register(sig, Arc::clone(&stop))
+            .context("installing the SIGINT/SIGTERM handler")?;
     }
-}
-
-impl Observer for SnapshotSink {
-    fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
-        self.writer.frame(t, u, v)
-    }
-
-    fn dissipated(&mut self, t: f64, energy: f64) -> Result<(), EngineError> {
-        self.writer.dissipated(t, energy)
-    }
-
-    fn events(&mut self, events: &[EventRecord]) -> Result<(), EngineError> {
-        self.writer.events(events)
-    }
-
-    fn control(&mut self, t: f64) -> Control {
-        if self.stop.load(Ordering::Relaxed) {
-            return Control::Stop;
-        }
-        match self.every {
-            Some(dt) if t >= self.next => {
-                let first = self.next == f64::NEG_INFINITY;
-                self.next = ((t / dt).floor() + 1.0) * dt;
-                if first {
-                    Control::Continue
-                } else {
-                    Control::Checkpoint
-                }
-            }
-            _ => Control::Continue,
-        }
-    }
-
-    fn checkpoint(&mut self, state: &EngineState) -> Result<(), EngineError> {
-        let err = |e: beadchain::snapshot::SnapshotError| EngineError::Observer(e.to_string());
-        let mark = self.writer.mark().map_err(err)?;
-        let ck = CheckpointFile {
-            scene: self.scene.clone(),
-            config: self.cfg.clone(),
-            timing: self.timing,
-            writer: mark,
-            engine: state.clone(),
-        };
-        write_checkpoint(&self.ckpt_path, &ck).map_err(err)?;
-        self.wrote_checkpoint = true;
-        Ok(())
-    }
+    let policy = CheckpointPolicy::new(every, stop);
+    Ok(SnapshotSink::new(
+        writer,
+        ckpt_path,
+        policy,
+        (scene, cfg),
+        timing,
+    ))
 }
 
 /// Summary stored in the snapshot.
@@ -278,7 +207,7 @@ pub fn cmd_resume(
     )?;
     let writer = SnapshotWriter::reopen(&ck.writer)?;
     let out_path = ck.writer.path.clone();
-    let mut sink = SnapshotSink::new(
+    let mut sink = sink(
         writer,
         file.to_path_buf(),
         every,

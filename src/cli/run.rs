@@ -96,7 +96,7 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
     super::files::clean_stale_temps(&ckpt::ckpt_path(&out_path));
     let writer = SnapshotWriter::create(&out_path, &header)?;
     let ckpt_file = ckpt::ckpt_path(&out_path);
-    let sink = ckpt::SnapshotSink::new(
+    let sink = ckpt::sink(
         writer,
         ckpt_file,
         a.checkpoint_every,

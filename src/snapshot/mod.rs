@@ -123,6 +123,7 @@ pub mod header4;
 mod reader;
 pub mod record;
 pub mod select;
+pub mod sink;
 pub mod size;
 mod writer;
 
@@ -130,6 +131,7 @@ pub use atomic::write_atomically;
 pub use header::read_header;
 pub use reader::Snapshot;
 pub use select::{Fields, Selection};
+pub use sink::{CheckpointPolicy, SnapshotSink};
 pub use writer::{SnapshotWriter, WriterMark};
 // The event log's records are the engine's; the format stores them as they are.
 pub use crate::engine::events::{EventKind, EventRecord};

@@ -300,8 +300,8 @@ impl SnapshotWriter {
 }
 
 /// The snapshot-writing observer: frames, the dissipated energy and event blocks go to the
-/// file as the engine hands them over (checkpoints are a separate policy: the CLI's
-/// `SnapshotSink` wraps a writer and adds one).
+/// file as the engine hands them over (checkpoints are a separate policy:
+/// [`super::sink::SnapshotSink`] wraps a writer and adds one).
 impl crate::engine::Observer for SnapshotWriter {
     fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), crate::engine::EngineError> {
         self.write_frame(t, u, v).map_err(observer_err)
@@ -317,7 +317,8 @@ impl crate::engine::Observer for SnapshotWriter {
     }
 }
 
-fn observer_err(e: SnapshotError) -> crate::engine::EngineError {
+/// A snapshot error as an observer's.
+pub(super) fn observer_err(e: SnapshotError) -> crate::engine::EngineError {
     crate::engine::EngineError::Observer(e.to_string())
 }
 
