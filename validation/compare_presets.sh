@@ -19,12 +19,27 @@ known=" $("$old" scenes | awk '{print $1}' | tr '\n' ' ') "
 for p in $("$new" scenes | awk '{print $1}'); do
   # A preset the old binary does not have (added since) has nothing to compare against.
   [[ "$known" == *" $p "* ]] || { echo "$p: new preset (not in OLD), skipped"; continue; }
+  fails=0
   for b in old new; do
     ln -sf "${!b}" "$tmp/beadchain"
-    "$tmp/beadchain" run "$p" -q --out run.snap "$@" >/dev/null 2>&1 || { echo "$p: $b run failed"; status=1; continue 2; }
+    rm -f "$b.snap" "$b.txt" "$b.err"
+    if ! "$tmp/beadchain" run "$p" -q --out run.snap "$@" >/dev/null 2>"$b.err"; then
+      fails=$((fails + 1))
+      continue
+    fi
     mv run.snap "$b.snap"
     { "$tmp/beadchain" export "$b.snap"; "$tmp/beadchain" export "$b.snap" --events 2>/dev/null || true; } | grep -v '^#' >"$b.txt" || true
   done
+  # A run both binaries refuse with the same message (e.g. a hard-contact preset with
+  # --engine dense) is the same behaviour; one refusing alone is a difference.
+  if [ "$fails" = 2 ] && cmp -s old.err new.err; then
+    echo "$p: both refuse, same message: $(head -c 120 new.err)"
+    continue
+  elif [ "$fails" != 0 ]; then
+    echo "$p: run failed ($fails of 2): $(head -c 200 old.err new.err 2>/dev/null | tr '\n' ' ')"
+    status=1
+    continue
+  fi
   if cmp -s old.snap new.snap && cmp -s old.txt new.txt; then
     echo "$p: identical (snapshot bytes, frames, events)"
   else

@@ -115,15 +115,15 @@ impl Hybrid<'_> {
         let mut tau = f64::INFINITY;
         if lo > 0 && self.predictable(lo - 1, lo - 1) {
             let c = lo - 1;
-            let (pre, theta) = (self.pre(c), self.theta);
+            let (pre, theta) = (self.pre(c), self.ctx.theta);
             let g = |s: f64| pre + self.pos(c, s).0 - out.u_at(s, lo) - theta;
             if let Some(tc) = self.boundary_crossing(g, t, horizon) {
                 tau = tau.min(tc - t);
             }
         }
-        if hi < self.n && self.predictable(hi - 1, hi) {
+        if hi < self.ctx.n && self.predictable(hi - 1, hi) {
             let c = hi - 1;
-            let (pre, theta) = (self.pre(c), self.theta);
+            let (pre, theta) = (self.pre(c), self.ctx.theta);
             let g = |s: f64| pre + out.u_at(s, c) - self.pos(hi, s).0 - theta;
             if let Some(tc) = self.boundary_crossing(g, t, horizon) {
                 tau = tau.min(tc - t);
@@ -134,7 +134,7 @@ impl Hybrid<'_> {
 
     /// Is the closing of contact `c` with the free bead `i` predicted (module docs)?
     fn predictable(&self, c: usize, i: usize) -> bool {
-        self.st.owner[i] == FREE && self.chain.hard_restitution(c).is_none()
+        self.st.owner[i] == FREE && self.ctx.chain.hard_restitution(c).is_none()
     }
 
     /// Does the continuous output of the cluster in `slot` give its state at the closing time
@@ -155,7 +155,7 @@ impl Hybrid<'_> {
             return;
         }
         let d_max = (mu * w * w / (2.0 * a)).powf(1.0 / n);
-        let h = d_max / w * (2.0 * self.cfg.rtol / ONSET_SHARE).powf(1.0 / n);
+        let h = d_max / w * (2.0 * self.ctx.cfg.rtol / ONSET_SHARE).powf(1.0 / n);
         let cl = &mut self.clusters[slot];
         if h.is_finite() && h > 0.0 && cl.integ.step_size() > h {
             cl.integ.set_step_size(h);

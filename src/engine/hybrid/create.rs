@@ -23,9 +23,9 @@ impl Hybrid<'_> {
         from_flight: bool,
     ) {
         let m = hi - lo;
-        let chain = self.chain;
-        let absolute =
-            (lo == 0 && chain.left_wall.is_some()) || (hi == self.n && chain.right_wall.is_some());
+        let chain = self.ctx.chain;
+        let absolute = (lo == 0 && chain.left_wall.is_some())
+            || (hi == self.ctx.n && chain.right_wall.is_some());
         let (fu, fv) = self.frame_state(lo, hi, absolute, (u, v));
         let (mass, pinned) = self.cluster_masses(lo, hi);
         let tol = self.cluster_tol(lo, hi, fv, t);
@@ -40,20 +40,22 @@ impl Hybrid<'_> {
                 self.st.exact_pairs[0] += 1;
                 self.exact_pair(law, from_flight)
             }
-            None => (self.spare.pop())
+            None => (self.ws.spare.pop())
                 .and_then(|mut i| i.renew(m, tol).then_some(i))
-                .unwrap_or_else(|| new_integrator(self.cfg.method, self.cfg.solver, m, tol)),
+                .unwrap_or_else(|| {
+                    new_integrator(self.ctx.cfg.method, self.ctx.cfg.solver, m, tol)
+                }),
         };
         let sys = ClusterSys {
-            chain: self.fall.1.as_ref().unwrap_or(chain),
+            chain: self.ctx.fall.1.as_ref().unwrap_or(chain),
             lo,
             mass: &mass,
             pinned,
             rigid: rigid.then(|| &self.st.stuck[lo..hi - 1]),
         };
         match h {
-            Some(h) => integ.restart(&sys, t, &self.bu[..m], &self.bv[..m], h),
-            None => integ.reset(&sys, t, &self.bu[..m], &self.bv[..m]),
+            Some(h) => integ.restart(&sys, t, &self.ws.bu[..m], &self.ws.bv[..m], h),
+            None => integ.reset(&sys, t, &self.ws.bu[..m], &self.ws.bv[..m]),
         }
         let cl = Cluster {
             lo,
@@ -62,7 +64,7 @@ impl Hybrid<'_> {
             frame_v: fv,
             frame_t: t,
             // 0 with walls (the only clusters in the lab frame)
-            frame_g: self.fall.0,
+            frame_g: self.ctx.fall.0,
             integ,
             t_now: t,
             pending: None,
@@ -87,15 +89,15 @@ impl Hybrid<'_> {
         let (fu, fv) = if absolute {
             (0.0, 0.0)
         } else {
-            let mass = &self.chain.mass[lo..hi];
+            let mass = &self.ctx.chain.mass[lo..hi];
             let p: f64 = mass.iter().zip(v).map(|(m, x)| m * x).sum();
             let q: f64 = mass.iter().zip(u).map(|(m, x)| m * x).sum();
             let mt: f64 = mass.iter().sum();
             (q / mt, p / mt)
         };
         for i in 0..hi - lo {
-            self.bu[i] = u[i] - fu;
-            self.bv[i] = v[i] - fv;
+            self.ws.bu[i] = u[i] - fu;
+            self.ws.bv[i] = v[i] - fv;
         }
         (fu, fv)
     }
@@ -105,12 +107,12 @@ impl Hybrid<'_> {
     /// holding it, are held at rest (mass scaled by [`PIN_MASS_FACTOR`], velocity 0 in `bv`).
     fn cluster_masses(&mut self, lo: usize, hi: usize) -> (Vec<f64>, [bool; 2]) {
         let m = hi - lo;
-        let mut mass = self.spare_mass.pop().unwrap_or_default();
+        let mut mass = self.ws.spare_mass.pop().unwrap_or_default();
         mass.clear();
-        mass.extend_from_slice(&self.chain.mass[lo..hi]);
+        mass.extend_from_slice(&self.ctx.chain.mass[lo..hi]);
         let pinned = [
             lo == 0 && self.st.pinned[0],
-            hi == self.n && self.st.pinned[1],
+            hi == self.ctx.n && self.st.pinned[1],
         ];
         let stuck = &self.st.stuck[lo..hi - 1];
         let left_run = stuck.iter().take_while(|s| **s).count();
@@ -118,13 +120,13 @@ impl Hybrid<'_> {
         if pinned[0] {
             for k in 0..=left_run {
                 mass[k] *= PIN_MASS_FACTOR;
-                self.bv[k] = 0.0;
+                self.ws.bv[k] = 0.0;
             }
         }
         if pinned[1] {
             for k in m - 1 - right_run..m {
                 mass[k] *= PIN_MASS_FACTOR;
-                self.bv[k] = 0.0;
+                self.ws.bv[k] = 0.0;
             }
         }
         (mass, pinned)

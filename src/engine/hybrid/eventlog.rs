@@ -45,9 +45,9 @@ impl Hybrid<'_> {
     /// The soft wall at `side` (0 left, 1 right), if there is one.
     pub(super) fn soft_wall(&self, side: u8) -> Option<&Wall> {
         let w = if side == 0 {
-            self.chain.left_wall.as_ref()
+            self.ctx.chain.left_wall.as_ref()
         } else {
-            self.chain.right_wall.as_ref()
+            self.ctx.chain.right_wall.as_ref()
         };
         w.filter(|w| w.restitution.is_none())
     }
@@ -55,7 +55,7 @@ impl Hybrid<'_> {
     /// Raises the peak overlaps of the cluster's contacts (and of a soft wall it holds) to their
     /// maxima over its last step, up to `tb` (the step end, or an earlier time it is parked at).
     pub(super) fn update_peaks(&mut self, slot: u32, tb: f64) {
-        let chain = self.chain;
+        let chain = self.ctx.chain;
         let cl = &self.clusters[slot];
         let ta = cl.integ.t_prev();
         let tb = tb.min(cl.integ.t()).max(ta);
@@ -87,7 +87,7 @@ impl Hybrid<'_> {
             }
         }
         for side in [0u8, 1] {
-            let i = if side == 0 { 0 } else { self.n - 1 };
+            let i = if side == 0 { 0 } else { self.ctx.n - 1 };
             if i < cl.lo || i >= cl.hi {
                 continue;
             }
@@ -107,7 +107,7 @@ impl Hybrid<'_> {
                 Some(pair) => pair.peak_over(ta, tb),
                 None => step_max(d, dd, ta, tb),
             };
-            let k = self.n - 1 + side as usize;
+            let k = self.ctx.n - 1 + side as usize;
             if p > self.st.peak[k] {
                 self.st.peak[k] = p;
             }
@@ -131,10 +131,10 @@ impl Hybrid<'_> {
     /// [`crate::engine::SLOW_CLOSING_FACTOR`] times their absolute velocity tolerance `atol·V_i`
     /// (the larger of the beads').
     pub(super) fn count_slow_closing(&mut self, rel: f64, beads: &[usize]) {
-        let tol = &self.tol;
+        let tol = &self.ctx.tol;
         let vtol = beads
             .iter()
-            .map(|&i| tol.atol * tol.scales.bead_velocity(self.chain.mass[i]))
+            .map(|&i| tol.atol * tol.scales.bead_velocity(self.ctx.chain.mass[i]))
             .fold(0.0, f64::max);
         if rel.abs() < crate::engine::SLOW_CLOSING_FACTOR * vtol {
             self.st.slow_closings += 1;

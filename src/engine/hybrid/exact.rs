@@ -25,9 +25,9 @@ impl Hybrid<'_> {
     /// The law of contact `c` when the two beads `c`, `c + 1` alone may take the exact path
     /// (module docs); `None` otherwise.
     pub(super) fn exact_law(&self, c: usize) -> Option<PairLaw> {
-        let chain = self.chain;
+        let chain = self.ctx.chain;
         let walls = (c == 0 && chain.left_wall.is_some())
-            || (c + 2 == self.n && chain.right_wall.is_some());
+            || (c + 2 == self.ctx.n && chain.right_wall.is_some());
         if walls
             || chain.hard_restitution(c).is_some()
             || chain.is_dissipative()
@@ -40,7 +40,7 @@ impl Hybrid<'_> {
             return None;
         }
         // the field of the integrated chain (less the free fall), per unit mass
-        let sys = self.fall.1.as_ref().unwrap_or(chain);
+        let sys = self.ctx.fall.1.as_ref().unwrap_or(chain);
         let accel = |i: usize| sys.field.as_ref().map_or(0.0, |w| w[i] / sys.mass[i]);
         let g = accel(c);
         (g == accel(c + 1)).then_some(PairLaw {
@@ -56,10 +56,10 @@ impl Hybrid<'_> {
     /// The law of the soft wall that lone bead `i` touches when it may take the exact path
     /// (module docs); `None` otherwise.
     pub(super) fn exact_wall_law(&self, i: usize) -> Option<PairLaw> {
-        let chain = self.chain;
+        let chain = self.ctx.chain;
         // the walls (soft or hard) at bead i: exactly one, and soft
         let left = i == 0 && chain.left_wall.is_some();
-        let right = i + 1 == self.n && chain.right_wall.is_some();
+        let right = i + 1 == self.ctx.n && chain.right_wall.is_some();
         let side = match (left, right) {
             (true, false) => 0,
             (false, true) => 1,
@@ -89,11 +89,12 @@ impl Hybrid<'_> {
     /// allocation reused where there is one).
     pub(super) fn exact_pair(&mut self, law: PairLaw, from_flight: bool) -> Box<dyn Integrator> {
         let profile = self
+            .ws
             .profiles
             .entry(law.n.to_bits())
             .or_insert_with(|| Rc::new(Profile::new(law.n)))
             .clone();
-        match self.spare_pairs.pop() {
+        match self.ws.spare_pairs.pop() {
             Some(mut pair) => {
                 if let Some(p) = pair.exact_pair_mut() {
                     p.renew(law, profile, from_flight);

@@ -66,7 +66,7 @@ impl Hybrid<'_> {
                 let z = cl.integ.state();
                 let mut acc = vec![0.0; m];
                 // real masses: the force a pinned bead feels
-                self.chain.accel_v(cl.lo, &z[..m], &z[m..], &mut acc);
+                self.ctx.chain.accel_v(cl.lo, &z[..m], &z[m..], &mut acc);
                 acc[i - cl.lo]
             }
         }
@@ -86,10 +86,13 @@ impl Hybrid<'_> {
 
     /// The TC-model interval `t_c`.
     fn collapse_interval(&self) -> f64 {
-        self.chain
+        self.ctx
+            .chain
             .hard
             .as_ref()
-            .map_or(self.tol.scales.collapse_interval(), |h| h.collapse_interval)
+            .map_or(self.ctx.tol.scales.collapse_interval(), |h| {
+                h.collapse_interval
+            })
     }
 
     /// Effective restitution and separating-speed floor for collision slot `k` at `t`.
@@ -131,7 +134,7 @@ impl Hybrid<'_> {
 
     /// A hard contact `c` closes at `t`.
     pub(super) fn process_hard(&mut self, c: usize, t: f64) -> Result<(), EngineError> {
-        let e0 = self.chain.hard_restitution(c).unwrap_or(1.0);
+        let e0 = self.ctx.chain.hard_restitution(c).unwrap_or(1.0);
         for side in [self.st.owner[c], self.st.owner[c + 1]] {
             if side != FREE {
                 self.settle_at(side, t)?;
@@ -198,7 +201,7 @@ impl Hybrid<'_> {
 
     /// The end bead at `side` reaches its hard wall at `t`.
     pub(super) fn process_hard_wall(&mut self, side: u8, t: f64) -> Result<(), EngineError> {
-        let i = if side == 0 { 0 } else { self.n - 1 };
+        let i = if side == 0 { 0 } else { self.ctx.n - 1 };
         let e0 = self.hard_wall(side).unwrap_or(1.0);
         if self.st.owner[i] == FREE {
             self.wall_free(side, i, t, e0);
@@ -212,7 +215,7 @@ impl Hybrid<'_> {
         } else {
             (v, self.accel_of(i))
         };
-        let k = self.n - 1 + side as usize;
+        let k = self.ctx.n - 1 + side as usize;
         let stick = push > 0.0 && self.sticks(k, t, e0, w, push);
         let (e, floor) = self.tc_model(k, t, e0, push);
         self.log(t, i, EventKind::HardCollision, w, 0.0);
@@ -222,7 +225,7 @@ impl Hybrid<'_> {
             (e * w.max(0.0)).max(floor)
         };
         // every bead of the run gets the new velocity (`replace_velocity`): its real mass
-        let mass: f64 = self.chain.mass[g.lo..g.hi].iter().sum();
+        let mass: f64 = self.ctx.chain.mass[g.lo..g.hi].iter().sum();
         self.st.dissipated += collision_loss(mass, f64::INFINITY, w, sep);
         if stick {
             // Pressed into the wall by its cluster, and the collision sticks: the rigid-wall
@@ -243,7 +246,7 @@ impl Hybrid<'_> {
         let f = self.st.free[i];
         let v = f.at(t).1;
         let (w, push) = if side == 0 { (-v, -f.g) } else { (v, f.g) };
-        let k = self.n - 1 + side as usize;
+        let k = self.ctx.n - 1 + side as usize;
         let stick = self.sticks(k, t, e0, w, push);
         self.st.last_hard[k] = t;
         self.log(t, i, EventKind::HardCollision, w, 0.0);
@@ -263,13 +266,13 @@ impl Hybrid<'_> {
     /// Re-predicts everything around beads `lo..hi` whose motion just changed at `t`.
     pub(super) fn after_velocity_change(&mut self, lo: usize, hi: usize, t: f64) {
         self.drop_predictions(lo, hi);
-        for c in lo.saturating_sub(1)..hi.min(self.n - 1) {
+        for c in lo.saturating_sub(1)..hi.min(self.ctx.n - 1) {
             self.schedule_free_pair(c);
         }
         if lo == 0 {
             self.schedule_wall(0);
         }
-        if hi == self.n {
+        if hi == self.ctx.n {
             self.schedule_wall(1);
         }
         for i in lo..hi {
@@ -295,6 +298,7 @@ impl Hybrid<'_> {
         let mut wall_hit: Option<(f64, u8)> = None;
         if lo == 0 && self.hard_wall(0).is_some() && !self.st.pinned[0] {
             let pre = self
+                .ctx
                 .chain
                 .left_wall
                 .as_ref()
@@ -309,13 +313,14 @@ impl Hybrid<'_> {
                 wall_hit = Some((t, 0));
             }
         }
-        if hi == self.n && self.hard_wall(1).is_some() && !self.st.pinned[1] {
+        if hi == self.ctx.n && self.hard_wall(1).is_some() && !self.st.pinned[1] {
             let pre = self
+                .ctx
                 .chain
                 .right_wall
                 .as_ref()
                 .map_or(0.0, |w| w.precompression);
-            let last = self.n - 1;
+            let last = self.ctx.n - 1;
             let d0 = pre + cl.u_at(t0, last);
             let off = if d0 > 0.0 && cl.v_at(t0, last) <= 0.0 {
                 d0

@@ -111,7 +111,7 @@ impl Hybrid<'_> {
         let t = cl.integ.t();
         let (m, z) = (cl.m(), cl.integ.state());
         let f = cl.integ.rate();
-        let theta = self.theta;
+        let theta = self.ctx.theta;
         // (δ, δ̇, δ̈) at t → the rate at the kink, where the step starts or ends at one
         let at_kink = |d: f64, dd: f64, ddd: Option<f64>| -> Option<f64> {
             if d.abs() <= theta.max(MIN_FRACTION * dd.abs() * h) {
@@ -154,7 +154,7 @@ impl Hybrid<'_> {
         let Some((z0, z1)) = cl.integ.end_states() else {
             return false; // no continuous output to read (and no rough steps: Radau IIA)
         };
-        let (m, theta) = (cl.m(), self.theta);
+        let (m, theta) = (cl.m(), self.ctx.theta);
         self.soft_kinks(cl).any(|(c, law, beads)| {
             let (d, dd) = match c {
                 Kink::Contact(c) => {
@@ -191,9 +191,9 @@ impl Hybrid<'_> {
         cl: &'s Cluster,
     ) -> impl Iterator<Item = (Kink, (f64, f64), [usize; 2])> + 's {
         let contacts = (cl.lo..cl.hi - 1)
-            .filter(|&c| !self.st.stuck[c] && self.chain.hard_restitution(c).is_none())
+            .filter(|&c| !self.st.stuck[c] && self.ctx.chain.hard_restitution(c).is_none())
             .map(|c| {
-                let law = (self.chain.exponent[c], self.chain.prefactor[c]);
+                let law = (self.ctx.chain.exponent[c], self.ctx.chain.prefactor[c]);
                 (Kink::Contact(c), law, [c, c + 1])
             });
         let walls = self.soft_walls_of(cl).filter_map(|side| {
@@ -217,9 +217,9 @@ impl Hybrid<'_> {
         beads: [usize; 2],
     ) -> bool {
         let impulse = a * h * (rate * h).powf(n - 1.0);
-        let tol = &self.tol;
+        let tol = &self.ctx.tol;
         beads.into_iter().any(|i| {
-            let mi = self.chain.mass[i];
+            let mi = self.ctx.chain.mass[i];
             // the velocity relative to the chain's free fall, as the cluster's weights take it
             let v = cl.v_at(t, i) - cl.frame_g * t;
             let weight = tol.atol * tol.scales.bead_velocity(mi) + tol.rtol * v.abs();

@@ -54,6 +54,7 @@
 
 mod closing;
 pub mod cluster;
+mod context;
 mod create;
 pub mod detect;
 mod eventlog;
@@ -75,10 +76,10 @@ pub use threshold::{contact_threshold, threshold};
 use super::{EngineError, RunConfig};
 use crate::engine::checkpoint::HybridData;
 use crate::engine::events::EventCounts;
-use crate::integrate::{Stats, Tolerances};
-use crate::model::Chain;
+use crate::integrate::Stats;
 use crate::scene::Scene;
 use cluster::{Cluster, Clusters};
+use context::{Context, Workspace};
 use free::Free;
 use ordered_float::OrderedFloat;
 use priority_queue::PriorityQueue;
@@ -176,17 +177,8 @@ fn prio(t: f64, class: u8, index: usize, key: Key) -> Prio {
 /// ([`HybridData`], saved as it is), its live clusters and event queue (saved as data by
 /// [`Hybrid::save`], rebuilt by [`Hybrid::restore`]), and scratch.
 pub struct Hybrid<'a> {
-    // ---- derived from the scene and the run configuration
-    chain: &'a Chain,
-    cfg: &'a RunConfig,
-    tol: Tolerances,
-    theta: f64,
-    n: usize,
-    /// Field acceleration per bead, `W_i / m_i`.
-    g: Vec<f64>,
-    /// The chain's free fall ([`Chain::free_fall`]): the clusters' frames fall at `fall.0` and
-    /// they integrate `fall.1` (the chain less the field's common part), or `chain` if `None`.
-    fall: (f64, Option<Chain>),
+    /// What the run is: the chain, the configuration and what derives from them.
+    ctx: Context<'a>,
     // ---- state
     /// Plain data (the checkpoint stores it as it is).
     st: HybridData,
@@ -199,25 +191,8 @@ pub struct Hybrid<'a> {
     /// Events logged so far that need no [`super::Stop::Event`] any more (returned, or logged
     /// while events were not paused at): the log's total count minus the ones still to return.
     reported: u64,
-    // ---- scratch
-    /// Scratch of [`Hybrid::form_group`].
-    pools: Vec<stick::Pool>,
-    bu: Vec<f64>,
-    bv: Vec<f64>,
-    bz: Vec<f64>,
-    /// Scratch of the bead states at a merge or split (`N` each).
-    eu: Vec<f64>,
-    ev: Vec<f64>,
-    /// Mass arrays of removed clusters, reused by the next clusters made.
-    spare_mass: Vec<Vec<f64>>,
-    /// Integrators of removed clusters, renewed for the next clusters made
-    /// ([`Integrator::renew`]): a gap event allocates nothing for them.
-    spare: Vec<Box<dyn crate::integrate::Integrator>>,
-    /// Exact pairs of removed clusters, renewed for the next pairs made (no allocation per
-    /// collision).
-    spare_pairs: Vec<Box<dyn crate::integrate::Integrator>>,
-    /// Contact profiles of the exact pairs, by exponent (bits) ([`exact`]).
-    profiles: std::collections::HashMap<u64, std::rc::Rc<crate::model::profile::Profile>>,
+    /// Scratch, rebuilt at will ([`Workspace::new`]).
+    ws: Workspace,
 }
 
 impl<'a> Hybrid<'a> {
@@ -231,13 +206,15 @@ impl<'a> Hybrid<'a> {
             None => vec![0.0; n],
         };
         Self {
-            chain,
-            cfg,
-            tol,
-            theta: threshold(chain, cfg.rtol, cfg.atol, &scales),
-            n,
-            g,
-            fall: chain.free_fall(),
+            ctx: Context {
+                chain,
+                cfg,
+                tol,
+                theta: threshold(chain, cfg.rtol, cfg.atol, &scales),
+                n,
+                g,
+                fall: chain.free_fall(),
+            },
             st: HybridData {
                 t: 0.0,
                 owner: vec![FREE; n],
@@ -266,30 +243,21 @@ impl<'a> Hybrid<'a> {
             finished: false,
             pause: super::PauseAt::default(),
             reported: 0,
-            pools: Vec::with_capacity(n + 2),
-            bu: vec![0.0; n],
-            bv: vec![0.0; n],
-            bz: vec![0.0; 2 * n],
-            eu: vec![0.0; n],
-            ev: vec![0.0; n],
-            spare_mass: Vec::new(),
-            spare: Vec::new(),
-            spare_pairs: Vec::new(),
-            profiles: Default::default(),
+            ws: Workspace::new(n),
         }
     }
 
     /// Contact threshold `θ`.
     pub fn theta(&self) -> f64 {
-        self.theta
+        self.ctx.theta
     }
 
     /// Closing threshold of contact `c`: `θ` for a soft contact, 0 for a hard one.
     fn theta_c(&self, c: usize) -> f64 {
-        if self.chain.hard_restitution(c).is_some() {
+        if self.ctx.chain.hard_restitution(c).is_some() {
             0.0
         } else {
-            self.theta
+            self.ctx.theta
         }
     }
 
@@ -297,8 +265,8 @@ impl<'a> Hybrid<'a> {
     /// starts the window overlapping by rounding right after a collision (δ₀ > 0 while not
     /// approaching), the threshold is δ₀: the next collision needs the overlap to grow again.
     fn closing_offset(&self, c: usize, t0: f64) -> f64 {
-        if self.chain.hard_restitution(c).is_none() {
-            return self.theta;
+        if self.ctx.chain.hard_restitution(c).is_none() {
+            return self.ctx.theta;
         }
         let (ua, va) = self.pos(c, t0);
         let (ub, vb) = self.pos(c + 1, t0);
@@ -313,15 +281,15 @@ impl<'a> Hybrid<'a> {
     /// Restitution of the wall at `side` when it is hard.
     fn hard_wall(&self, side: u8) -> Option<f64> {
         let w = if side == 0 {
-            &self.chain.left_wall
+            &self.ctx.chain.left_wall
         } else {
-            &self.chain.right_wall
+            &self.ctx.chain.right_wall
         };
         w.as_ref().and_then(|w| w.restitution)
     }
 
     fn pre(&self, c: usize) -> f64 {
-        self.chain.precompression.as_ref().map_or(0.0, |p| p[c])
+        self.ctx.chain.precompression.as_ref().map_or(0.0, |p| p[c])
     }
 
     /// Displacement and velocity of bead `i` at `t` (valid where its owner's output is).
@@ -345,7 +313,7 @@ impl<'a> Hybrid<'a> {
 
     /// Is the contact "closed or closing" in state (δ, δ̇, δ̈)?
     fn closing(&self, d: f64, dd: f64, ddd: f64) -> bool {
-        d > self.theta || (d >= 0.0 && (dd > 0.0 || (dd == 0.0 && ddd > 0.0)))
+        d > self.ctx.theta || (d >= 0.0 && (dd > 0.0 || (dd == 0.0 && ddd > 0.0)))
     }
 
     /// Wall overlaps (δ, δ̇, δ̈) of the end bead at `side` (0 left, 1 right) for state (u, v).
@@ -354,18 +322,18 @@ impl<'a> Hybrid<'a> {
             return None;
         }
         if side == 0 {
-            let w = self.chain.left_wall.as_ref()?;
-            Some((w.precompression - u, -v, -self.g[i]))
+            let w = self.ctx.chain.left_wall.as_ref()?;
+            Some((w.precompression - u, -v, -self.ctx.g[i]))
         } else {
-            let w = self.chain.right_wall.as_ref()?;
-            Some((w.precompression + u, v, self.g[i]))
+            let w = self.ctx.chain.right_wall.as_ref()?;
+            Some((w.precompression + u, v, self.ctx.g[i]))
         }
     }
 
     /// Starts at `t0` from states `u0`, `v0` of every bead (free beads and clusters from the
     /// contacts that are closed or closing); the next frame is `self.st.next_frame`.
     fn init(&mut self, t0: f64, u0: &[f64], v0: &[f64]) {
-        let n = self.n;
+        let n = self.ctx.n;
         self.st.wall_in = [
             self.wall_closed_at(0, u0[0]),
             self.wall_closed_at(1, u0[n - 1]),
@@ -376,8 +344,8 @@ impl<'a> Hybrid<'a> {
             while hi < n {
                 let c = hi - 1;
                 let d = self.pre(c) + u0[c] - u0[c + 1];
-                if self.chain.hard_restitution(c).is_some()
-                    || !self.closing(d, v0[c] - v0[c + 1], self.g[c] - self.g[c + 1])
+                if self.ctx.chain.hard_restitution(c).is_some()
+                    || !self.closing(d, v0[c] - v0[c + 1], self.ctx.g[c] - self.ctx.g[c + 1])
                 {
                     break;
                 }
@@ -388,7 +356,7 @@ impl<'a> Hybrid<'a> {
                     t0,
                     u0: u0[lo],
                     v0: v0[lo],
-                    g: self.g[lo],
+                    g: self.ctx.g[lo],
                 };
             } else {
                 self.make_cluster(lo, hi, t0, (&u0[lo..hi], &v0[lo..hi]), None, false);
@@ -400,7 +368,7 @@ impl<'a> Hybrid<'a> {
         }
         self.schedule_wall(0);
         self.schedule_wall(1);
-        let tf = self.cfg.frame_time(self.st.next_frame);
+        let tf = self.ctx.cfg.frame_time(self.st.next_frame);
         self.queue.push(Key::Frame, prio(tf, 0, 0, Key::Frame));
     }
 
@@ -412,7 +380,7 @@ impl<'a> Hybrid<'a> {
                 holds |= self.closing(d, dd, ddd);
             }
         }
-        if i + 1 == self.n {
+        if i + 1 == self.ctx.n {
             if let Some((d, dd, ddd)) = self.wall_state(1, u, v, i) {
                 holds |= self.closing(d, dd, ddd);
             }
@@ -430,7 +398,7 @@ impl<'a> Hybrid<'a> {
         t0: f64,
         tb: f64,
     ) -> Option<f64> {
-        if self.chain.field.is_none() && !self.chain.has_hard() {
+        if self.ctx.chain.field.is_none() && !self.ctx.chain.has_hard() {
             detect::first_crossing_convex(g, t0, tb)
         } else {
             detect::first_crossing(g, t0, tb)
@@ -452,7 +420,7 @@ impl<'a> Hybrid<'a> {
                 earliest = Some((t, c));
             }
         }
-        if hi < self.n {
+        if hi < self.ctx.n {
             let c = hi - 1;
             let tb = t1.min(self.known_until(hi));
             let pre = self.pre(c);
@@ -468,8 +436,8 @@ impl<'a> Hybrid<'a> {
     }
 
     fn step_cluster(&mut self, slot: u32) -> Result<(), EngineError> {
-        let until = self.cfg.until;
-        let chain = self.chain;
+        let until = self.ctx.cfg.until;
+        let chain = self.ctx.chain;
         let (bound, rough) = {
             let cl = &self.clusters[slot];
             let bound = self.opening_bound(cl, until);
@@ -480,7 +448,7 @@ impl<'a> Hybrid<'a> {
         let (lo, t0, t1) = {
             let cl = &mut self.clusters[slot];
             let sys = cluster::ClusterSys {
-                chain: self.fall.1.as_ref().unwrap_or(chain),
+                chain: self.ctx.fall.1.as_ref().unwrap_or(chain),
                 lo: cl.lo,
                 mass: &cl.mass,
                 pinned: cl.pinned,
@@ -547,9 +515,12 @@ impl<'a> Hybrid<'a> {
     /// cluster's integral up to `t` (which its last step covers, as for frames).
     fn dissipated_at(&self, t: f64) -> f64 {
         let mut e = self.st.dissipated;
-        if self.chain.is_dissipative() {
+        if self.ctx.chain.is_dissipative() {
             for cl in self.clusters.iter() {
-                let sys = cl.sys(self.fall.1.as_ref().unwrap_or(self.chain), &self.st.stuck);
+                let sys = cl.sys(
+                    self.ctx.fall.1.as_ref().unwrap_or(self.ctx.chain),
+                    &self.st.stuck,
+                );
                 e += crate::integrate::dissipated_at(&*cl.integ, &sys, t.min(cl.integ.t()));
             }
         }
@@ -564,7 +535,7 @@ impl<'a> Hybrid<'a> {
             let c = cl.lo + k;
             let d = self.pre(c) + z[k] - z[k + 1];
             let dd = z[m + k] - z[m + k + 1];
-            if d < self.theta && dd < 0.0 && !self.st.stuck[c] {
+            if d < self.ctx.theta && dd < 0.0 && !self.st.stuck[c] {
                 return true;
             }
         }

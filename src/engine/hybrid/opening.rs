@@ -66,7 +66,7 @@ impl Hybrid<'_> {
         }
         let z = cl.integ.state();
         let m = cl.m();
-        let theta = self.theta;
+        let theta = self.ctx.theta;
         let mut first: Option<f64> = None;
         for k in 0..m - 1 {
             let c = cl.lo + k;
@@ -118,11 +118,11 @@ impl Hybrid<'_> {
         };
         let z = cl.integ.state();
         let h = cl.integ.step_size();
-        let target = LANDING * self.theta;
+        let target = LANDING * self.ctx.theta;
         let mut tau = f64::INFINITY;
         for side in [0u8, 1] {
             if let Some((d, dd, ddd)) = self.wall_overlap(cl, side, f) {
-                if d >= self.theta && dd < 0.0 {
+                if d >= self.ctx.theta && dd < 0.0 {
                     tau = tau.min(reaches(d - target, dd, ddd));
                 }
             }
@@ -133,11 +133,11 @@ impl Hybrid<'_> {
             let dd = z[m + k] - z[m + k + 1];
             // not separating, or (a cheap filter) not reaching θ within 2h on its own speed
             // while not accelerating apart
-            let far = d + 2.0 * h * dd > self.theta && f[m + k] >= f[m + k + 1];
-            if d < self.theta || dd >= 0.0 || far {
+            let far = d + 2.0 * h * dd > self.ctx.theta && f[m + k] >= f[m + k + 1];
+            if d < self.ctx.theta || dd >= 0.0 || far {
                 continue;
             }
-            if self.st.stuck[c] || self.chain.hard_restitution(c).is_some() {
+            if self.st.stuck[c] || self.ctx.chain.hard_restitution(c).is_some() {
                 continue;
             }
             let ddd = f[m + k] - f[m + k + 1];
@@ -165,7 +165,7 @@ impl Hybrid<'_> {
     ///
     /// [`rate`]: crate::integrate::Integrator::rate
     fn wall_overlap(&self, cl: &Cluster, side: u8, f: &[f64]) -> Option<(f64, f64, f64)> {
-        let end = if side == 0 { 0 } else { self.n - 1 };
+        let end = if side == 0 { 0 } else { self.ctx.n - 1 };
         if cl.m() != 1 || cl.lo != end {
             return None;
         }
@@ -184,10 +184,10 @@ impl Hybrid<'_> {
     /// it while the bead leaves is located and landed on the same way (the step-end rule, a
     /// wall that no longer holds the bead, then frees it).
     fn first_wall_opening(&self, cl: &Cluster, t0: f64, t1: f64) -> Option<f64> {
-        let theta = self.theta;
+        let theta = self.ctx.theta;
         let mut first: Option<f64> = None;
         for side in [0u8, 1] {
-            let end = if side == 0 { 0 } else { self.n - 1 };
+            let end = if side == 0 { 0 } else { self.ctx.n - 1 };
             let Some(w) = self.soft_wall(side).filter(|_| cl.lo == end) else {
                 continue;
             };

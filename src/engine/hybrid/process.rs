@@ -29,7 +29,7 @@ impl Hybrid<'_> {
     /// - from Radau IIA: no measurable gain (interface, striker, periodic decay: < 1 % steps).
     pub(super) fn inherited_step(&self, slot: u32) -> Option<f64> {
         let cl = self.clusters.get(slot)?;
-        let smooth = self.chain.exponent[cl.lo..cl.hi - 1]
+        let smooth = self.ctx.chain.exponent[cl.lo..cl.hi - 1]
             .iter()
             .all(|&n| n >= 2.0);
         let h = cl.integ.step_size();
@@ -51,20 +51,20 @@ impl Hybrid<'_> {
         frame_v: f64,
         frame_t: f64,
     ) -> Tolerances {
-        let u_origin = match (&self.chain.left_wall, &self.chain.right_wall) {
+        let u_origin = match (&self.ctx.chain.left_wall, &self.ctx.chain.right_wall) {
             (Some(w), _) if lo == 0 => w.precompression,
-            (_, Some(w)) if hi == self.n => -w.precompression,
+            (_, Some(w)) if hi == self.ctx.n => -w.precompression,
             _ => 0.0,
         };
         Tolerances {
             // relative to the chain's free fall at the frame's time (Chain::free_fall)
-            v_frame: if self.fall.0 == 0.0 {
+            v_frame: if self.ctx.fall.0 == 0.0 {
                 frame_v
             } else {
-                frame_v - self.fall.0 * frame_t
+                frame_v - self.ctx.fall.0 * frame_t
             },
             u_origin,
-            ..self.tol
+            ..self.ctx.tol
         }
     }
 
@@ -74,8 +74,11 @@ impl Hybrid<'_> {
     /// `t`, and the merged cluster integrates the dissipation from `t` on).
     pub(super) fn remove_cluster(&mut self, slot: u32, t: f64) -> Cluster {
         let cl = self.clusters.remove(slot);
-        if self.chain.is_dissipative() {
-            let sys = cl.sys(self.fall.1.as_ref().unwrap_or(self.chain), &self.st.stuck);
+        if self.ctx.chain.is_dissipative() {
+            let sys = cl.sys(
+                self.ctx.fall.1.as_ref().unwrap_or(self.ctx.chain),
+                &self.st.stuck,
+            );
             let t = t.min(cl.integ.t());
             self.st.dissipated += crate::integrate::dissipated_at(&*cl.integ, &sys, t);
         }
@@ -84,7 +87,7 @@ impl Hybrid<'_> {
         if cl.lo == 0 {
             self.queue.remove(&Key::WallLog(0));
         }
-        if cl.hi == self.n {
+        if cl.hi == self.ctx.n {
             self.queue.remove(&Key::WallLog(1));
         }
         self.st.stats.add(cl.integ.stats());
@@ -97,15 +100,15 @@ impl Hybrid<'_> {
     /// [`SPARE_INTEGRATORS`] are kept).
     pub(super) fn recycle(&mut self, cl: Cluster) {
         if cl.integ.exact_pair().is_some() {
-            if self.spare_pairs.len() < SPARE_INTEGRATORS {
-                self.spare_pairs.push(cl.integ);
+            if self.ws.spare_pairs.len() < SPARE_INTEGRATORS {
+                self.ws.spare_pairs.push(cl.integ);
             }
-            self.spare_mass.push(cl.mass);
+            self.ws.spare_mass.push(cl.mass);
             return;
         }
-        if self.spare.len() < SPARE_INTEGRATORS {
-            self.spare.push(cl.integ);
-            self.spare_mass.push(cl.mass);
+        if self.ws.spare.len() < SPARE_INTEGRATORS {
+            self.ws.spare.push(cl.integ);
+            self.ws.spare_mass.push(cl.mass);
         }
     }
 
@@ -117,7 +120,7 @@ impl Hybrid<'_> {
             t0: t,
             u0: u,
             v0: v,
-            g: self.g[i],
+            g: self.ctx.g[i],
         };
     }
 
@@ -133,13 +136,13 @@ impl Hybrid<'_> {
         let (ua, va) = fa.at(tr);
         let (ub, vb) = fb.at(tr);
         let mut a = self.pre(c) + ua - ub - self.theta_c(c);
-        if self.chain.hard_restitution(c).is_some() && va - vb <= 0.0 {
+        if self.ctx.chain.hard_restitution(c).is_some() && va - vb <= 0.0 {
             // overlapping by rounding after a collision, not approaching: wait for the gap to
             // close again from touching
             a = a.min(0.0);
         }
         match first_upward_crossing(a, va - vb, fa.g - fb.g) {
-            Some(s) if tr + s <= self.cfg.until => {
+            Some(s) if tr + s <= self.ctx.cfg.until => {
                 self.queue.push(key, prio(tr + s, 1, c, key));
             }
             _ => {
@@ -151,7 +154,7 @@ impl Hybrid<'_> {
     /// (Re)computes the predicted closing of a free end bead onto the wall at `side`.
     pub(super) fn schedule_wall(&mut self, side: u8) {
         let key = Key::Wall(side);
-        let i = if side == 0 { 0 } else { self.n - 1 };
+        let i = if side == 0 { 0 } else { self.ctx.n - 1 };
         if self.st.owner[i] != FREE {
             self.queue.remove(&key);
             return;
@@ -159,18 +162,18 @@ impl Hybrid<'_> {
         let f = self.st.free[i];
         let (d, dd, ddd, theta) = match (self.hard_wall(side), side) {
             (Some(_), 0) => {
-                let w = self.chain.left_wall.as_ref().expect("wall");
+                let w = self.ctx.chain.left_wall.as_ref().expect("wall");
                 (w.precompression - f.u0, -f.v0, -f.g, 0.0)
             }
             (Some(_), _) => {
-                let w = self.chain.right_wall.as_ref().expect("wall");
+                let w = self.ctx.chain.right_wall.as_ref().expect("wall");
                 (w.precompression + f.u0, f.v0, f.g, 0.0)
             }
             (None, _) => {
                 let Some((d, dd, ddd)) = self.wall_state(side, f.u0, f.v0, i) else {
                     return;
                 };
-                (d, dd, ddd, self.theta)
+                (d, dd, ddd, self.ctx.theta)
             }
         };
         let mut a = d - theta;
@@ -178,7 +181,7 @@ impl Hybrid<'_> {
             a = a.min(0.0); // hard wall: rounding overlap after a bounce is not a new collision
         }
         match first_upward_crossing(a, dd, ddd) {
-            Some(s) if f.t0 + s <= self.cfg.until => {
+            Some(s) if f.t0 + s <= self.ctx.cfg.until => {
                 self.queue.push(key, prio(f.t0 + s, 1, i, key));
             }
             _ => {
@@ -207,7 +210,7 @@ impl Hybrid<'_> {
                 }
             }
         }
-        if i + 1 < self.n && self.st.owner[i + 1] != FREE {
+        if i + 1 < self.ctx.n && self.st.owner[i + 1] != FREE {
             let theta = self.closing_offset(i, t);
             let s = self.st.owner[i + 1];
             let a = &self.clusters[s];
@@ -239,13 +242,13 @@ impl Hybrid<'_> {
 
     /// Removes the free-flight predictions that involve beads `lo..hi`.
     pub(super) fn drop_predictions(&mut self, lo: usize, hi: usize) {
-        for c in lo.saturating_sub(1)..hi.min(self.n - 1) {
+        for c in lo.saturating_sub(1)..hi.min(self.ctx.n - 1) {
             self.queue.remove(&Key::FreeFree(c as u32));
         }
         if lo == 0 {
             self.queue.remove(&Key::Wall(0));
         }
-        if hi == self.n {
+        if hi == self.ctx.n {
             self.queue.remove(&Key::Wall(1));
         }
     }
@@ -254,7 +257,7 @@ impl Hybrid<'_> {
     /// land on `t`, so that the state at an event is a full-accuracy step result rather than
     /// the (lower-order) continuous output.
     pub(super) fn settle_at(&mut self, slot: u32, t: f64) -> Result<(), EngineError> {
-        let chain = self.chain;
+        let chain = self.ctx.chain;
         let cl = &mut self.clusters[slot];
         cl.t_now = t;
         if cl.integ.t() <= t {
@@ -268,9 +271,9 @@ impl Hybrid<'_> {
         };
         let cl = &mut self.clusters[slot];
         let m = cl.m();
-        let z = &mut self.bz[..2 * m];
+        let z = &mut self.ws.bz[..2 * m];
         let sys = ClusterSys {
-            chain: self.fall.1.as_ref().unwrap_or(chain),
+            chain: self.ctx.fall.1.as_ref().unwrap_or(chain),
             lo: cl.lo,
             mass: &cl.mass,
             pinned: cl.pinned,
@@ -317,7 +320,10 @@ impl Hybrid<'_> {
             s => self.clusters[s].hi,
         };
         // the merged beads' states, in scratch taken out for the call (no allocation)
-        let (mut u, mut v) = (std::mem::take(&mut self.eu), std::mem::take(&mut self.ev));
+        let (mut u, mut v) = (
+            std::mem::take(&mut self.ws.eu),
+            std::mem::take(&mut self.ws.ev),
+        );
         for i in lo..hi {
             let (a, b) = self.pos(i, t);
             u[i - lo] = a;
@@ -337,7 +343,7 @@ impl Hybrid<'_> {
         // A closing found late would start with an overlap well above θ: count them (a
         // diagnostic the tests hold at zero).
         let d = self.pre(c) + u[c - lo] - u[c + 1 - lo];
-        if d > 1e3 * self.theta + 1e-12 * self.tol.scales.length {
+        if d > 1e3 * self.ctx.theta + 1e-12 * self.ctx.tol.scales.length {
             self.st.late_merges += 1;
         }
         self.st.peak[c] = 0.0;
@@ -346,10 +352,10 @@ impl Hybrid<'_> {
             self.count_slow_closing(rel, &[c, c + 1]);
         }
         self.make_cluster(lo, hi, t, (&u[..hi - lo], &v[..hi - lo]), None, flight);
-        (self.eu, self.ev) = (u, v);
-        if self.chain.hard_restitution(c).is_none() {
-            let (m0, m1) = (self.chain.mass[c], self.chain.mass[c + 1]);
-            let law = (self.chain.exponent[c], self.chain.prefactor[c]);
+        (self.ws.eu, self.ws.ev) = (u, v);
+        if self.ctx.chain.hard_restitution(c).is_none() {
+            let (m0, m1) = (self.ctx.chain.mass[c], self.ctx.chain.mass[c + 1]);
+            let law = (self.ctx.chain.exponent[c], self.ctx.chain.prefactor[c]);
             self.cap_onset_step(self.st.owner[c], m0 * m1 / (m0 + m1), law, rel);
         }
         Ok(())
@@ -364,7 +370,7 @@ impl Hybrid<'_> {
         ver: (u64, u64),
     ) -> Result<(), EngineError> {
         if self.st.version[c] == ver.0 && self.st.version[c + 1] == ver.1 {
-            if self.chain.hard_restitution(c).is_some() {
+            if self.ctx.chain.hard_restitution(c).is_some() {
                 return self.process_hard(c, t);
             }
             return self.merge_at(c, t);
@@ -379,7 +385,7 @@ impl Hybrid<'_> {
 
     /// Two free beads close contact `c` at `t`.
     pub(super) fn process_free_close(&mut self, c: usize, t: f64) -> Result<(), EngineError> {
-        if self.chain.hard_restitution(c).is_some() {
+        if self.ctx.chain.hard_restitution(c).is_some() {
             return self.process_hard(c, t);
         }
         self.merge_at(c, t)
@@ -387,10 +393,10 @@ impl Hybrid<'_> {
 
     /// A free end bead closes onto the wall at `side` at `t`.
     pub(super) fn process_wall_close(&mut self, side: u8, t: f64) {
-        let i = if side == 0 { 0 } else { self.n - 1 };
+        let i = if side == 0 { 0 } else { self.ctx.n - 1 };
         let (u, v) = self.pos(i, t);
         self.drop_predictions(i, i + 1);
-        self.st.peak[self.n - 1 + side as usize] = 0.0;
+        self.st.peak[self.ctx.n - 1 + side as usize] = 0.0;
         self.log(t, i, EventKind::WallClose, v, 0.0);
         self.st.wall_in[side as usize] = true;
         self.count_slow_closing(v, &[i]);
@@ -398,7 +404,7 @@ impl Hybrid<'_> {
         if let Some(w) = self.soft_wall(side) {
             let law = (w.exponent, w.prefactor);
             let speed = if side == 0 { -v } else { v };
-            self.cap_onset_step(self.st.owner[i], self.chain.mass[i], law, speed);
+            self.cap_onset_step(self.st.owner[i], self.ctx.chain.mass[i], law, speed);
         }
     }
 
@@ -414,7 +420,10 @@ impl Hybrid<'_> {
         let m = hi - lo;
         let z = cl.integ.state();
         let fu = cl.frame_at(t);
-        let (mut u, mut v) = (std::mem::take(&mut self.eu), std::mem::take(&mut self.ev));
+        let (mut u, mut v) = (
+            std::mem::take(&mut self.ws.eu),
+            std::mem::take(&mut self.ws.ev),
+        );
         for k in 0..m {
             u[k] = fu + z[k];
             v[k] = cl.frame_vel(t) + z[m + k];
@@ -425,17 +434,17 @@ impl Hybrid<'_> {
             let opens = !last && {
                 let k = i - lo;
                 let d = self.pre(i) + z[k] - z[k + 1];
-                if self.chain.hard_restitution(i).is_some() {
+                if self.ctx.chain.hard_restitution(i).is_some() {
                     !self.st.stuck[i]
                 } else {
-                    d < self.theta && z[m + k] - z[m + k + 1] < 0.0
+                    d < self.ctx.theta && z[m + k] - z[m + k + 1] < 0.0
                 }
             };
             if opens {
                 // The split happens at the step end (the dynamics inside the cluster were exact
                 // up to there); the logged time is the crossing located on the step's output.
                 let pre = self.pre(i);
-                let theta = self.theta;
+                let theta = self.ctx.theta;
                 let g = |x: f64| theta - (pre + cl.w_at(x, i) - cl.w_at(x, i + 1));
                 let t_open = match cl.integ.exact_pair().and_then(|p| p.leaving(theta)) {
                     Some(te) => te.clamp(cl.integ.t_prev(), t),
@@ -460,8 +469,15 @@ impl Hybrid<'_> {
             }
         }
         self.recycle(cl);
-        (self.eu, self.ev) = (u, v);
-        for c in lo.saturating_sub(1)..hi.min(self.n - 1) {
+        (self.ws.eu, self.ws.ev) = (u, v);
+        self.reschedule_after_split(lo, hi, t);
+    }
+
+    /// After the split of beads `lo..hi` at `t`: the free-flight closings and wall contacts of
+    /// the pieces and their neighbours are predicted again, and an end bead left alone against
+    /// the hard wall that holds it is held again.
+    fn reschedule_after_split(&mut self, lo: usize, hi: usize, t: f64) {
+        for c in lo.saturating_sub(1)..hi.min(self.ctx.n - 1) {
             self.schedule_free_pair(c);
         }
         for i in lo..hi {
@@ -472,11 +488,11 @@ impl Hybrid<'_> {
         if lo == 0 {
             self.schedule_wall(0);
         }
-        if hi == self.n {
+        if hi == self.ctx.n {
             self.schedule_wall(1);
         }
         // an end bead left alone against the hard wall that holds it stays held, as a group
-        for (side, i) in [(0, 0), (1, self.n - 1)] {
+        for (side, i) in [(0, 0), (1, self.ctx.n - 1)] {
             if self.st.pinned[side] && self.st.owner[i] == FREE && (lo..hi).contains(&i) {
                 self.regroup(i, t);
             }

@@ -61,7 +61,7 @@ impl Hybrid<'_> {
     /// Restores a saved state; predictions that depend on the end time (free-flight closings
     /// and the next frame) are recomputed, so `until` may have been extended.
     pub(super) fn restore(&mut self, s: &HybridState) -> Result<(), String> {
-        s.check(self.n)?;
+        s.check(self.ctx.n)?;
         self.st.clone_from(&s.data);
         let slots = s
             .clusters
@@ -85,7 +85,7 @@ impl Hybrid<'_> {
                         })?;
                         self.exact_pair(law, false)
                     }
-                    _ => new_integrator(self.cfg.method, self.cfg.solver, m, tol),
+                    _ => new_integrator(self.ctx.cfg.method, self.ctx.cfg.solver, m, tol),
                 };
                 integ
                     .load(&c.integ)
@@ -96,7 +96,7 @@ impl Hybrid<'_> {
                     frame_u: c.frame.0,
                     frame_v: c.frame.1,
                     frame_t: c.frame.2,
-                    frame_g: self.fall.0,
+                    frame_g: self.ctx.fall.0,
                     integ,
                     t_now: c.t_now,
                     pending: c.pending,
@@ -121,12 +121,12 @@ impl Hybrid<'_> {
                 Reverse((ordered_float::OrderedFloat(e.t), e.class, e.tie, key.id())),
             );
         }
-        for c in 0..self.n.saturating_sub(1) {
+        for c in 0..self.ctx.n.saturating_sub(1) {
             self.schedule_free_pair(c);
         }
         self.schedule_wall(0);
         self.schedule_wall(1);
-        let tf = self.cfg.frame_time(self.st.next_frame);
+        let tf = self.ctx.cfg.frame_time(self.st.next_frame);
         self.queue.push(Key::Frame, prio(tf, 0, 0, Key::Frame));
         Ok(())
     }

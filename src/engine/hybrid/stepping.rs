@@ -26,7 +26,7 @@ impl Hybrid<'_> {
     /// Counts an accepted cluster step against the run's step budget (`max_steps`).
     pub(super) fn count_step(&mut self) -> Result<(), EngineError> {
         self.st.steps_total += 1;
-        check_budget(self.st.steps_total, self.cfg.max_steps)
+        check_budget(self.st.steps_total, self.ctx.cfg.max_steps)
     }
 
     /// Events logged so far (all kinds).
@@ -112,21 +112,21 @@ impl Hybrid<'_> {
     /// to the observer and schedules the next one. Returns the stop to return: the run's end
     /// ([`Stop::Reached`]) after the last frame, or [`Stop::Frame`] when paused at frames.
     fn emit_frame(&mut self, t: f64, obs: &mut dyn Observer) -> Result<Option<Stop>, EngineError> {
-        for i in 0..self.n {
+        for i in 0..self.ctx.n {
             let (u, v) = self.pos(i, t);
-            self.bu[i] = u;
-            self.bv[i] = v;
+            self.ws.bu[i] = u;
+            self.ws.bv[i] = v;
         }
         self.flush_events(obs)?;
-        if self.chain.loses_energy() {
+        if self.ctx.chain.loses_energy() {
             obs.dissipated(t, self.dissipated_at(t))?;
         }
-        obs.frame(t, &self.bu, &self.bv)?;
-        if t >= self.cfg.until {
+        obs.frame(t, &self.ws.bu, &self.ws.bv)?;
+        if t >= self.ctx.cfg.until {
             self.finished = true;
         } else {
             self.st.next_frame += 1;
-            let tf = self.cfg.frame_time(self.st.next_frame);
+            let tf = self.ctx.cfg.frame_time(self.st.next_frame);
             self.queue.push(Key::Frame, prio(tf, 0, 0, Key::Frame));
         }
         Ok(if self.pause.frames {
@@ -168,7 +168,7 @@ impl<'a> HybridEngine<'a> {
 
 impl Drive for HybridEngine<'_> {
     fn end(&self) -> f64 {
-        self.h.cfg.until
+        self.h.ctx.cfg.until
     }
 
     fn begin(&mut self, until: f64, _obs: &mut dyn Observer) -> Result<Option<Stop>, EngineError> {
@@ -209,7 +209,7 @@ impl Engine for HybridEngine<'_> {
 
     fn state(&self) -> State {
         let t = self.h.st.t;
-        let (u, v) = (0..self.h.n).map(|i| self.h.pos(i, t)).unzip();
+        let (u, v) = (0..self.h.ctx.n).map(|i| self.h.pos(i, t)).unzip();
         State { t, u, v }
     }
 
@@ -218,9 +218,9 @@ impl Engine for HybridEngine<'_> {
     /// hard contacts and wall pins are detected again from there.
     fn set_velocities(&mut self, v: &[f64]) -> Result<(), EngineError> {
         let h = &mut self.h;
-        check_velocities(h.n, v)?;
+        check_velocities(h.ctx.n, v)?;
         let t = h.st.t;
-        let u: Vec<f64> = (0..h.n).map(|i| h.pos(i, t).0).collect();
+        let u: Vec<f64> = (0..h.ctx.n).map(|i| h.pos(i, t).0).collect();
         for slot in 0..h.clusters.slots() as u32 {
             if let Some(cl) = h.clusters.get_mut(slot) {
                 cl.t_now = t;
@@ -228,15 +228,20 @@ impl Engine for HybridEngine<'_> {
             }
         }
         h.queue.clear();
-        for i in 0..h.n {
+        for i in 0..h.ctx.n {
             h.st.owner[i] = FREE;
             h.st.version[i] += 1;
         }
         h.st.stuck.iter_mut().for_each(|s| *s = false);
         h.st.pinned = [false; 2];
         // the tolerances' scales and the contact threshold follow the new state
-        h.tol.scales = h.chain.scales(&u, v);
-        h.theta = super::threshold(h.chain, h.cfg.rtol, h.cfg.atol, &h.tol.scales);
+        h.ctx.tol.scales = h.ctx.chain.scales(&u, v);
+        h.ctx.theta = super::threshold(
+            h.ctx.chain,
+            h.ctx.cfg.rtol,
+            h.ctx.cfg.atol,
+            &h.ctx.tol.scales,
+        );
         h.init(t, &u, v);
         Ok(())
     }

@@ -94,7 +94,7 @@ impl Hybrid<'_> {
             lo -= 1;
         }
         let mut hi = i + 1;
-        while hi < self.n && self.st.stuck[hi - 1] {
+        while hi < self.ctx.n && self.st.stuck[hi - 1] {
             hi += 1;
         }
         Group {
@@ -102,7 +102,7 @@ impl Hybrid<'_> {
             hi,
             held: [
                 lo == 0 && self.st.pinned[0],
-                hi == self.n && self.st.pinned[1],
+                hi == self.ctx.n && self.st.pinned[1],
             ],
         }
     }
@@ -112,7 +112,7 @@ impl Hybrid<'_> {
         if g.held[0] || g.held[1] {
             f64::INFINITY
         } else {
-            self.chain.mass[g.lo..g.hi].iter().sum()
+            self.ctx.chain.mass[g.lo..g.hi].iter().sum()
         }
     }
 
@@ -134,7 +134,7 @@ impl Hybrid<'_> {
     /// at `t` with common velocity `v`: pools them (module docs), sets each pool's free flight,
     /// unsticks the contacts between pools and releases walls no pool holds.
     pub(super) fn form_group(&mut self, lo: usize, hi: usize, held: [bool; 2], t: f64, v: f64) {
-        let mut pools = std::mem::take(&mut self.pools);
+        let mut pools = std::mem::take(&mut self.ws.pools);
         pools.clear();
         let push = |pools: &mut Vec<Pool>, p: Pool| {
             pools.push(p);
@@ -161,11 +161,11 @@ impl Hybrid<'_> {
             push(&mut pools, wall);
         }
         for i in lo..hi {
-            let m = self.chain.mass[i];
+            let m = self.ctx.chain.mass[i];
             let bead = Pool {
                 lo: i,
                 hi: i + 1,
-                force: self.g[i] * m,
+                force: self.ctx.g[i] * m,
                 mass: m,
                 wall: [false, false],
             };
@@ -183,7 +183,7 @@ impl Hybrid<'_> {
         if lo == 0 {
             self.st.pinned[0] = pools.first().is_some_and(|p| p.wall[0] && p.hi > p.lo);
         }
-        if hi == self.n {
+        if hi == self.ctx.n {
             self.st.pinned[1] = pools.last().is_some_and(|p| p.wall[1] && p.hi > p.lo);
         }
         for p in &pools {
@@ -206,7 +206,7 @@ impl Hybrid<'_> {
                 self.st.stuck[p.hi - 1] = false;
             }
         }
-        self.pools = pools;
+        self.ws.pools = pools;
     }
 
     /// Beads `lo..hi` are joining a cluster at `t`: the stuck contacts at its boundary open, and
@@ -216,7 +216,7 @@ impl Hybrid<'_> {
             self.st.stuck[lo - 1] = false;
             self.regroup(lo - 1, t);
         }
-        if hi < self.n && self.st.stuck[hi - 1] {
+        if hi < self.ctx.n && self.st.stuck[hi - 1] {
             self.st.stuck[hi - 1] = false;
             self.regroup(hi, t);
         }
@@ -239,8 +239,8 @@ impl Hybrid<'_> {
         let m = cl.m();
         let z = cl.integ.state();
         let mut acc = vec![0.0; m];
-        self.chain.accel_v(cl.lo, &z[..m], &z[m..], &mut acc);
-        let mass = &self.chain.mass[cl.lo..cl.hi];
+        self.ctx.chain.accel_v(cl.lo, &z[..m], &z[m..], &mut acc);
+        let mass = &self.ctx.chain.mass[cl.lo..cl.hi];
         let stuck = &self.st.stuck[cl.lo..cl.hi - 1];
         let mut a = 0;
         while a < m {
@@ -282,7 +282,7 @@ impl Hybrid<'_> {
     /// A piece of a split cluster made only of beads joined by resting contacts becomes a free
     /// rigid group (states `u`, `v` at `t`; common velocity: the mass-weighted mean).
     pub(super) fn free_rigid_piece(&mut self, lo: usize, hi: usize, t: f64, u: &[f64], v: &[f64]) {
-        let mass = &self.chain.mass[lo..hi];
+        let mass = &self.ctx.chain.mass[lo..hi];
         let p: f64 = mass.iter().zip(v).map(|(m, x)| m * x).sum();
         let vm = p / mass.iter().sum::<f64>();
         for i in lo..hi {
@@ -290,7 +290,7 @@ impl Hybrid<'_> {
         }
         let held = [
             lo == 0 && self.st.pinned[0],
-            hi == self.n && self.st.pinned[1],
+            hi == self.ctx.n && self.st.pinned[1],
         ];
         self.form_group(lo, hi, held, t, vm);
     }
@@ -305,7 +305,7 @@ impl Hybrid<'_> {
         );
         if let Some(side) = side {
             self.st.pinned[side as usize] = false;
-            let i = if side == 0 { 0 } else { self.n - 1 };
+            let i = if side == 0 { 0 } else { self.ctx.n - 1 };
             self.log(t, i, EventKind::WallOpen, 0.0, 0.0);
         }
         if let Some(c) = tense {
@@ -322,9 +322,12 @@ impl Hybrid<'_> {
         let z = cl.integ.state();
         let m = cl.m();
         let mut acc = vec![0.0; m];
-        self.chain.accel_v(cl.lo, &z[..m], &z[m..], &mut acc);
+        self.ctx.chain.accel_v(cl.lo, &z[..m], &z[m..], &mut acc);
         if cl.rigid {
-            let (mass, stuck) = (&self.chain.mass[cl.lo..], &self.st.stuck[cl.lo..cl.hi - 1]);
+            let (mass, stuck) = (
+                &self.ctx.chain.mass[cl.lo..],
+                &self.st.stuck[cl.lo..cl.hi - 1],
+            );
             super::cluster::rigid_accel(mass, stuck, [false; 2], &mut acc);
         }
         if cl.pinned[0] && acc[0] > 0.0 {

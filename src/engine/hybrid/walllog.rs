@@ -36,7 +36,7 @@ impl Hybrid<'_> {
         if side == 0 {
             0
         } else {
-            self.n - 1
+            self.ctx.n - 1
         }
     }
 
@@ -44,7 +44,7 @@ impl Hybrid<'_> {
     pub(super) fn soft_walls_of(&self, cl: &Cluster) -> impl Iterator<Item = u8> + '_ {
         let (lo, hi) = (cl.lo, cl.hi);
         [0u8, 1].into_iter().filter(move |&side| {
-            let held = if side == 0 { lo == 0 } else { hi == self.n };
+            let held = if side == 0 { lo == 0 } else { hi == self.ctx.n };
             held && self.soft_wall(side).is_some()
         })
     }
@@ -59,7 +59,7 @@ impl Hybrid<'_> {
     /// Is the soft wall at `side` closed on bead state `u` (overlap above `θ`)?
     pub(super) fn wall_closed_at(&self, side: u8, u: f64) -> bool {
         self.wall_frame(side)
-            .is_some_and(|(pre, s)| pre + s * u > self.theta)
+            .is_some_and(|(pre, s)| pre + s * u > self.ctx.theta)
     }
 
     /// After an accepted step of the cluster in `slot`, kept up to `tb` (its end, or where it is
@@ -101,15 +101,19 @@ impl Hybrid<'_> {
             1.0
         };
         // starting beyond θ while moving back: the crossing is measured from the start
-        let back = dir * (d0 - self.theta) > 0.0 && dir * dd0 <= 0.0;
+        let back = dir * (d0 - self.ctx.theta) > 0.0 && dir * dd0 <= 0.0;
         // an exact wall contact leaves θ at the profile's time (super::exact)
         let leaving = (dir < 0.0 && !back)
-            .then(|| cl.integ.exact_pair().and_then(|p| p.leaving(self.theta)))
+            .then(|| {
+                cl.integ
+                    .exact_pair()
+                    .and_then(|p| p.leaving(self.ctx.theta))
+            })
             .flatten();
         if let Some(t) = leaving {
             return (ta < t && t <= tb).then_some(t);
         }
-        let thr = if back { d0 } else { self.theta };
+        let thr = if back { d0 } else { self.ctx.theta };
         super::detect::first_crossing(|t| dir * (delta(t) - thr), ta, tb)
     }
 
@@ -126,7 +130,7 @@ impl Hybrid<'_> {
             let t_open = self
                 .next_wall_crossing(cl, side, cl.integ.t_prev(), t)
                 .unwrap_or(t);
-            let k = self.n - 1 + side as usize;
+            let k = self.ctx.n - 1 + side as usize;
             let rel = cl.v_at(t_open, i);
             self.log(t_open, i, EventKind::WallOpen, rel, self.st.peak[k]);
             self.st.peak[k] = 0.0;
@@ -145,7 +149,7 @@ impl Hybrid<'_> {
         let cl = &self.clusters[slot];
         let rel = cl.v_at(t, i);
         let tb = cl.t_now.min(cl.integ.t());
-        let k = self.n - 1 + side as usize;
+        let k = self.ctx.n - 1 + side as usize;
         if self.st.wall_in[side as usize] {
             self.log(t, i, EventKind::WallOpen, rel, self.st.peak[k]);
             self.st.peak[k] = 0.0;
