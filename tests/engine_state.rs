@@ -22,10 +22,16 @@ fn state_of(kind: Kind, method: Method) -> (Scene, RunConfig, EngineState) {
     (sc, cfg, g.state.expect("a state after t = 7"))
 }
 
+/// The message of a refused checkpoint (the typed `StateError`, shown as a configuration error).
 fn config_error(r: Result<Box<dyn engine::Engine + '_>, EngineError>) -> String {
     match r {
-        Err(EngineError::Config(m)) => m,
-        Err(e) => panic!("expected a configuration error, got {e}"),
+        Err(e @ EngineError::Checkpoint(_)) => {
+            let m = e.to_string();
+            m.strip_prefix("invalid run configuration: ")
+                .unwrap_or(&m)
+                .to_string()
+        }
+        Err(e) => panic!("expected a checkpoint that does not fit, got {e}"),
         Ok(_) => panic!("an inconsistent state was accepted"),
     }
 }

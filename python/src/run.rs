@@ -99,7 +99,7 @@ pub(crate) fn engine_err(scene: &LibScene, obs: &mut Collector, e: EngineError) 
         return err;
     }
     match e {
-        EngineError::Config(_) => config_err(scene, e),
+        EngineError::Config(_) | EngineError::Checkpoint(_) => config_err(scene, e),
         _ => RunError::new_err(format!("{}: run failed: {e}", scene.name)),
     }
 }

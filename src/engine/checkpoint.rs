@@ -7,7 +7,7 @@
 use crate::engine::events::EventRecord;
 use crate::engine::hybrid::cluster::Pending;
 use crate::engine::hybrid::free::Free;
-use crate::integrate::IntegratorState;
+use crate::integrate::{IntegratorState, LoadError};
 use serde::{Deserialize, Serialize};
 
 /// What the observer wants the engine to do after the current step/event.
@@ -173,7 +173,7 @@ impl HybridState {
     /// The consistency check on load: every per-bead and per-contact array fits a chain of `n`
     /// beads, and every cluster covers beads inside it (an inconsistent state is an error,
     /// never a panic or a silently different run).
-    pub fn check(&self, n: usize) -> Result<(), String> {
+    pub fn check(&self, n: usize) -> Result<(), StateError> {
         let nc = n.saturating_sub(1);
         let d = &self.data;
         let lens = [
@@ -186,22 +186,73 @@ impl HybridState {
         ];
         for (name, got, want) in lens {
             if got != want {
-                return Err(format!(
-                    "hybrid state `{name}` holds {got} entries, a chain of {n} beads needs {want}"
-                ));
+                return Err(StateError::Length { name, got, n, want });
             }
         }
-        for (k, c) in self.clusters.iter().enumerate() {
+        for (slot, c) in self.clusters.iter().enumerate() {
             let Some(c) = c else { continue };
             if c.lo >= c.hi || c.hi > n as u64 || c.mass.len() as u64 != c.hi - c.lo {
-                return Err(format!(
-                    "cluster slot {k}: beads {}..{} with {} masses do not fit a chain of {n} beads",
-                    c.lo,
-                    c.hi,
-                    c.mass.len()
-                ));
+                return Err(StateError::Cluster {
+                    slot,
+                    beads: (c.lo, c.hi),
+                    masses: c.mass.len(),
+                    n,
+                });
             }
         }
         Ok(())
     }
+}
+
+/// Why a saved engine state does not fit the run that loads it (a checkpoint of another chain
+/// or configuration, or a damaged one): an error, never a panic or a silently different run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StateError {
+    /// A per-bead or per-contact array of the hybrid state has the wrong length.
+    #[error("hybrid state `{name}` holds {got} entries, a chain of {n} beads needs {want}")]
+    Length {
+        /// The array.
+        name: &'static str,
+        /// Its length.
+        got: usize,
+        /// Beads of the chain.
+        n: usize,
+        /// The length the chain needs.
+        want: usize,
+    },
+    /// A cluster's beads do not fit the chain.
+    #[error(
+        "cluster slot {slot}: beads {}..{} with {masses} masses do not fit a chain of {n} beads",
+        beads.0,
+        beads.1
+    )]
+    Cluster {
+        /// The cluster's slot.
+        slot: usize,
+        /// Its beads `lo..hi`.
+        beads: (u64, u64),
+        /// Its mass entries.
+        masses: usize,
+        /// Beads of the chain.
+        n: usize,
+    },
+    /// An exact pair's trajectory on a contact that does not take the exact path in this run.
+    #[error("cluster slot {0}: an exact pair on an ineligible contact")]
+    IneligiblePair(usize),
+    /// An exact wall contact on a wall that does not take the exact path in this run.
+    #[error("cluster slot {0}: an exact wall contact on an ineligible wall")]
+    IneligibleWall(usize),
+    /// An integrator refused its saved state.
+    #[error("cluster slot {slot} (beads {}..{}): {error}", beads.0, beads.1)]
+    Integrator {
+        /// The cluster's slot.
+        slot: usize,
+        /// Its beads `lo..hi`.
+        beads: (u64, u64),
+        /// The integrator's refusal.
+        error: LoadError,
+    },
+    /// The whole-chain integrator (dense engine) refused its saved state.
+    #[error("{0}")]
+    Dense(LoadError),
 }

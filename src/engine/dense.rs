@@ -14,7 +14,7 @@
 //! relative to the falling chain, not the common velocity `g t`; frames and states are given in
 //! the lab frame.
 
-use super::checkpoint::{DenseState, EngineState};
+use super::checkpoint::{DenseState, EngineState, StateError};
 use super::stepper::{
     check_budget, check_velocities, drive, outcome_at, Drive, Engine, PauseAt, State, Stop,
 };
@@ -104,9 +104,7 @@ impl<'a> DenseEngine<'a> {
                 e.integ.reset(&sys, 0.0, &scene.u0, &scene.v0);
             }
             Some(d) => {
-                e.integ
-                    .load(&d.integ)
-                    .map_err(|m| EngineError::Config(format!("checkpoint: {m}")))?;
+                e.integ.load(&d.integ).map_err(StateError::Dense)?;
                 e.next = d.next_frame;
                 e.last_frame_t = d.last_frame_t;
                 e.clock = d.clock;

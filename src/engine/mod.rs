@@ -42,6 +42,9 @@ pub enum EngineError {
     /// The configuration is unusable.
     #[error("invalid run configuration: {0}")]
     Config(String),
+    /// A saved engine state (checkpoint) that does not fit the run loading it.
+    #[error("invalid run configuration: checkpoint: {0}")]
+    Checkpoint(#[from] checkpoint::StateError),
     /// An invariant of the engine itself failed (a bug, not a property of the scene or the
     /// configuration).
     #[error("internal error (a bug in beadchain; please report it with the scene): {0}")]

@@ -2,7 +2,7 @@
 
 use super::cluster::{Cluster, Clusters};
 use super::{prio, Hybrid, Key};
-use crate::engine::checkpoint::{ClusterState, HybridState, QueueEntry};
+use crate::engine::checkpoint::{ClusterState, HybridState, QueueEntry, StateError};
 use crate::integrate::{new_integrator, MethodState};
 use std::cmp::Reverse;
 
@@ -60,7 +60,7 @@ impl Hybrid<'_> {
 
     /// Restores a saved state; predictions that depend on the end time (free-flight closings
     /// and the next frame) are recomputed, so `until` may have been extended.
-    pub(super) fn restore(&mut self, s: &HybridState) -> Result<(), String> {
+    pub(super) fn restore(&mut self, s: &HybridState) -> Result<(), StateError> {
         s.check(self.ctx.n)?;
         self.st.clone_from(&s.data);
         let slots = s
@@ -74,22 +74,24 @@ impl Hybrid<'_> {
                 let exact = matches!(c.integ.method, MethodState::Exact(_));
                 let mut integ = match (exact, m) {
                     (true, 2) => {
-                        let law = self.exact_law(c.lo as usize).ok_or_else(|| {
-                            format!("cluster slot {k}: an exact pair on an ineligible contact")
-                        })?;
+                        let law =
+                            (self.exact_law(c.lo as usize)).ok_or(StateError::IneligiblePair(k))?;
                         self.exact_pair(law, false)
                     }
                     (true, 1) => {
-                        let law = self.exact_wall_law(c.lo as usize).ok_or_else(|| {
-                            format!("cluster slot {k}: an exact wall contact on an ineligible wall")
-                        })?;
+                        let law = (self.exact_wall_law(c.lo as usize))
+                            .ok_or(StateError::IneligibleWall(k))?;
                         self.exact_pair(law, false)
                     }
                     _ => new_integrator(self.ctx.cfg.method, self.ctx.cfg.solver, m, tol),
                 };
                 integ
                     .load(&c.integ)
-                    .map_err(|e| format!("cluster slot {k} (beads {}..{}): {e}", c.lo, c.hi))?;
+                    .map_err(|error| StateError::Integrator {
+                        slot: k,
+                        beads: (c.lo, c.hi),
+                        error,
+                    })?;
                 Ok(Some(Cluster {
                     lo: c.lo as usize,
                     hi: c.hi as usize,
@@ -105,7 +107,7 @@ impl Hybrid<'_> {
                     rigid: s.data.stuck[c.lo as usize..c.hi as usize - 1].contains(&true),
                 }))
             })
-            .collect::<Result<_, String>>()?;
+            .collect::<Result<_, StateError>>()?;
         self.clusters = Clusters::from_slots(slots);
         self.queue.clear();
         for e in &s.queue {

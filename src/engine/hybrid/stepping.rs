@@ -154,9 +154,7 @@ impl<'a> HybridEngine<'a> {
         let mut h = Hybrid::new(scene, cfg);
         match from {
             None => h.init(0.0, &scene.u0, &scene.v0),
-            Some(s) => h
-                .restore(s)
-                .map_err(|m| EngineError::Config(format!("checkpoint: {m}")))?,
+            Some(s) => h.restore(s)?,
         }
         Ok(Self {
             h,
