@@ -8,18 +8,21 @@
 //! All outputs go through [`crate::snapshot::write_atomically`] in the CLI: a failed export leaves no file.
 //!
 //! This module writes the long layout (one row per bead and frame); [`wide`] the wide one (one
-//! row per frame; `.npz` with the chain arrays).
+//! row per frame; `.npz` with the chain arrays). Every `.npz` goes through [`npz`] (the `zip`
+//! crate; stored entries, fixed timestamps) and every `.npy` header through [`npy_header`].
 //!
 //! Every CSV opens with `#` comment lines and every `.npz` holds an entry `provenance`: the
 //! version, build commit, command line, scene, engine settings and date of the run
 //! ([`provenance`]). Read CSVs with `pandas.read_csv(path, comment="#")`.
 
 mod inspect;
+pub mod npz;
 pub mod provenance;
 mod units;
 pub mod wide;
 
 pub use inspect::{damaged_frames, inspect, inspect_with};
+pub use npz::npy_header;
 pub use units::ExportUnits;
 
 use crate::names::Named;
@@ -139,12 +142,6 @@ fn long_columns(u: bool, v: bool) -> &'static str {
     }
 }
 
-/// The `.npy` v1.0 header for a little-endian float64 C-order array of `rows × cols`
-/// (magic, version, u16 header length, dict padded with spaces to a 64-byte multiple, `\n`).
-pub fn npy_header(rows: u64, cols: u64) -> Vec<u8> {
-    wide::npy_header_shape(&[rows, cols])
-}
-
 /// Writes the selected frames as a NumPy `.npy` (v1.0) float64 array of shape `(rows, 5)` with
 /// the CSV's columns `frame, t, bead, u, v` (frame and bead as exact small integers); `(rows, 4)`
 /// without the field an output selection left out.
@@ -158,7 +155,7 @@ pub fn export_npy(
     let s = snap.selection();
     let rows = range.len() as u64 * s.bead_count(snap.header().n_beads);
     let mut w = BufWriter::with_capacity(1 << 16, out);
-    w.write_all(&npy_header(rows, 3 + s.fields.count()))?;
+    w.write_all(&npy_header(npz::F8, &[rows, 3 + s.fields.count()]))?;
     let mut f = Frame::default();
     for k in range {
         snap.read_frame_into(k, &mut f)?;

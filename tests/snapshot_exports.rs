@@ -70,7 +70,7 @@ fn frame_selector_parsing() {
 #[test]
 fn npy_header_and_data() {
     for rows in [0u64, 1, 20, 123_456_789] {
-        let h = npy_header(rows, 5);
+        let h = npy_header("<f8", &[rows, 5]);
         assert_eq!(&h[..8], b"\x93NUMPY\x01\x00");
         let hl = u16::from_le_bytes([h[8], h[9]]) as usize;
         assert_eq!(h.len(), 10 + hl);
@@ -88,7 +88,7 @@ fn npy_header_and_data() {
     let s = Snapshot::open(&p).unwrap();
     let mut out = Vec::new();
     export_npy(&s, FrameSel::All, &ExportUnits::computer(), &mut out).unwrap();
-    let h = npy_header(20, 5);
+    let h = npy_header("<f8", &[20, 5]);
     assert_eq!(&out[..h.len()], &h[..]);
     let data: Vec<f64> = out[h.len()..]
         .chunks_exact(8)

@@ -122,7 +122,7 @@ pub fn cmd_export(a: ExportArgs) -> Result<i32> {
     if format == Format::Npz && !a.events {
         let frames = sel.range(&snap)?.len() as u64;
         let bytes = export::wide::npz_bytes_of(frames, snap.header().n_beads, snap.selection());
-        if bytes > export::wide::ZIP_LIMIT {
+        if bytes > export::npz::ZIP_LIMIT {
             bail!("{}: --format npz: the archive would be {bytes} bytes, beyond the 4 GiB of a zip without ZIP64; select fewer frames (--frame) or write .npy", a.file.display());
         }
     }

@@ -111,7 +111,7 @@ pub fn write(
                 ("total", vec![f], &e.total),
             ];
             beadchain::snapshot::write_atomically(p, |w| {
-                beadchain::export::wide::write_npz_arrays(&arrays, w)
+                beadchain::export::npz::write_npz_arrays(&arrays, w)
             })?
         }
     }

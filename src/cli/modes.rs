@@ -299,7 +299,7 @@ fn write_npz(
     ];
     super::files::clean_stale_temps(p);
     beadchain::snapshot::write_atomically(p, |w| {
-        beadchain::export::wide::write_npz_arrays(&arrays, w)
+        beadchain::export::npz::write_npz_arrays(&arrays, w)
     })?;
     Ok(())
 }

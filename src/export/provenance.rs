@@ -108,16 +108,8 @@ pub fn json(h: &Header, exported_by: &str) -> String {
 /// `()`, one UTF-32LE code unit per character).
 pub fn npy_text(text: &str) -> Vec<u8> {
     let chars = text.chars().count().max(1);
-    let dict = format!("{{'descr': '<U{chars}', 'fortran_order': False, 'shape': (), }}");
-    let unpadded = 10 + dict.len() + 1;
-    let pad = (64 - unpadded % 64) % 64;
-    let header_len = dict.len() + pad + 1;
-    let mut b = Vec::with_capacity(10 + header_len + 4 * chars);
-    b.extend_from_slice(b"\x93NUMPY\x01\x00");
-    b.extend_from_slice(&(header_len as u16).to_le_bytes());
-    b.extend_from_slice(dict.as_bytes());
-    b.resize(b.len() + pad, b' ');
-    b.push(b'\n');
+    let mut b = super::npy_header(&format!("<U{chars}"), &[]);
+    b.reserve(4 * chars);
     for c in text.chars() {
         b.extend_from_slice(&(c as u32).to_le_bytes());
     }

@@ -245,11 +245,58 @@ pub fn format_row(
 /// Runs a sweep (or one shard of it) into `opts.out`, resuming from `OUT.partial`. Every run's
 /// scene is built and checked first; a bad sweep fails before anything runs. `progress(done,
 /// total)` is called after each run (from worker threads).
+///
+/// Stages: [`plan`] (check every run, this shard's runs and the CSV header), [`rows_done`]
+/// (rows resumed or reused), [`run_pending`] (the rest, in parallel, each row appended to
+/// `OUT.partial`), [`finish`] (the result file once every row is there).
 pub fn run_sweep(
     spec: &SweepSpec,
     opts: &SweepOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<SweepSummary, SweepError> {
+    let Plan {
+        keyed,
+        keys,
+        spec_line,
+        columns,
+        mine,
+    } = plan(spec, opts)?;
+    let (partial, done, resumed, skipped) =
+        rows_done(spec, opts, keyed, &mine, &spec_line, &columns)?;
+    let mut pending: Vec<&RunPoint> = mine
+        .iter()
+        .filter(|r| !done.contains_key(&r.index))
+        .collect();
+    if let Some(mx) = opts.max_runs {
+        pending.truncate(mx);
+    }
+    let rows = run_pending(spec, opts, &pending, &partial, done, mine.len(), progress)?;
+    let failed = rows.values().filter(|r| is_error_row(r)).count();
+    let complete = rows.len() == mine.len();
+    let written = complete && finish(opts, &partial, &spec_line, &keys, &columns, &rows)?;
+    Ok(SweepSummary {
+        runs: mine.len(),
+        resumed,
+        skipped,
+        ran: pending.len(),
+        failed,
+        complete,
+        written,
+    })
+}
+
+/// What a sweep (shard) runs, before anything runs: its runs with their content keys, the keys
+/// by run index, the result file's spec line and column header.
+struct Plan {
+    keyed: Vec<(RunPoint, u64)>,
+    keys: BTreeMap<usize, u64>,
+    spec_line: String,
+    columns: String,
+    mine: Vec<RunPoint>,
+}
+
+/// Checks every run of the sweep ([`SweepSpec::check_all_keyed`]) and keeps this shard's.
+fn plan(spec: &SweepSpec, opts: &SweepOptions) -> Result<Plan, SweepError> {
     let all = spec.check_all_keyed()?;
     let total = all.len();
     let keyed: Vec<(RunPoint, u64)> = all
@@ -264,23 +311,34 @@ pub fn run_sweep(
         .collect::<Vec<_>>()
         .join(",");
     let mine: Vec<RunPoint> = keyed.iter().map(|(r, _)| r.clone()).collect();
-    let (partial, done, resumed, skipped) =
-        rows_done(spec, opts, keyed, &mine, &spec_line, &columns)?;
+    Ok(Plan {
+        keyed,
+        keys,
+        spec_line,
+        columns,
+        mine,
+    })
+}
+
+/// Runs `pending` on a pool of `opts.jobs` threads, appending each row to `partial` as it
+/// finishes; returns every row (`done` and the new ones) by run index. `n_mine` is the shard's
+/// run count, for `progress`.
+fn run_pending(
+    spec: &SweepSpec,
+    opts: &SweepOptions,
+    pending: &[&RunPoint],
+    partial: &Path,
+    done: BTreeMap<usize, String>,
+    n_mine: usize,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<BTreeMap<usize, String>, SweepError> {
     let done_now = done.len();
-    let mut pending: Vec<&RunPoint> = mine
-        .iter()
-        .filter(|r| !done.contains_key(&r.index))
-        .collect();
-    if let Some(mx) = opts.max_runs {
-        pending.truncate(mx);
-    }
-    let file = open_append(&partial)?;
+    let file = open_append(partial)?;
     let sink = Mutex::new((file, done, done_now));
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.jobs.unwrap_or(0))
         .build()
         .map_err(|e| SweepError::Options(format!("--jobs: {e}")))?;
-    let n_mine = mine.len();
     progress(done_now, n_mine);
     let result = pool.install(|| {
         use rayon::prelude::*;
@@ -295,7 +353,7 @@ pub fn run_sweep(
                     .lock()
                     .map_err(|_| SweepError::Options("a worker thread failed".into()))?;
                 let (file, rows, count) = &mut *g;
-                append_row(file, &partial, &row)?;
+                append_row(file, partial, &row)?;
                 rows.insert(run.index, row);
                 *count += 1;
                 progress(*count, n_mine);
@@ -306,26 +364,26 @@ pub fn run_sweep(
     let (_, rows, _) = sink
         .into_inner()
         .map_err(|_| SweepError::Options("a worker thread failed".into()))?;
-    let failed = rows.values().filter(|r| is_error_row(r)).count();
-    let complete = rows.len() == n_mine;
-    let mut written = false;
-    if complete {
-        written = csv::write_result(&opts.out, &spec_line, &keys, &columns, &rows)?;
-        std::fs::remove_file(&partial).map_err(|e| SweepError::Io {
-            file: partial.display().to_string(),
-            action: "cannot remove".into(),
-            reason: e.to_string(),
-        })?;
-    }
-    Ok(SweepSummary {
-        runs: n_mine,
-        resumed,
-        skipped,
-        ran: pending.len(),
-        failed,
-        complete,
-        written,
-    })
+    Ok(rows)
+}
+
+/// Writes the complete result file `opts.out` (rows in run order) and removes `partial`;
+/// whether the result file was written ([`csv::write_result`]).
+fn finish(
+    opts: &SweepOptions,
+    partial: &Path,
+    spec_line: &str,
+    keys: &BTreeMap<usize, u64>,
+    columns: &str,
+    rows: &BTreeMap<usize, String>,
+) -> Result<bool, SweepError> {
+    let written = csv::write_result(&opts.out, spec_line, keys, columns, rows)?;
+    std::fs::remove_file(partial).map_err(|e| SweepError::Io {
+        file: partial.display().to_string(),
+        action: "cannot remove".into(),
+        reason: e.to_string(),
+    })?;
+    Ok(written)
 }
 
 /// The rows done before anything runs: those of `OUT.partial` ([`resume_partial`]), then those
