@@ -20,7 +20,7 @@ mod units;
 pub mod wide;
 
 pub use inspect::{damaged_frames, inspect, inspect_with};
-pub use units::ExportUnits;
+pub use units::{DimensionlessError, ExportUnits};
 
 use crate::names::Named;
 use crate::snapshot::{Frame, Snapshot, SnapshotError};

@@ -121,7 +121,7 @@ pub(super) fn read_block(
     events: &mut Vec<EventRecord>,
 ) -> Result<(), SnapshotError> {
     if payload.len() < 8 {
-        return Err(raw.corrupt(name, at, "payload shorter than its first index".into()));
+        return Err(raw.corrupt(name, at, "payload shorter than its first index"));
     }
     let first = le_u64(payload, 0);
     if first != events.len() as u64 {
