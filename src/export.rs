@@ -23,7 +23,7 @@ pub mod wide;
 
 pub use inspect::{damaged_frames, inspect, inspect_with};
 pub use npz::npy_header;
-pub use units::ExportUnits;
+pub use units::{DimensionlessError, ExportUnits};
 
 use crate::names::Named;
 use crate::snapshot::{Frame, Snapshot, SnapshotError};

@@ -171,7 +171,7 @@ impl Observer for Watch<'_> {
 
     fn control(&mut self, t: f64) -> Control {
         self.calls += 1;
-        if self.calls % SAMPLE_CALLS == 0 {
+        if self.calls.is_multiple_of(SAMPLE_CALLS) {
             self.redraw(t);
         }
         self.inner.control(t)

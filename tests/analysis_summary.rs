@@ -134,7 +134,7 @@ fn summarize_of_a_chain_at_rest_names_why_nothing_is_fitted() {
     assert_eq!(s.e_ref, 0.0);
     assert_eq!(s.relative_change(), None);
     assert!(s.track.is_empty());
-    let why = s.speed.expect_err("no speed");
+    let why = s.speed.expect_err("no speed").to_string();
     assert!(why.contains("the chain has 5 beads, too few"), "{why}");
     assert!(s.decay.is_err() && s.e_in.is_err());
 }

@@ -72,7 +72,7 @@ fn unknown_header_key_is_refused() {
         h4
     });
     rec.push(("chain.friction".into(), Value::Real(0.3)));
-    let e = header_from_record(rec).unwrap_err();
+    let e = header_from_record(rec).unwrap_err().to_string();
     assert!(e.contains("unknown key `chain.friction`"), "{e}");
 }
 
@@ -86,7 +86,7 @@ fn missing_or_mistyped_header_keys_are_named() {
         .filter(|(k, _)| k != "chain.prefactor")
         .cloned()
         .collect();
-    let e = header_from_record(without).unwrap_err();
+    let e = header_from_record(without).unwrap_err().to_string();
     assert_eq!(e, "key `chain.prefactor` is missing");
     let mut short = rec.clone();
     for (k, v) in short.iter_mut() {
@@ -94,7 +94,7 @@ fn missing_or_mistyped_header_keys_are_named() {
             *v = Value::Reals(vec![1.0]);
         }
     }
-    let e = header_from_record(short).unwrap_err();
+    let e = header_from_record(short).unwrap_err().to_string();
     assert!(
         e.starts_with("key `initial.v` holds 1 values, expected "),
         "{e}"
@@ -105,7 +105,7 @@ fn missing_or_mistyped_header_keys_are_named() {
             *v = Value::Text("tight".into());
         }
     }
-    let e = header_from_record(typed).unwrap_err();
+    let e = header_from_record(typed).unwrap_err().to_string();
     assert_eq!(e, "key `rtol` holds a text, expected a real");
 }
 

@@ -23,8 +23,9 @@ fn options(interface: Option<usize>, fit_from: Option<f64>, fit_to: Option<f64>)
 }
 
 /// The library's reasons name the CLI's options; Python's keywords are `fit_from`/`fit_to`.
-fn py_reason(e: &str) -> String {
-    e.replace("--fit-from/--fit-to", "fit_from/fit_to")
+fn py_reason(e: &impl std::fmt::Display) -> String {
+    e.to_string()
+        .replace("--fit-from/--fit-to", "fit_from/fit_to")
 }
 
 fn summary_err(e: SummaryError, what: &str) -> PyErr {
@@ -35,10 +36,10 @@ fn summary_err(e: SummaryError, what: &str) -> PyErr {
 }
 
 /// `(value, reason)` items `key` and `key_error` of a result.
-fn set_result<'py, T: IntoPyObject<'py> + Copy>(
+fn set_result<'py, T: IntoPyObject<'py> + Copy, E: std::fmt::Display>(
     d: &Bound<'py, PyDict>,
     key: &str,
-    r: &Result<T, String>,
+    r: &Result<T, E>,
 ) -> PyResult<()> {
     d.set_item(key, r.as_ref().ok().copied())?;
     d.set_item(
@@ -135,7 +136,7 @@ fn to_dict<'py>(py: Python<'py>, s: &Summary) -> PyResult<Bound<'py, PyDict>> {
         Err(_) => None,
     };
     d.set_item("decay", decay)?;
-    d.set_item("decay_error", s.decay.as_ref().err().map(|e| py_reason(e)))?;
+    d.set_item("decay_error", s.decay.as_ref().err().map(py_reason))?;
     set_result(&d, "e_in", &s.e_in)?;
     let fr = &s.fragmentation;
     d.set_item("gaps", fr.gaps)?;

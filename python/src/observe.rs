@@ -260,7 +260,7 @@ impl Observer for Collector {
 
     fn control(&mut self, t: f64) -> Control {
         self.polls = self.polls.wrapping_add(1);
-        if self.polls % 64 == 0 && self.last_poll.elapsed() >= SIGNAL_POLL {
+        if self.polls.is_multiple_of(64) && self.last_poll.elapsed() >= SIGNAL_POLL {
             self.check_signals();
             if self
                 .progress

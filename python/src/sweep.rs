@@ -108,8 +108,10 @@ pub fn _sweep_row(py: Python<'_>, path: &str, index: usize) -> PyResult<String> 
     let spec = load_spec(path)?;
     let point = point(&spec, path, index)?;
     Ok(without_gil(py, || {
-        let res = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_one(&spec, &point)))
-            .unwrap_or_else(|_| Err("panic".into()));
+        let res = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            run_one(&spec, &point).map_err(|e| e.to_string())
+        }))
+        .unwrap_or_else(|_| Err("panic".into()));
         format_row(&spec, &point, &res, None)
     }))
 }
@@ -169,7 +171,7 @@ pub fn _sweep_table<'py>(
     let lists: Vec<Bound<'py, PyList>> = cols.iter().map(|_| PyList::empty(py)).collect();
     for (i, row) in rows.iter().enumerate() {
         let bad = |m: String| SceneError::new_err(format!("{path}: run {i}: {m}"));
-        let f = split_fields(row).map_err(bad)?;
+        let f = split_fields(row).map_err(|e| bad(e.to_string()))?;
         let run = runs.get(i).ok_or_else(|| bad("no such run".into()))?;
         if f.len() != cols.len() {
             return Err(bad(format!("{} fields, expected {}", f.len(), cols.len())));

@@ -14,6 +14,7 @@ use super::{AccuracyError, AccuracyReport};
 use crate::integrate::Method;
 use crate::names::Named;
 use crate::plot::lines::line_color;
+use crate::plot::{de, DrawError};
 use crate::scene::Engine;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -85,11 +86,11 @@ fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     report: &AccuracyReport,
     text: bool,
-) -> Result<(), String>
+) -> Result<(), DrawError>
 where
     DB::ErrorType: 'static,
 {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let err = de::<DB::ErrorType>;
     root.fill(&WHITE).map_err(err)?;
     let data = lines(report);
     let (x0, x1) = range(data.iter().flat_map(|l| l.points.iter().map(|p| p.0)));
@@ -146,11 +147,11 @@ fn draw_line<'a, DB: DrawingBackend + 'a>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>,
     l: &Line,
     text: bool,
-) -> Result<(), String>
+) -> Result<(), DrawError>
 where
     DB::ErrorType: 'static,
 {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let err = de::<DB::ErrorType>;
     let color = method_color(l.method);
     let line = color.stroke_width(WIDTH);
     let pts = l.points.iter().copied();
@@ -195,9 +196,9 @@ pub fn write_plots(report: &AccuracyReport, svg: &Path, png: &Path) -> Result<bo
     let size = (900, 650);
     {
         let root = SVGBackend::new(svg, size).into_drawing_area();
-        draw(&root, report, text).map_err(|msg| AccuracyError::Plot {
+        draw(&root, report, text).map_err(|e| AccuracyError::Plot {
             path: svg.to_path_buf(),
-            msg,
+            msg: e.to_string(),
         })?;
     }
     // rendered in memory and encoded with the `png` crate (plotters' own file encoder needs the
@@ -209,7 +210,7 @@ pub fn write_plots(report: &AccuracyReport, svg: &Path, png: &Path) -> Result<bo
     let mut buf = vec![0u8; size.0 as usize * size.1 as usize * 3];
     {
         let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
-        draw(&root, report, text).map_err(plot_err)?;
+        draw(&root, report, text).map_err(|e| plot_err(e.to_string()))?;
     }
     let bytes = crate::plot::encode_png(&buf, size).map_err(|e| plot_err(e.to_string()))?;
     std::fs::write(png, bytes).map_err(|e| plot_err(e.to_string()))?;

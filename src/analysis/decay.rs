@@ -14,11 +14,73 @@
 //! energy-weighted position: on the `periodic_decay_2.5_2.555` preset, γ = 2.62279e-2 over 167
 //! points against 2.62222e-2 over 166.
 
-use super::{fit_exponential, ExpFit, TrackPoint};
+use super::{fit_exponential, AnalysisError, ExpFit, TrackPoint};
 use std::fmt;
 
 /// Fewest leading-wave points for the speed and decay fits.
 pub const MIN_FIT_POINTS: usize = 3;
+
+/// The reason [`Summary::e_in`](super::Summary::e_in) gives when the leading wave never
+/// develops before the interface.
+pub const NO_INCOMING_WAVE: &str = "the leading wave never reaches 10 beads before the interface";
+
+/// The hint of the fit-range messages of `beadchain analyze` (Python's names it differently).
+const RANGE_DEFAULTS: &str = "default: positions 20 (or k + 10) to N - 10; set --fit-from/--fit-to";
+
+/// Why a leading-wave fit (decay, speed) or the incoming energy was not computed (one line).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FitError {
+    /// Too few leading-wave points in the range.
+    #[error(
+        "the leading wave is in positions {range} in {got} of {of} frames with a leading wave, fewer than {}",
+        MIN_FIT_POINTS
+    )]
+    TooFew {
+        /// The fit range.
+        range: FitRange,
+        /// Points in it.
+        got: usize,
+        /// Frames with a leading wave.
+        of: usize,
+    },
+    /// The least-squares fit failed.
+    #[error(transparent)]
+    Fit(AnalysisError),
+    /// The fit's values are not finite.
+    #[error("the log-linear fit is degenerate (all points at one position)")]
+    Degenerate,
+    /// Every point of the speed fit is at one time.
+    #[error("all its frames are at one time")]
+    OneTime,
+    /// The default range is empty: the chain is too short.
+    #[error(
+        "the chain has {n} beads, too few for the fit range ({})",
+        RANGE_DEFAULTS
+    )]
+    ChainTooShort {
+        /// Beads in the chain.
+        n: usize,
+    },
+    /// The range starts after its end.
+    #[error(
+        "the fit range starts at position {x0}, after its end {x1} (chain of {n} beads; {})",
+        RANGE_DEFAULTS
+    )]
+    Reversed {
+        /// Start of the range.
+        x0: f64,
+        /// End of the range.
+        x1: f64,
+        /// Beads in the chain.
+        n: usize,
+    },
+    /// Nothing moves.
+    #[error("the energy scale is 0 (the chain is at rest)")]
+    AtRest,
+    /// No incoming wave before the interface.
+    #[error("{}", NO_INCOMING_WAVE)]
+    NoIncomingWave,
+}
 
 /// A range of leading-wave positions (in beads): `from ≤ x ≤ to`, or `from ≤ x < to` when
 /// `to_included` is false.
@@ -74,31 +136,31 @@ pub fn points_in<'a>(track: &'a [TrackPoint], range: &FitRange) -> Vec<&'a Track
 }
 
 /// Why a range holds too few points (`got` of the track's `of`), if it does.
-pub fn too_few(range: &FitRange, got: usize, of: usize) -> Option<String> {
-    (got < MIN_FIT_POINTS).then(|| {
-        format!(
-            "the leading wave is in positions {range} in {got} of {of} frames with a leading wave, fewer than {MIN_FIT_POINTS}"
-        )
+pub fn too_few(range: &FitRange, got: usize, of: usize) -> Option<FitError> {
+    (got < MIN_FIT_POINTS).then_some(FitError::TooFew {
+        range: *range,
+        got,
+        of,
     })
 }
 
 /// The decay fit of the module docs over the points of `track` in `range`, energies divided by
 /// `e_ref`; an error names why there is none (too few points, a degenerate fit).
-pub fn decay_fit(track: &[TrackPoint], range: &FitRange, e_ref: f64) -> Result<ExpFit, String> {
+pub fn decay_fit(track: &[TrackPoint], range: &FitRange, e_ref: f64) -> Result<ExpFit, FitError> {
     let pts = points_in(track, range);
     if let Some(w) = too_few(range, pts.len(), track.len()) {
         return Err(w);
     }
     let x: Vec<f64> = pts.iter().map(|p| p.position).collect();
     let e: Vec<f64> = pts.iter().map(|p| p.energy / e_ref).collect();
-    let f = fit_exponential(&x, &e).map_err(|e| e.to_string())?;
+    let f = fit_exponential(&x, &e).map_err(FitError::Fit)?;
     if [f.a, f.gamma, f.gamma_stderr, f.r2]
         .iter()
         .all(|v| v.is_finite())
     {
         Ok(f)
     } else {
-        Err("the log-linear fit is degenerate (all points at one position)".into())
+        Err(FitError::Degenerate)
     }
 }
 

@@ -46,7 +46,7 @@ pub mod wave;
 pub mod wavelength;
 pub mod window;
 
-pub use decay::{decay_fit, FitRange};
+pub use decay::{decay_fit, FitError, FitRange};
 pub use fit::{fit_exponential, least_squares, ExpFit, LinearFit};
 pub use interface::{energy_split, velocity_ratio, EnergySplit, VelocityRatio};
 pub use state::{

@@ -113,7 +113,7 @@ pub fn project_frames(
 ) -> Result<ModalEnergies, ModalError> {
     let f = t.len();
     let n = basis.beads();
-    if f == 0 || u.len() != v.len() || u.len() % f != 0 {
+    if f == 0 || u.len() != v.len() || !u.len().is_multiple_of(f) {
         return Err(ModalError::Mismatch(format!(
             "{what}: expected u and v of {f} frames of {n} beads, got {} and {} values",
             u.len(),

@@ -26,7 +26,7 @@
 //! What cannot be computed is an `Err` naming the reason (never a NaN): a fit range that is
 //! empty or reversed, too few points, a chain at rest, a leading wave that never develops.
 
-use super::decay::{decay_fit, points_in, too_few, FitRange};
+use super::decay::{decay_fit, points_in, too_few, FitError, FitRange};
 use super::{
     detect_pulses, energy_split, fragmentation, is_steady_state, track_leading, velocity_ratio,
     wave_energy, ExpFit, Fragmentation, Pulse, TrackPoint, WaveOptions,
@@ -38,8 +38,7 @@ pub use super::decay::MIN_FIT_POINTS;
 /// Relative tolerance of the steady-state criterion applied to the final frame.
 pub const STEADY_REL: f64 = 1e-5;
 
-/// The reason [`Summary::e_in`] gives when the leading wave never develops before the interface.
-pub const NO_INCOMING_WAVE: &str = "the leading wave never reaches 10 beads before the interface";
+pub use super::decay::NO_INCOMING_WAVE;
 
 /// One frame: time, displacements `u` and velocities `v` (every bead).
 pub type FrameView<'a> = (f64, &'a [f64], &'a [f64]);
@@ -152,11 +151,11 @@ pub struct Summary {
     /// Fit range `(from, to)` in bead positions, defaults applied.
     pub fit_range: (f64, f64),
     /// The decay fit of `E/E_ref`, or why it was not computed.
-    pub decay: Result<ExpFit, String>,
+    pub decay: Result<ExpFit, FitError>,
     /// The leading wave's speed, or why it was not computed.
-    pub speed: Result<Speed, String>,
+    pub speed: Result<Speed, FitError>,
     /// The incoming wave's energy, or why it was not computed.
-    pub e_in: Result<f64, String>,
+    pub e_in: Result<f64, FitError>,
     /// Gaps and fragments of the final frame.
     pub fragmentation: Fragmentation,
     /// Whether the final frame is a steady state (appendix A).
@@ -235,7 +234,7 @@ pub fn summarize(
         fit_range: (x0, x1),
         decay,
         speed,
-        e_in: incoming_energy(&track, k_if).ok_or_else(|| NO_INCOMING_WAVE.to_string()),
+        e_in: incoming_energy(&track, k_if).ok_or(FitError::NoIncomingWave),
         fragmentation: fragmentation(chain, u1, v1, 0.0),
         steady: is_steady_state(chain, u1, v1, STEADY_REL),
         interface: k_if.map(|k| interface(chain, frames, k, &wave)),
@@ -287,20 +286,15 @@ fn interface(
 }
 
 /// Why no fit can be made over `[x0, x1]` before looking at the points, if so.
-fn range_problem((x0, x1): (f64, f64), e_ref: f64, n: usize) -> Option<String> {
-    let defaults = "default: positions 20 (or k + 10) to N - 10; set --fit-from/--fit-to";
+fn range_problem((x0, x1): (f64, f64), e_ref: f64, n: usize) -> Option<FitError> {
     // comparisons written so that NaN counts as "not ordered" / "not positive"
     let (ordered, end_inside, positive) = (x0 <= x1, x1 >= 0.0, e_ref > 0.0);
     if !ordered && !end_inside {
-        Some(format!(
-            "the chain has {n} beads, too few for the fit range ({defaults})"
-        ))
+        Some(FitError::ChainTooShort { n })
     } else if !ordered {
-        Some(format!(
-            "the fit range starts at position {x0}, after its end {x1} (chain of {n} beads; {defaults})"
-        ))
+        Some(FitError::Reversed { x0, x1, n })
     } else if !positive {
-        Some("the energy scale is 0 (the chain is at rest)".to_string())
+        Some(FitError::AtRest)
     } else {
         None
     }
@@ -313,7 +307,7 @@ fn fits(
     (x0, x1): (f64, f64),
     e_ref: f64,
     n: usize,
-) -> (Result<ExpFit, String>, Result<Speed, String>) {
+) -> (Result<ExpFit, FitError>, Result<Speed, FitError>) {
     if let Some(w) = range_problem((x0, x1), e_ref, n) {
         return (Err(w.clone()), Err(w));
     }
@@ -333,7 +327,7 @@ fn fits(
 }
 
 /// Least-squares slope of `y` against `x`.
-fn slope(x: &[f64], y: &[f64]) -> Result<f64, String> {
+fn slope(x: &[f64], y: &[f64]) -> Result<f64, FitError> {
     let m = x.len() as f64;
     let (mx, my) = (x.iter().sum::<f64>() / m, y.iter().sum::<f64>() / m);
     let sxx: f64 = x.iter().map(|a| (a - mx) * (a - mx)).sum();
@@ -342,6 +336,6 @@ fn slope(x: &[f64], y: &[f64]) -> Result<f64, String> {
     if sxx > 0.0 && c.is_finite() {
         Ok(c)
     } else {
-        Err("all its frames are at one time".into())
+        Err(FitError::OneTime)
     }
 }

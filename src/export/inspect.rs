@@ -6,7 +6,7 @@
 use super::Num;
 use crate::model::Chain;
 use crate::names::Named;
-use crate::snapshot::{Frame, Snapshot, FORMAT_VERSION, WALL_NOT_RECORDED};
+use crate::snapshot::{Frame, Snapshot, SnapshotError, FORMAT_VERSION, WALL_NOT_RECORDED};
 use std::fmt::Write as _;
 
 /// Reads every frame (verifying its section header, length, checksum and time): the frames
@@ -121,19 +121,33 @@ fn header_lines(s: &mut String, snap: &Snapshot, damaged: &[(usize, String)]) {
     );
 }
 
+/// Why a frame's energy is not available.
+#[derive(Debug, thiserror::Error)]
+enum EnergyError {
+    /// Partial frames, or an unreadable frame.
+    #[error(transparent)]
+    Snapshot(#[from] SnapshotError),
+    /// The frame does not fit the chain.
+    #[error("frame has {frame} beads but the chain has {chain}")]
+    BeadCount {
+        /// Beads in the frame.
+        frame: usize,
+        /// Beads in the chain.
+        chain: usize,
+    },
+}
+
 /// Energy of the first and last frame and its relative change (or why it is not available).
 fn energy_lines(s: &mut String, snap: &Snapshot, chain: &Chain) {
     let n = snap.frame_count();
-    let energy = |k: usize| -> Result<(f64, f64, Option<f64>), String> {
-        snap.require_full("the energy needs every bead and both fields")
-            .map_err(|e| e.to_string())?;
-        let f = snap.frame(k).map_err(|e| e.to_string())?;
+    let energy = |k: usize| -> Result<(f64, f64, Option<f64>), EnergyError> {
+        snap.require_full("the energy needs every bead and both fields")?;
+        let f = snap.frame(k)?;
         if f.u.len() != chain.len() {
-            return Err(format!(
-                "frame has {} beads but the chain has {}",
-                f.u.len(),
-                chain.len()
-            ));
+            return Err(EnergyError::BeadCount {
+                frame: f.u.len(),
+                chain: chain.len(),
+            });
         }
         let (e, scale) = (chain.energy(&f.u, &f.v), chain.energy_scale(&f.u, &f.v));
         Ok((e, scale, f.dissipated))

@@ -12,6 +12,17 @@
 use crate::scene::{Scene, UnitScales};
 use crate::snapshot::Frame;
 
+/// `--units si` asked of a dimensionless scene (names the scene).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "--units si: scene `{scene}` is dimensionless (computer units only); SI output needs \
+     a physical scene ([units] system = \"physical\")"
+)]
+pub struct DimensionlessError {
+    /// The scene's name.
+    pub scene: String,
+}
+
 /// Conversion factors from computer units to the exported units.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ExportUnits {
@@ -53,14 +64,12 @@ impl ExportUnits {
     }
 
     /// SI units of `scene`; the error names the scene when it is dimensionless.
-    pub fn si_of(scene: &Scene) -> Result<Self, String> {
+    pub fn si_of(scene: &Scene) -> Result<Self, DimensionlessError> {
         match scene.units {
             Some(s) if s.time > 0.0 && s.time.is_finite() => Ok(Self::si(&s)),
-            _ => Err(format!(
-                "--units si: scene `{}` is dimensionless (computer units only); SI output needs \
-                 a physical scene ([units] system = \"physical\")",
-                scene.name
-            )),
+            _ => Err(DimensionlessError {
+                scene: scene.name.clone(),
+            }),
         }
     }
 

@@ -17,7 +17,7 @@ use super::lines::line_color;
 use super::select::{require_frames, BeadRange, TimeRange};
 use super::ticks::{TickFmt, N_LABELS};
 use super::units::{scene_scales, AxisUnits, Units};
-use super::{de, decimate, render_rgb, Figure, PlotError};
+use super::{de, decimate, render_rgb, DrawError, Figure, PlotError};
 use crate::snapshot::{Frame, Snapshot};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -241,7 +241,7 @@ impl Animation {
         let (w, h) = self.size;
         let err = |e: gif::EncodingError| PlotError::Draw {
             format: "GIF",
-            msg: e.to_string(),
+            source: DrawError::Gif(e),
         };
         let (w16, h16) = match (u16::try_from(w), u16::try_from(h)) {
             (Ok(a), Ok(b)) => (a, b),
@@ -346,7 +346,7 @@ impl Figure for FramePlot<'_> {
         &self,
         root: &DrawingArea<DB, Shift>,
         text: bool,
-    ) -> Result<(), String>
+    ) -> Result<(), DrawError>
     where
         DB::ErrorType: 'static,
     {

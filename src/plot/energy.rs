@@ -14,8 +14,10 @@
 use super::lines::{LineChart, Series, Style};
 use super::select::require_frames;
 use super::units::{AxisUnits, Units};
-use super::PlotError;
-use crate::analysis::{decay_fit, track_leading, ExpFit, FitRange, TrackPoint, WaveOptions};
+use super::{DrawError, PlotError};
+use crate::analysis::{
+    decay_fit, track_leading, ExpFit, FitError, FitRange, TrackPoint, WaveOptions,
+};
 use crate::snapshot::{Frame, Snapshot};
 
 /// What to draw.
@@ -54,7 +56,7 @@ pub struct SideFit {
     /// The positions fitted.
     pub range: FitRange,
     /// The fit, or why there is none.
-    pub fit: Result<ExpFit, String>,
+    pub fit: Result<ExpFit, FitError>,
 }
 
 /// The energy figure and its fits (one, or one per side of the interface).
@@ -215,7 +217,7 @@ impl super::Figure for EnergyPlot {
         &self,
         root: &plotters::prelude::DrawingArea<DB, plotters::coord::Shift>,
         text: bool,
-    ) -> Result<(), String>
+    ) -> Result<(), DrawError>
     where
         DB::ErrorType: 'static,
     {

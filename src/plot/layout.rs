@@ -1,8 +1,8 @@
 //! Fixed figure geometry (so the plot area's pixels are known before drawing: raster cells are
 //! blitted there, and tests can find a data point's pixel), the title and the colour bar.
 
-use super::de;
 use super::font::FAMILY;
+use super::{de, DrawError};
 use plotters::chart::MeshStyle;
 use plotters::coord::ranged1d::ValueFormatter;
 use plotters::coord::Shift;
@@ -72,7 +72,7 @@ impl Layout {
     }
 
     /// Checks that plotters placed the plot area where [`Self::plot_rect`] says.
-    pub fn check(&self, x: std::ops::Range<i32>, y: std::ops::Range<i32>) -> Result<(), String> {
+    pub fn check(&self, x: std::ops::Range<i32>, y: std::ops::Range<i32>) -> Result<(), DrawError> {
         let (x0, y0, pw, ph) = self.plot_rect();
         // plotters' ranges are half-open or inclusive depending on the version: allow 1 px
         let ok = (x.start - x0).abs() <= 1
@@ -82,9 +82,11 @@ impl Layout {
         if ok {
             Ok(())
         } else {
-            Err(format!(
-                "internal layout mismatch: plot area {x:?} x {y:?}, expected {x0}+{pw} x {y0}+{ph}"
-            ))
+            Err(DrawError::Layout {
+                x,
+                y,
+                expected: (x0, pw, y0, ph),
+            })
         }
     }
 
@@ -94,7 +96,7 @@ impl Layout {
         root: &DrawingArea<DB, Shift>,
         title: &str,
         text: bool,
-    ) -> Result<(), String>
+    ) -> Result<(), DrawError>
     where
         DB::ErrorType: 'static,
     {
@@ -122,7 +124,7 @@ impl Layout {
         ticks: &[(f64, String)],
         label: &str,
         text: bool,
-    ) -> Result<(), String>
+    ) -> Result<(), DrawError>
     where
         DB::ErrorType: 'static,
     {
@@ -248,7 +250,7 @@ pub fn label_and_draw_mesh<'b, X, Y, DB>(
     desc: (&str, &str),
     fmt: (&'b TickFormatter, &'b TickFormatter),
     text: bool,
-) -> Result<(), String>
+) -> Result<(), DrawError>
 where
     X: Ranged<ValueType = f64> + ValueFormatter<f64>,
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,

@@ -7,7 +7,7 @@
 
 use super::layout::{safe_range, Layout};
 use super::ticks::{decade_label, log_decades, TickFmt, N_LABELS};
-use super::{de, font::FAMILY, Figure};
+use super::{de, font::FAMILY, DrawError, Figure};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -152,7 +152,7 @@ impl Figure for LineChart {
         &self,
         root: &DrawingArea<DB, Shift>,
         text: bool,
-    ) -> Result<(), String>
+    ) -> Result<(), DrawError>
     where
         DB::ErrorType: 'static,
     {

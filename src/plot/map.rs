@@ -16,7 +16,7 @@ use super::csvtable::Table;
 use super::keys::readable;
 use super::layout::{num_label, Layout};
 use super::ticks::{colorbar_ticks, TickFmt, N_LABELS};
-use super::{de, font::FAMILY, Figure, PlotError};
+use super::{de, font::FAMILY, DrawError, Figure, PlotError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -291,7 +291,7 @@ impl Figure for Map {
         &self,
         root: &DrawingArea<DB, Shift>,
         text: bool,
-    ) -> Result<(), String>
+    ) -> Result<(), DrawError>
     where
         DB::ErrorType: 'static,
     {

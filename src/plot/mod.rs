@@ -53,7 +53,7 @@ pub use energy::{EnergyOptions, EnergyPlot, SideFit};
 pub use map::{Map, MapOptions};
 pub use panels::Panels;
 pub use profile::{Profile, ProfileOptions};
-pub use select::{bead_list, BeadRange, TimeRange};
+pub use select::{bead_list, BeadRange, RangeError, TimeRange};
 pub use spacetime::{Scale, Spacetime, SpacetimeOptions};
 pub use trace::{Trace, TraceOptions};
 pub use units::{AxisUnits, Labels, Units};
@@ -76,13 +76,44 @@ pub enum PlotError {
         msg: String,
     },
     /// plotters failed to draw or a PNG could not be encoded.
-    #[error("drawing the {format} failed: {msg}")]
+    #[error("drawing the {format} failed: {source}")]
     Draw {
-        /// `PNG` or `SVG`.
+        /// `PNG`, `SVG` or `GIF`.
         format: &'static str,
-        /// The backend's message.
-        msg: String,
+        /// What failed.
+        source: DrawError,
     },
+}
+
+/// Why a figure could not be drawn or encoded (the detail of [`PlotError::Draw`]). No variant
+/// has a source: the message is the whole story.
+#[derive(Debug, thiserror::Error)]
+pub enum DrawError {
+    /// The plotters backend failed (its message).
+    #[error("{0}")]
+    Backend(Box<dyn std::error::Error + Send + Sync>),
+    /// plotters placed the plot area elsewhere than the layout computed.
+    #[error(
+        "internal layout mismatch: plot area {x:?} x {y:?}, expected {}+{} x {}+{}",
+        expected.0, expected.1, expected.2, expected.3
+    )]
+    Layout {
+        /// Horizontal pixel range plotters used.
+        x: std::ops::Range<i32>,
+        /// Vertical pixel range plotters used.
+        y: std::ops::Range<i32>,
+        /// The layout's `(x0, width, y0, height)`.
+        expected: (i32, u32, i32, u32),
+    },
+    /// The SVG's raster images could not be embedded.
+    #[error("{0}")]
+    Embed(svgimage::EmbedError),
+    /// PNG encoding failed.
+    #[error("{0}")]
+    Png(png::EncodingError),
+    /// GIF encoding failed.
+    #[error("{0}")]
+    Gif(gif::EncodingError),
 }
 
 /// Image formats.
@@ -130,14 +161,16 @@ pub trait Figure {
         &self,
         root: &DrawingArea<DB, Shift>,
         text: bool,
-    ) -> Result<(), String>
+    ) -> Result<(), DrawError>
     where
         DB::ErrorType: 'static;
 }
 
-/// Converts a plotters error to its message.
-pub(crate) fn de<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> String {
-    e.to_string()
+/// Converts a plotters error to a [`DrawError`].
+pub(crate) fn de<E: std::error::Error + Send + Sync + 'static>(
+    e: DrawingAreaErrorKind<E>,
+) -> DrawError {
+    DrawError::Backend(Box::new(e))
 }
 
 /// Renders `fig` as an SVG document (raster cells embedded as PNG images, [`svgimage`]).
@@ -145,7 +178,10 @@ pub fn render_svg<F: Figure>(fig: &F) -> Result<String, PlotError> {
     let text = font::font_available();
     let mut s = String::new();
     let images = std::rc::Rc::new(std::cell::RefCell::new(Vec::new()));
-    let err = |msg| PlotError::Draw { format: "SVG", msg };
+    let err = |source| PlotError::Draw {
+        format: "SVG",
+        source,
+    };
     {
         let svg = SVGBackend::with_string(&mut s, fig.size());
         let root = svgimage::SvgImages::new(svg, images.clone()).into_drawing_area();
@@ -153,7 +189,7 @@ pub fn render_svg<F: Figure>(fig: &F) -> Result<String, PlotError> {
         root.present().map_err(|e| err(de(e)))?;
     }
     let images = images.borrow();
-    svgimage::embed(&s, &images).map_err(err)
+    svgimage::embed(&s, &images).map_err(|e| err(DrawError::Embed(e)))
 }
 
 /// Renders `fig` into an RGB buffer (3 bytes per pixel, rows top to bottom); returns the buffer
@@ -164,7 +200,10 @@ pub fn render_rgb<F: Figure>(fig: &F) -> Result<(Vec<u8>, (u32, u32)), PlotError
     let mut buf = vec![0u8; w as usize * h as usize * 3];
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        let err = |msg| PlotError::Draw { format: "PNG", msg };
+        let err = |source| PlotError::Draw {
+            format: "PNG",
+            source,
+        };
         fig.draw(&root, text).map_err(err)?;
         root.present().map_err(|e| err(de(e)))?;
     }
@@ -175,7 +214,7 @@ pub fn render_rgb<F: Figure>(fig: &F) -> Result<(Vec<u8>, (u32, u32)), PlotError
 pub fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, PlotError> {
     let err = |e: png::EncodingError| PlotError::Draw {
         format: "PNG",
-        msg: e.to_string(),
+        source: DrawError::Png(e),
     };
     let mut out = Vec::new();
     {

@@ -8,7 +8,7 @@
 
 use super::layout::{Layout, COLORBAR_STRIP};
 use super::spacetime::{Spacetime, SpacetimeOptions};
-use super::{de, font::FAMILY, Figure, PlotError};
+use super::{de, font::FAMILY, DrawError, Figure, PlotError};
 use crate::snapshot::Snapshot;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -97,7 +97,7 @@ impl Figure for Panels {
         &self,
         root: &DrawingArea<DB, Shift>,
         text: bool,
-    ) -> Result<(), String>
+    ) -> Result<(), DrawError>
     where
         DB::ErrorType: 'static,
     {

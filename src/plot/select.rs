@@ -20,11 +20,30 @@ pub struct BeadRange {
     spec: Option<String>,
 }
 
+/// A `--beads` or `--t` value that is not a range (one line, without the option name).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum RangeError {
+    /// No `:` in the value.
+    #[error("`{0}` is not a range A:B")]
+    NotRange(String),
+    /// An empty `--beads` value.
+    #[error("empty selection: give a range A:B (beads A to B-1)")]
+    EmptyBeads,
+    /// An end of a time window that is not a finite number.
+    #[error("`{end}` in `{range}` is not a finite time")]
+    NotTime {
+        /// The end as given.
+        end: String,
+        /// The whole value.
+        range: String,
+    },
+}
+
 /// Splits `A:B` into optional halves.
-fn halves(s: &str) -> Result<(Option<&str>, Option<&str>), String> {
+fn halves(s: &str) -> Result<(Option<&str>, Option<&str>), RangeError> {
     let (a, b) = s
         .split_once(':')
-        .ok_or_else(|| format!("`{s}` is not a range A:B"))?;
+        .ok_or_else(|| RangeError::NotRange(s.to_string()))?;
     fn opt(x: &str) -> Option<&str> {
         let x = x.trim();
         (!x.is_empty()).then_some(x)
@@ -33,12 +52,12 @@ fn halves(s: &str) -> Result<(Option<&str>, Option<&str>), String> {
 }
 
 impl FromStr for BeadRange {
-    type Err = String;
+    type Err = RangeError;
     /// Keeps the text; it is checked against the chain in [`BeadRange::resolve`] (the bead
     /// count is known only there).
-    fn from_str(s: &str) -> Result<Self, String> {
+    fn from_str(s: &str) -> Result<Self, RangeError> {
         if s.trim().is_empty() {
-            return Err("empty selection: give a range A:B (beads A to B-1)".into());
+            return Err(RangeError::EmptyBeads);
         }
         Ok(BeadRange {
             spec: Some(s.trim().to_string()),
@@ -88,12 +107,15 @@ pub struct TimeRange {
 }
 
 impl FromStr for TimeRange {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = RangeError;
+    fn from_str(s: &str) -> Result<Self, RangeError> {
         let (a, b) = halves(s)?;
         let time = |x: &str| match x.parse::<f64>() {
             Ok(t) if t.is_finite() => Ok(t),
-            _ => Err(format!("`{x}` in `{s}` is not a finite time")),
+            _ => Err(RangeError::NotTime {
+                end: x.to_string(),
+                range: s.to_string(),
+            }),
         };
         Ok(TimeRange {
             t0: a.map(time).transpose()?,

@@ -23,7 +23,7 @@ use super::layout::{num_label, Layout};
 use super::select::{require_frames, BeadRange, TimeRange};
 use super::ticks::{colorbar_ticks, TickFmt, N_LABELS};
 use super::units::{AxisUnits, Units};
-use super::{de, Figure, PlotError};
+use super::{de, DrawError, Figure, PlotError};
 use crate::snapshot::{Frame, Snapshot};
 use plotters::coord::Shift;
 use plotters::element::BitMapElement;
@@ -352,7 +352,7 @@ impl Figure for Spacetime {
         &self,
         root: &DrawingArea<DB, Shift>,
         text: bool,
-    ) -> Result<(), String>
+    ) -> Result<(), DrawError>
     where
         DB::ErrorType: 'static,
     {

@@ -106,18 +106,38 @@ impl DrawingBackend for SvgImages<'_> {
     }
 }
 
+/// Why the raster images could not be embedded in the SVG text.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum EmbedError {
+    /// A placeholder colour outside a `<rect>` element.
+    #[error("placeholder outside a <rect>")]
+    OutsideRect,
+    /// A placeholder `<rect>` without its end.
+    #[error("unterminated placeholder")]
+    Unterminated,
+    /// More placeholders than images.
+    #[error("more placeholders than images")]
+    TooFewImages,
+    /// Fewer placeholders than images.
+    #[error("{images} images but {placeholders} placeholders")]
+    Count {
+        /// Images drawn.
+        images: usize,
+        /// Placeholders found.
+        placeholders: usize,
+    },
+}
+
 /// Replaces the placeholders of `svg` by `images`, in order; an error if the counts differ.
-pub fn embed(svg: &str, images: &[Image]) -> Result<String, String> {
+pub fn embed(svg: &str, images: &[Image]) -> Result<String, EmbedError> {
     let mut out =
         String::with_capacity(svg.len() + images.iter().map(|i| i.2.len() * 2).sum::<usize>());
     let mut rest = svg;
     let mut k = 0;
     while let Some(m) = rest.find(MARK) {
-        let start = rest[..m]
-            .rfind("<rect")
-            .ok_or("placeholder outside a <rect>")?;
-        let end = m + rest[m..].find("/>").ok_or("unterminated placeholder")? + 2;
-        let ((x, y), (w, h), png) = images.get(k).ok_or("more placeholders than images")?;
+        let start = rest[..m].rfind("<rect").ok_or(EmbedError::OutsideRect)?;
+        let end = m + rest[m..].find("/>").ok_or(EmbedError::Unterminated)? + 2;
+        let ((x, y), (w, h), png) = images.get(k).ok_or(EmbedError::TooFewImages)?;
         out.push_str(&rest[..start]);
         out.push_str(&format!(
             r#"<image x="{x}" y="{y}" width="{w}" height="{h}" preserveAspectRatio="none" href="data:image/png;base64,{}"/>"#,
@@ -127,7 +147,10 @@ pub fn embed(svg: &str, images: &[Image]) -> Result<String, String> {
         k += 1;
     }
     if k != images.len() {
-        return Err(format!("{} images but {k} placeholders", images.len()));
+        return Err(EmbedError::Count {
+            images: images.len(),
+            placeholders: k,
+        });
     }
     out.push_str(rest);
     Ok(out)

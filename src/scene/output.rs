@@ -38,7 +38,7 @@ pub(crate) fn parse_output(
                 Value::Integer(i) if *i >= 0 => Some(i.to_string()),
                 _ => None,
             })?;
-            parse_beads(&spec, nb as u64).map_err(|e| ctx.err("[output].beads", e))?
+            parse_beads(&spec, nb as u64).map_err(|e| ctx.err("[output].beads", e.to_string()))?
         }
     };
     let fields = match get(t, "fields") {
@@ -47,7 +47,7 @@ pub(crate) fn parse_output(
             let spec = spec_text(ctx, "[output].fields", v, FIELDS_EXPECTED, |x| {
                 x.as_str().map(str::to_string)
             })?;
-            Fields::parse(&spec).map_err(|e| ctx.err("[output].fields", e))?
+            Fields::parse(&spec).map_err(|e| ctx.err("[output].fields", e.to_string()))?
         }
     };
     let frames_max = match get(t, "frames_max") {

@@ -19,6 +19,71 @@
 
 use serde::{Deserialize, Serialize};
 
+/// Why a `--beads` / `--fields` value or a stored output selection is refused (one line,
+/// without the option name).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum SelectionError {
+    /// A `--fields` item other than `u` or `v`.
+    #[error("unknown field '{0}': expected u, v or u,v (displacements, velocities)")]
+    UnknownField(String),
+    /// A `--fields` item given twice.
+    #[error("field {0} is given twice")]
+    FieldTwice(String),
+    /// A stored selection lists no bead.
+    #[error("the output selection lists no bead")]
+    NoBead,
+    /// A stored selection's beads are not strictly increasing.
+    #[error("the output selection's beads are not strictly increasing")]
+    NotIncreasing,
+    /// A stored selection names a bead beyond the chain.
+    #[error("the output selection names bead {last} but the chain has {n} beads")]
+    BeyondChain {
+        /// The last bead listed.
+        last: u64,
+        /// Beads in the chain.
+        n: u64,
+    },
+    /// An empty `--beads` value.
+    #[error("empty selection: give bead indices or ranges A:B")]
+    Empty,
+    /// An item that selects no bead (`A >= B`).
+    #[error("'{0}' selects no bead (A:B is half-open: A < B)")]
+    SelectsNone(String),
+    /// A bead selected by two items.
+    #[error("bead {0} is selected twice")]
+    Twice(u64),
+    /// An item that is not `I`, `A:B` or `A:B:STEP`.
+    #[error(
+        "invalid item '{0}': expected a bead index I, a range A:B or A:B:STEP (0-based, B excluded)"
+    )]
+    InvalidItem(String),
+    /// A zero `STEP`.
+    #[error("'{0}': STEP must be at least 1")]
+    ZeroStep(String),
+    /// A single bead index `>= N`.
+    #[error(
+        "bead {bead} is out of range: the chain has {n} beads (indices 0 to {})",
+        n.saturating_sub(1)
+    )]
+    BeadOutOfRange {
+        /// The index given.
+        bead: u64,
+        /// Beads in the chain.
+        n: u64,
+    },
+    /// A range beyond the chain.
+    #[error(
+        "range '{item}' is out of range: the chain has {n} beads (indices 0 to {}; B may be at most N)",
+        n.saturating_sub(1)
+    )]
+    RangeOutOfRange {
+        /// The item as given.
+        item: String,
+        /// Beads in the chain.
+        n: u64,
+    },
+}
+
 /// The fields a frame stores.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Fields {
@@ -57,20 +122,16 @@ impl Fields {
     }
 
     /// Parses a `--fields` value: `u`, `v`, `u,v` or `v,u`.
-    pub fn parse(spec: &str) -> Result<Fields, String> {
+    pub fn parse(spec: &str) -> Result<Fields, SelectionError> {
         let (mut u, mut v) = (false, false);
         for item in spec.split(',') {
             let slot = match item.trim() {
                 "u" => &mut u,
                 "v" => &mut v,
-                other => {
-                    return Err(format!(
-                        "unknown field '{other}': expected u, v or u,v (displacements, velocities)"
-                    ))
-                }
+                other => return Err(SelectionError::UnknownField(other.to_string())),
             };
             if *slot {
-                return Err(format!("field {} is given twice", item.trim()));
+                return Err(SelectionError::FieldTwice(item.trim().to_string()));
             }
             *slot = true;
         }
@@ -123,20 +184,18 @@ impl Selection {
 
     /// Errors unless the bead list is non-empty, strictly increasing and below `n` (a header
     /// that breaks this is corrupt).
-    pub fn check(&self, n: u64) -> Result<(), String> {
+    pub fn check(&self, n: u64) -> Result<(), SelectionError> {
         let Some(b) = &self.beads else {
             return Ok(());
         };
         if b.is_empty() {
-            return Err("the output selection lists no bead".into());
+            return Err(SelectionError::NoBead);
         }
         if b.windows(2).any(|w| w[0] >= w[1]) {
-            return Err("the output selection's beads are not strictly increasing".into());
+            return Err(SelectionError::NotIncreasing);
         }
         match b.last() {
-            Some(&last) if last >= n => Err(format!(
-                "the output selection names bead {last} but the chain has {n} beads"
-            )),
+            Some(&last) if last >= n => Err(SelectionError::BeyondChain { last, n }),
             _ => Ok(()),
         }
     }
@@ -202,24 +261,22 @@ fn run_text(&(first, step, count): &(u64, u64, u64), n: u64) -> String {
 
 /// Parses a `--beads` value for a chain of `n` beads (grammar in the module docs): the sorted
 /// bead list, or `None` when it selects every bead. Errors are one line without the option.
-pub fn parse_beads(spec: &str, n: u64) -> Result<Option<Vec<u64>>, String> {
+pub fn parse_beads(spec: &str, n: u64) -> Result<Option<Vec<u64>>, SelectionError> {
     if spec.trim().is_empty() {
-        return Err("empty selection: give bead indices or ranges A:B".into());
+        return Err(SelectionError::Empty);
     }
     let mut list = Vec::new();
     for item in spec.split(',') {
         let item = item.trim();
         let (a, b, step) = parse_item(item, n)?;
         if a >= b {
-            return Err(format!(
-                "'{item}' selects no bead (A:B is half-open: A < B)"
-            ));
+            return Err(SelectionError::SelectsNone(item.to_string()));
         }
         list.extend((a..b).step_by(step as usize));
     }
     list.sort_unstable();
     if let Some(w) = list.windows(2).find(|w| w[0] == w[1]) {
-        return Err(format!("bead {} is selected twice", w[0]));
+        return Err(SelectionError::Twice(w[0]));
     }
     Ok(if list.len() as u64 == n {
         None
@@ -229,11 +286,9 @@ pub fn parse_beads(spec: &str, n: u64) -> Result<Option<Vec<u64>>, String> {
 }
 
 /// One item: `(A, B, STEP)` of the half-open range it selects.
-fn parse_item(item: &str, n: u64) -> Result<(u64, u64, u64), String> {
-    let bad = || {
-        format!("invalid item '{item}': expected a bead index I, a range A:B or A:B:STEP (0-based, B excluded)")
-    };
-    let num = |s: &str, default: u64| -> Result<u64, String> {
+fn parse_item(item: &str, n: u64) -> Result<(u64, u64, u64), SelectionError> {
+    let bad = || SelectionError::InvalidItem(item.to_string());
+    let num = |s: &str, default: u64| -> Result<u64, SelectionError> {
         match s.trim() {
             "" => Ok(default),
             t => t.parse::<u64>().map_err(|_| bad()),
@@ -250,20 +305,17 @@ fn parse_item(item: &str, n: u64) -> Result<(u64, u64, u64), String> {
         _ => return Err(bad()),
     };
     if step == 0 {
-        return Err(format!("'{item}': STEP must be at least 1"));
+        return Err(SelectionError::ZeroStep(item.to_string()));
     }
     let single = parts.len() == 1;
+    if a >= n && single {
+        return Err(SelectionError::BeadOutOfRange { bead: a, n });
+    }
     if a >= n || (!single && b > n) {
-        let what = if single {
-            format!("bead {a}")
-        } else {
-            format!("range '{item}'")
-        };
-        return Err(format!(
-            "{what} is out of range: the chain has {n} beads (indices 0 to {}{})",
-            n.saturating_sub(1),
-            if single { "" } else { "; B may be at most N" }
-        ));
+        return Err(SelectionError::RangeOutOfRange {
+            item: item.to_string(),
+            n,
+        });
     }
     Ok((a, b, step))
 }

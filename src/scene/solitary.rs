@@ -76,7 +76,7 @@ pub(super) fn apply(
         let wave = wave_at(ctx, &spec, scene, &mut profiles)?;
         let p = wave
             .place(spec.at, spec.direction, nb)
-            .map_err(|m| ctx.err(&format!("{key}.at"), m))?;
+            .map_err(|m| ctx.err(&format!("{key}.at"), m.to_string()))?;
         check_uniform(ctx, &spec, &p, scene)?;
         if let Some((other, _)) = placed.iter().find(|(_, q)| {
             q.beads().start() <= p.beads().end() && p.beads().start() <= q.beads().end()
@@ -116,7 +116,7 @@ fn wave_at(
     let profile = match profiles.iter().find(|p| p.exponent == n) {
         Some(p) => p.clone(),
         None => {
-            let p = UnitProfile::compute(n).map_err(|m| ctx.err(&spec.key, m))?;
+            let p = UnitProfile::compute(n).map_err(|m| ctx.err(&spec.key, m.to_string()))?;
             profiles.push(p.clone());
             p
         }
@@ -126,7 +126,7 @@ fn wave_at(
         Amount::PeakVelocity(v) => Wave::with_peak_velocity(profile, m, a, v),
         Amount::Energy(e) => Wave::with_energy(profile, m, a, e),
     }
-    .map_err(|msg| ctx.err(&spec.key, msg))
+    .map_err(|msg| ctx.err(&spec.key, msg.to_string()))
 }
 
 /// Equal within 1e-12 (relative): physical scenes compute each contact's prefactor on its own.

@@ -99,5 +99,5 @@ pub fn read_checkpoint(path: &Path) -> Result<CheckpointFile, SnapshotError> {
     if h.finalize() != crc {
         return Err(corrupt("checksum mismatch".into()));
     }
-    decode_exact(payload).map_err(corrupt)
+    decode_exact(payload).map_err(|e| corrupt(e.to_string()))
 }

@@ -136,9 +136,23 @@ struct HeaderV3 {
     output: Selection,
 }
 
+/// Why a HEADER payload is corrupt (the detail of [`SnapshotError::Corrupt`]).
+#[derive(Debug, thiserror::Error)]
+pub(crate) enum HeaderError {
+    /// The payload does not decode.
+    #[error(transparent)]
+    Decode(#[from] super::DecodeError),
+    /// A version-4 record is invalid.
+    #[error(transparent)]
+    Record(#[from] super::record::RecordError),
+    /// The output selection does not fit the chain.
+    #[error(transparent)]
+    Selection(#[from] crate::scene::selection::SelectionError),
+}
+
 /// Decodes a HEADER payload of format `version` (1 to 4) and checks its output selection
 /// against its bead count.
-pub(crate) fn decode_header(version: u32, payload: &[u8]) -> Result<Header, String> {
+pub(crate) fn decode_header(version: u32, payload: &[u8]) -> Result<Header, HeaderError> {
     let h = if version >= 4 {
         super::header4::header_from_record(decode_exact(payload)?)?
     } else if version == 3 {
@@ -242,5 +256,5 @@ pub fn read_header(path: &Path) -> Result<Header, SnapshotError> {
             offset: PREAMBLE_LEN,
         });
     }
-    decode_header(version, &payload).map_err(corrupt)
+    decode_header(version, &payload).map_err(|e| corrupt(e.to_string()))
 }

@@ -27,7 +27,7 @@
 //! for any key added since: see [`super::record`]), with an error that names the key and says
 //! it was written by a newer beadchain.
 
-use super::record::{pick, RecordReader, RecordWriter, Value};
+use super::record::{pick, RecordError, RecordReader, RecordWriter, Value};
 use super::select::{Fields, Selection};
 use super::Header;
 use crate::integrate::Method;
@@ -89,7 +89,7 @@ pub fn header_record(h: &Header) -> Vec<(String, Value)> {
 }
 
 /// The HEADER of a version-4 file from its record.
-pub fn header_from_record(entries: Vec<(String, Value)>) -> Result<Header, String> {
+pub fn header_from_record(entries: Vec<(String, Value)>) -> Result<Header, RecordError> {
     let mut r = RecordReader::new(entries)?;
     let crate_version = r.text("crate_version")?;
     let build_commit = r.opt_text("build_commit")?;
@@ -112,10 +112,10 @@ pub fn header_from_record(entries: Vec<(String, Value)>) -> Result<Header, Strin
     let scene = get_scene(&mut r)?;
     r.finish()?;
     if scene.chain.len() as u64 != n_beads {
-        return Err(format!(
-            "`n_beads` = {n_beads} but `chain.mass` holds {} beads",
-            scene.chain.len()
-        ));
+        return Err(RecordError::BeadCount {
+            n_beads,
+            mass: scene.chain.len(),
+        });
     }
     Ok(Header {
         format_version: 4,
@@ -237,7 +237,7 @@ fn put_chain(w: &mut RecordWriter, c: &Chain) {
 }
 
 /// Takes the scene's entries.
-pub(crate) fn get_scene(r: &mut RecordReader) -> Result<Scene, String> {
+pub(crate) fn get_scene(r: &mut RecordReader) -> Result<Scene, RecordError> {
     let name = r.text("scene.name")?;
     let description = r.text("scene.description")?;
     let seed = r.int("scene.seed")?;
@@ -283,11 +283,11 @@ pub(crate) fn get_scene(r: &mut RecordReader) -> Result<Scene, String> {
     })
 }
 
-fn get_chain(r: &mut RecordReader) -> Result<Chain, String> {
+fn get_chain(r: &mut RecordReader) -> Result<Chain, RecordError> {
     let mass = r.reals_any("chain.mass")?;
     let n = mass.len();
     if n == 0 {
-        return Err("key `chain.mass` holds no beads".into());
+        return Err(RecordError::NoBeads("chain.mass".into()));
     }
     let nc = n - 1;
     let mut walls = [None, None];

@@ -439,6 +439,17 @@ fn version_message(found: u32) -> String {
     }
 }
 
+/// Why a bincode payload could not be decoded (the detail of a corrupt section).
+#[derive(Debug, thiserror::Error)]
+pub enum DecodeError {
+    /// The decoder failed.
+    #[error(transparent)]
+    Bincode(#[from] bincode::error::DecodeError),
+    /// Bytes left after the value.
+    #[error("{0} trailing bytes after the encoded value")]
+    Trailing(usize),
+}
+
 /// The bincode configuration of every bincode-encoded section.
 pub(crate) fn bincode_config() -> bincode::config::Configuration<
     bincode::config::LittleEndian,
@@ -458,7 +469,7 @@ pub(crate) fn encode<T: Serialize>(value: &T) -> Result<Vec<u8>, bincode::error:
 /// Decodes a whole payload (every byte must be consumed) under an allocation limit of about
 /// 16× the payload size, so a forged length prefix inside the payload cannot allocate much more
 /// memory than the file holds.
-pub(crate) fn decode_exact<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> Result<T, String> {
+pub(crate) fn decode_exact<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> Result<T, DecodeError> {
     fn dec<T: serde::de::DeserializeOwned, const L: usize>(
         b: &[u8],
     ) -> Result<(T, usize), bincode::error::DecodeError> {
@@ -474,12 +485,9 @@ pub(crate) fn decode_exact<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> Resu
     } else {
         decode_large::<T>(bytes)
     };
-    let (value, used) = r.map_err(|e| e.to_string())?;
+    let (value, used) = r?;
     if used != n {
-        return Err(format!(
-            "{} trailing bytes after the encoded value",
-            n - used
-        ));
+        return Err(DecodeError::Trailing(n - used));
     }
     Ok(value)
 }

@@ -3,20 +3,22 @@
 
 use super::{
     decode_exact, section_name, EventRecord, Frame, Header, RunSummary, SnapshotError,
-    END_SECTION_LEN, FORMAT_VERSION, MAGIC, PREAMBLE_LEN, SECTION_HEADER_LEN, TAG_END, TAG_EVENTS,
-    TAG_EVENT_BLOCK, TAG_EVENT_INDEX, TAG_FRAME, TAG_HEADER, TAG_INDEX, TAG_STATS,
+    FORMAT_VERSION, MAGIC, PREAMBLE_LEN, SECTION_HEADER_LEN, TAG_END, TAG_EVENTS, TAG_EVENT_BLOCK,
+    TAG_EVENT_INDEX, TAG_FRAME, TAG_HEADER, TAG_INDEX, TAG_STATS,
 };
-use events::{check_scan_against_event_index, event_log};
+use events::check_scan_against_event_index;
 use frames::{check_scan_against_index, read_frame_at};
 use std::fs::File;
 
 mod events;
 mod frames;
 mod raw;
+mod tail;
 
 use raw::{le_u64, read_up_to, seek, Raw};
 use std::path::Path;
 use std::sync::Mutex;
+use tail::from_tail;
 
 /// Bytes read per chunk when streaming a frame payload.
 const CHUNK: usize = 1 << 16;
@@ -218,103 +220,6 @@ impl Snapshot {
     }
 }
 
-/// Fast path for a finished file: END → INDEX → EVENTS, STATS.
-///
-/// `Ok(Err(reason))`: END or INDEX missing or damaged, fall back to scanning. `Err`: a fatal
-/// problem in EVENTS or STATS (a scan could not do better).
-fn from_tail(
-    raw: &Raw,
-    first: u64,
-    frame_len: u64,
-    version: u32,
-) -> Result<Result<Contents, String>, SnapshotError> {
-    let (index_at, end_at) = match index_position(raw, first)? {
-        Ok(at) => at,
-        Err(reason) => return Ok(Err(reason)),
-    };
-    let Some(ih) = raw.read_head(index_at, "INDEX")? else {
-        return Ok(Err("cannot read the INDEX section".into()));
-    };
-    if ih.tag != TAG_INDEX || ih.end() != end_at || ih.len < 24 || (ih.len - 24) % 16 != 0 {
-        return Ok(Err(format!(
-            "INDEX section at byte {index_at} is malformed"
-        )));
-    }
-    let Ok(ip) = raw.read_payload(&ih, "INDEX") else {
-        return Ok(Err("INDEX section is damaged (checksum)".into()));
-    };
-    let count = le_u64(&ip, 0);
-    if count != (ih.len - 24) / 16 {
-        return Ok(Err(format!(
-            "INDEX frame count {count} disagrees with its length"
-        )));
-    }
-    let count = count as usize;
-    let (events_at, stats_at) = (le_u64(&ip, 8), le_u64(&ip, 16));
-    let mut offsets = Vec::with_capacity(count);
-    let mut prev_end = first;
-    for i in 0..count {
-        let o = le_u64(&ip, 24 + 8 * i);
-        let end = o.checked_add(SECTION_HEADER_LEN + frame_len);
-        if o < prev_end || end.is_none_or(|e| e > index_at) {
-            return Ok(Err(format!(
-                "INDEX offset of frame {i} ({o}) is impossible"
-            )));
-        }
-        prev_end = o + SECTION_HEADER_LEN + frame_len;
-        offsets.push(o);
-    }
-    let times = (0..count)
-        .map(|i| f64::from_bits(le_u64(&ip, 24 + 8 * (count + i))))
-        .collect();
-    let events = match events_at {
-        0 => Vec::new(),
-        o if version == 1 => indexed_section(raw, o, TAG_EVENTS, "EVENTS", index_at)?,
-        o => event_log(raw, o, first, index_at)?,
-    };
-    let summary = match stats_at {
-        0 => None,
-        o => Some(indexed_section(raw, o, TAG_STATS, "STATS", index_at)?),
-    };
-    Ok(Ok(Contents {
-        offsets,
-        times,
-        events,
-        summary,
-        event_blocks: Vec::new(),
-    }))
-}
-
-/// Where the END section at the file's end says the INDEX starts, and where END starts:
-/// `Ok(Err(reason))` when END is missing, damaged or points outside the file.
-fn index_position(raw: &Raw, first: u64) -> Result<Result<(u64, u64), String>, SnapshotError> {
-    let no_end = || {
-        Ok(Err(
-            "file has no END section (unfinished or truncated run)".to_string()
-        ))
-    };
-    if raw.len < first + END_SECTION_LEN {
-        return no_end();
-    }
-    let end_at = raw.len - END_SECTION_LEN;
-    let Some(end) = raw.read_head(end_at, "END")? else {
-        return no_end();
-    };
-    if end.tag != TAG_END || end.len != 8 {
-        return no_end();
-    }
-    let Ok(ep) = raw.read_payload(&end, "END") else {
-        return Ok(Err("END section is damaged (checksum)".into()));
-    };
-    let index_at = le_u64(&ep, 0);
-    if index_at < first || index_at > end_at.saturating_sub(SECTION_HEADER_LEN) {
-        return Ok(Err(format!(
-            "END points to an INDEX at impossible byte {index_at}"
-        )));
-    }
-    Ok(Ok((index_at, end_at)))
-}
-
 /// Reads and decodes a bincode section the INDEX points to (must end before `limit`).
 fn indexed_section<T: serde::de::DeserializeOwned>(
     raw: &Raw,
@@ -407,7 +312,7 @@ fn scan(
                 c.summary = Some(decode_exact(&p).map_err(|d| raw.corrupt("STATS", pos, d))?);
             }
             TAG_HEADER => {
-                return Err(raw.corrupt("HEADER", pos, "a second HEADER section".into()));
+                return Err(raw.corrupt("HEADER", pos, "a second HEADER section"));
             }
             _ => {
                 if scan_other(raw, &h, &name, &c, &mut warn)? {

@@ -45,6 +45,74 @@ impl Value {
     }
 }
 
+/// Why a record cannot be read: one line naming the key.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum RecordError {
+    /// A key stored twice.
+    #[error("key `{0}` appears twice")]
+    Duplicate(String),
+    /// A key holding a value of another kind.
+    #[error("key `{key}` holds a {got}, expected a {want}")]
+    WrongKind {
+        /// The key.
+        key: String,
+        /// Kind stored.
+        got: &'static str,
+        /// Kind expected.
+        want: &'static str,
+    },
+    /// A mandatory key is absent.
+    #[error("key `{0}` is missing")]
+    Missing(String),
+    /// An array of the wrong length.
+    #[error("key `{key}` holds {got} values, expected {want}")]
+    Length {
+        /// The key.
+        key: String,
+        /// Values stored.
+        got: usize,
+        /// Values expected.
+        want: usize,
+    },
+    /// Keys left over (written by a newer beadchain, or damaged).
+    #[error("unknown key `{key}` (written by a newer beadchain?){}", more_text(*more))]
+    Unknown {
+        /// The first unknown key.
+        key: String,
+        /// How many more unknown keys.
+        more: usize,
+    },
+    /// An array that must not be empty is.
+    #[error("key `{0}` holds no beads")]
+    NoBeads(String),
+    /// `n_beads` disagrees with the chain.
+    #[error("`n_beads` = {n_beads} but `chain.mass` holds {mass} beads")]
+    BeadCount {
+        /// The `n_beads` entry.
+        n_beads: u64,
+        /// Beads in `chain.mass`.
+        mass: usize,
+    },
+    /// A name that is none of the choices.
+    #[error("key `{key}` = `{got}`, expected one of {choices}")]
+    Choice {
+        /// The key.
+        key: String,
+        /// The name stored.
+        got: String,
+        /// The valid names, comma-separated.
+        choices: String,
+    },
+}
+
+fn more_text(more: usize) -> String {
+    if more > 0 {
+        format!(" and {more} more")
+    } else {
+        String::new()
+    }
+}
+
 /// Builds a record in key order of writing.
 #[derive(Default)]
 pub struct RecordWriter {
@@ -98,11 +166,11 @@ pub struct RecordReader {
 
 impl RecordReader {
     /// Errors on a key that appears twice.
-    pub fn new(entries: Vec<(String, Value)>) -> Result<Self, String> {
+    pub fn new(entries: Vec<(String, Value)>) -> Result<Self, RecordError> {
         let mut map = BTreeMap::new();
         for (k, v) in entries {
             if map.insert(k.clone(), v).is_some() {
-                return Err(format!("key `{k}` appears twice"));
+                return Err(RecordError::Duplicate(k));
             }
         }
         Ok(Self { map })
@@ -112,12 +180,24 @@ impl RecordReader {
         self.map.remove(key)
     }
 
-    fn wrong(key: &str, want: &str, got: &Value) -> String {
-        format!("key `{key}` holds a {}, expected a {want}", got.kind())
+    fn wrong(key: &str, want: &'static str, got: &Value) -> RecordError {
+        RecordError::WrongKind {
+            key: key.to_string(),
+            got: got.kind(),
+            want,
+        }
     }
 
-    fn missing(key: &str) -> String {
-        format!("key `{key}` is missing")
+    fn missing(key: &str) -> RecordError {
+        RecordError::Missing(key.to_string())
+    }
+
+    fn length(key: &str, got: usize, want: usize) -> RecordError {
+        RecordError::Length {
+            key: key.to_string(),
+            got,
+            want,
+        }
     }
 
     /// True when `key` is present (not taken).
@@ -126,7 +206,7 @@ impl RecordReader {
     }
 
     /// Optional text.
-    pub fn opt_text(&mut self, key: &str) -> Result<Option<String>, String> {
+    pub fn opt_text(&mut self, key: &str) -> Result<Option<String>, RecordError> {
         match self.take(key) {
             None => Ok(None),
             Some(Value::Text(s)) => Ok(Some(s)),
@@ -134,11 +214,11 @@ impl RecordReader {
         }
     }
     /// Mandatory text.
-    pub fn text(&mut self, key: &str) -> Result<String, String> {
+    pub fn text(&mut self, key: &str) -> Result<String, RecordError> {
         self.opt_text(key)?.ok_or_else(|| Self::missing(key))
     }
     /// Optional float.
-    pub fn opt_real(&mut self, key: &str) -> Result<Option<f64>, String> {
+    pub fn opt_real(&mut self, key: &str) -> Result<Option<f64>, RecordError> {
         match self.take(key) {
             None => Ok(None),
             Some(Value::Real(x)) => Ok(Some(x)),
@@ -146,11 +226,11 @@ impl RecordReader {
         }
     }
     /// Mandatory float.
-    pub fn real(&mut self, key: &str) -> Result<f64, String> {
+    pub fn real(&mut self, key: &str) -> Result<f64, RecordError> {
         self.opt_real(key)?.ok_or_else(|| Self::missing(key))
     }
     /// Optional integer.
-    pub fn opt_int(&mut self, key: &str) -> Result<Option<u64>, String> {
+    pub fn opt_int(&mut self, key: &str) -> Result<Option<u64>, RecordError> {
         match self.take(key) {
             None => Ok(None),
             Some(Value::Int(x)) => Ok(Some(x)),
@@ -158,27 +238,24 @@ impl RecordReader {
         }
     }
     /// Mandatory integer.
-    pub fn int(&mut self, key: &str) -> Result<u64, String> {
+    pub fn int(&mut self, key: &str) -> Result<u64, RecordError> {
         self.opt_int(key)?.ok_or_else(|| Self::missing(key))
     }
     /// Optional float array of length `len`.
-    pub fn opt_reals(&mut self, key: &str, len: usize) -> Result<Option<Vec<f64>>, String> {
+    pub fn opt_reals(&mut self, key: &str, len: usize) -> Result<Option<Vec<f64>>, RecordError> {
         match self.take(key) {
             None => Ok(None),
             Some(Value::Reals(x)) if x.len() == len => Ok(Some(x)),
-            Some(Value::Reals(x)) => Err(format!(
-                "key `{key}` holds {} values, expected {len}",
-                x.len()
-            )),
+            Some(Value::Reals(x)) => Err(Self::length(key, x.len(), len)),
             Some(v) => Err(Self::wrong(key, "real array", &v)),
         }
     }
     /// Mandatory float array of length `len`.
-    pub fn reals(&mut self, key: &str, len: usize) -> Result<Vec<f64>, String> {
+    pub fn reals(&mut self, key: &str, len: usize) -> Result<Vec<f64>, RecordError> {
         self.opt_reals(key, len)?.ok_or_else(|| Self::missing(key))
     }
     /// Mandatory float array of any length.
-    pub fn reals_any(&mut self, key: &str) -> Result<Vec<f64>, String> {
+    pub fn reals_any(&mut self, key: &str) -> Result<Vec<f64>, RecordError> {
         match self.take(key) {
             None => Err(Self::missing(key)),
             Some(Value::Reals(x)) => Ok(x),
@@ -186,7 +263,7 @@ impl RecordReader {
         }
     }
     /// Optional integer array (any length).
-    pub fn opt_ints(&mut self, key: &str) -> Result<Option<Vec<u64>>, String> {
+    pub fn opt_ints(&mut self, key: &str) -> Result<Option<Vec<u64>>, RecordError> {
         match self.take(key) {
             None => Ok(None),
             Some(Value::Ints(x)) => Ok(Some(x)),
@@ -198,30 +275,23 @@ impl RecordReader {
         &mut self,
         key: &str,
         len: usize,
-    ) -> Result<Option<Vec<Option<f64>>>, String> {
+    ) -> Result<Option<Vec<Option<f64>>>, RecordError> {
         match self.take(key) {
             None => Ok(None),
             Some(Value::OptReals(x)) if x.len() == len => Ok(Some(x)),
-            Some(Value::OptReals(x)) => Err(format!(
-                "key `{key}` holds {} values, expected {len}",
-                x.len()
-            )),
+            Some(Value::OptReals(x)) => Err(Self::length(key, x.len(), len)),
             Some(v) => Err(Self::wrong(key, "optional-real array", &v)),
         }
     }
 
     /// Errors when keys are left over (written by a newer beadchain, or damaged).
-    pub fn finish(self) -> Result<(), String> {
+    pub fn finish(self) -> Result<(), RecordError> {
         match self.map.keys().next() {
             None => Ok(()),
-            Some(k) => Err(format!(
-                "unknown key `{k}` (written by a newer beadchain?){}",
-                if self.map.len() > 1 {
-                    format!(" and {} more", self.map.len() - 1)
-                } else {
-                    String::new()
-                }
-            )),
+            Some(k) => Err(RecordError::Unknown {
+                key: k.clone(),
+                more: self.map.len() - 1,
+            }),
         }
     }
 }
@@ -232,15 +302,16 @@ pub fn pick<T: Copy>(
     got: &str,
     all: &[T],
     name: impl Fn(T) -> &'static str,
-) -> Result<T, String> {
+) -> Result<T, RecordError> {
     all.iter()
         .copied()
         .find(|&x| name(x) == got)
         .ok_or_else(|| {
             let names: Vec<_> = all.iter().map(|&x| name(x)).collect();
-            format!(
-                "key `{key}` = `{got}`, expected one of {}",
-                names.join(", ")
-            )
+            RecordError::Choice {
+                key: key.to_string(),
+                got: got.to_string(),
+                choices: names.join(", "),
+            }
         })
 }

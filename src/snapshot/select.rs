@@ -2,7 +2,7 @@
 //! settings in [`crate::scene::selection`], whose docs give the grammar and the frame layout),
 //! and the checks readers make on it.
 
-pub use crate::scene::selection::{parse_beads, Fields, Selection};
+pub use crate::scene::selection::{parse_beads, Fields, Selection, SelectionError};
 
 use super::{Snapshot, SnapshotError};
 

@@ -352,7 +352,10 @@ fn frame_len(path: &Path, header: &Header) -> Result<u64, SnapshotError> {
         section: "HEADER",
         detail,
     };
-    header.output.check(header.n_beads).map_err(bad)?;
+    header
+        .output
+        .check(header.n_beads)
+        .map_err(|e| bad(e.to_string()))?;
     (header
         .output
         .frame_payload_len(header.n_beads, FORMAT_VERSION))

@@ -60,12 +60,23 @@ pub fn field(s: &str) -> String {
     }
 }
 
+/// Why a CSV line cannot be split into fields.
+#[derive(Debug, thiserror::Error)]
+pub enum FieldsError {
+    /// An odd number of quotes.
+    #[error("unterminated quoted field")]
+    Unterminated,
+    /// The CSV reader's error.
+    #[error(transparent)]
+    Csv(::csv::Error),
+}
+
 /// Splits one CSV line into fields (inverse of [`field`]), by the `csv` crate's RFC 4180
 /// reader, as [`crate::plot::csvtable`] reads tables. A quote left open is an error (the reader
 /// itself would take the rest of the line into the field).
-pub fn split_fields(line: &str) -> Result<Vec<String>, String> {
+pub fn split_fields(line: &str) -> Result<Vec<String>, FieldsError> {
     if line.bytes().filter(|&b| b == b'"').count() % 2 == 1 {
-        return Err("unterminated quoted field".into());
+        return Err(FieldsError::Unterminated);
     }
     let mut reader = ::csv::ReaderBuilder::new()
         .has_headers(false)
@@ -75,7 +86,7 @@ pub fn split_fields(line: &str) -> Result<Vec<String>, String> {
     match reader.read_record(&mut record) {
         Ok(true) => Ok(record.iter().map(String::from).collect()),
         Ok(false) => Ok(vec![String::new()]),
-        Err(e) => Err(e.to_string()),
+        Err(e) => Err(FieldsError::Csv(e)),
     }
 }
 
@@ -223,11 +234,13 @@ pub fn read_result(path: &Path, partial: bool) -> Result<ResultFile, SweepError>
         .next()
         .ok_or_else(|| bad(head, "missing the column header".into()))?
         .to_string();
-    let ncol = split_fields(&columns).map_err(|m| bad(head, m))?.len();
+    let ncol = split_fields(&columns)
+        .map_err(|m| bad(head, m.to_string()))?
+        .len();
     let mut rows = BTreeMap::new();
     for (i, l) in lines.enumerate() {
         let ln = i + head + 1;
-        let f = split_fields(l).map_err(|m| bad(ln, m))?;
+        let f = split_fields(l).map_err(|m| bad(ln, m.to_string()))?;
         if f.len() != ncol {
             return Err(bad(
                 ln,

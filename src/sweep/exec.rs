@@ -13,7 +13,7 @@ use super::{Decay, SweepError, SweepSpec};
 use crate::analysis::{
     energy_split, fit_exponential, fragmentation, AnalysisError, ExpFit, SteadyStateStop,
 };
-use crate::engine::{self, Observer, RunConfig};
+use crate::engine::{self, EngineError, Observer, RunConfig};
 use crate::experiments::paper::Watch;
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -118,10 +118,24 @@ pub struct Measured {
     pub fragments: Option<usize>,
 }
 
+/// Why a sweep point could not be run at all (the `error: ...` of its row).
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The run's scene was rejected.
+    #[error(transparent)]
+    Scene(#[from] SweepError),
+    /// The engine failed.
+    #[error(transparent)]
+    Engine(#[from] EngineError),
+    /// The run panicked (the panic message).
+    #[error("panic: {0}")]
+    Panic(String),
+}
+
 /// Runs one sweep point: `Ok(measured, problem)` (a measure that failed is reported as the
 /// problem, with the other columns kept), `Err` when the run could not be done at all.
-pub fn run_one(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<String>), String> {
-    let scene = spec.scene_for(run).map_err(|e| e.to_string())?;
+pub fn run_one(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<String>), RunError> {
+    let scene = spec.scene_for(run)?;
     let cfg = RunConfig::from_scene(&scene);
     let n = scene.chain.len();
     let m = &spec.measure;
@@ -150,7 +164,7 @@ pub fn run_one(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<Str
             out.events = Some(o.events_total());
             (o.u, o.v)
         }
-        Err(e) => return Err(e.to_string()),
+        Err(e) => return Err(e.into()),
     };
     let mut problem = None;
     if let Some(k) = m.interface {
@@ -192,10 +206,10 @@ fn decay_fit(watch: &Watch, d: &Decay) -> Result<ExpFit, AnalysisError> {
 }
 
 /// The CSV row of a run (without newline).
-pub fn format_row(
+pub fn format_row<E: std::fmt::Display>(
     spec: &SweepSpec,
     run: &RunPoint,
-    result: &Result<(Measured, Option<String>), String>,
+    result: &Result<(Measured, Option<String>), E>,
     wall: Option<f64>,
 ) -> String {
     let mut f = run.fields(spec);
@@ -443,7 +457,7 @@ fn open_append(partial: &Path) -> Result<std::fs::File, SweepError> {
 }
 
 /// [`run_one`], with a panic turned into the run's error (`panic: MESSAGE`).
-fn run_caught(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<String>), String> {
+fn run_caught(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<String>), RunError> {
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_one(spec, run))).unwrap_or_else(
         |p| {
             let msg = p
@@ -451,7 +465,7 @@ fn run_caught(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<Stri
                 .cloned()
                 .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
                 .unwrap_or_default();
-            Err(format!("panic: {msg}"))
+            Err(RunError::Panic(msg))
         },
     )
 }
@@ -506,9 +520,9 @@ fn check_partial(
             return Err(bad(0, format!("run {i} is not a run of this sweep/shard")));
         };
         let run = &mine[pos];
-        let fields = csv::split_fields(row).map_err(|m| bad(0, m))?;
+        let fields = csv::split_fields(row).map_err(|m| bad(0, m.to_string()))?;
         let expect = format_row(spec, run, &Err(String::new()), None);
-        let expect = csv::split_fields(&expect).map_err(|m| bad(0, m))?;
+        let expect = csv::split_fields(&expect).map_err(|m| bad(0, m.to_string()))?;
         if fields[1..=np] != expect[1..=np] {
             return Err(bad(
                 0,

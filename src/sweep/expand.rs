@@ -135,7 +135,7 @@ impl SweepSpec {
                     format!("\"{k}\"")
                 },
                 message: if in_set {
-                    m
+                    m.to_string()
                 } else {
                     format!("run {} ({}): {m}", run.index, run.describe())
                 },
@@ -260,12 +260,100 @@ pub enum TableError {
     Scene(scene::SceneError),
 }
 
+/// Why a dotted key cannot be written into a scene table ([`set_key`]); names the part walked.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum SetKeyError {
+    /// An empty key.
+    #[error("empty key")]
+    Empty,
+    /// The key walks into a value that is not a table.
+    #[error("the base scene's `{walked}` is {kind}, not a table")]
+    NotTable {
+        /// The key parts walked so far.
+        walked: String,
+        /// What the value is (`an integer`, …).
+        kind: &'static str,
+    },
+    /// An array entry's table lacks the part.
+    #[error("no `{walked}.{part}`")]
+    Missing {
+        /// The key parts walked so far.
+        walked: String,
+        /// The part not found.
+        part: String,
+    },
+    /// A non-numeric part into an array.
+    #[error("`{walked}` is an array: `{part}` must be an index")]
+    NotIndex {
+        /// The key parts walked so far (the array).
+        walked: String,
+        /// The part given.
+        part: String,
+    },
+    /// An array index beyond the array.
+    #[error("`{walked}` has {len} entries, index {index} is out of range")]
+    OutOfRange {
+        /// The key parts walked so far (the array).
+        walked: String,
+        /// Entries of the array.
+        len: usize,
+        /// The index given.
+        index: usize,
+    },
+    /// The key walks into a value that is neither a table nor an array.
+    #[error("the base scene's `{walked}` is {kind}, not a table or array")]
+    NotContainer {
+        /// The key parts walked so far.
+        walked: String,
+        /// What the value is.
+        kind: &'static str,
+    },
+}
+
+/// Why [`override_scene`] refused: one line naming the key, or the overrides and the scene
+/// error.
+#[derive(Debug, thiserror::Error)]
+pub enum OverrideError {
+    /// A key that is not a dotted scene key.
+    #[error("\"{key}\": {message}")]
+    KeyShape {
+        /// The key.
+        key: String,
+        /// Why (see [`key_shape_error`]).
+        message: String,
+    },
+    /// A key that cannot be written into the base scene.
+    #[error("\"{key}\": {source}")]
+    Set {
+        /// The key.
+        key: String,
+        /// Why.
+        source: SetKeyError,
+    },
+    /// The scene could not be written as TOML.
+    #[error("({params}): {message}")]
+    Toml {
+        /// The overrides, `key=value` comma-separated.
+        params: String,
+        /// The message.
+        message: String,
+    },
+    /// The scene parser or validator rejected the scene.
+    #[error("({params}): {source}")]
+    Scene {
+        /// The overrides, `key=value` comma-separated.
+        params: String,
+        /// The scene error.
+        source: Box<scene::SceneError>,
+    },
+}
+
 /// Writes the dotted-key `overrides` into a copy of `base`, in order, as [`set_key`]: what a
 /// sweep does for each run. The first key that cannot be written gives `(key, reason)`.
 pub fn write_overrides<'a>(
     base: &Table,
     overrides: impl IntoIterator<Item = &'a (String, Value)>,
-) -> Result<Table, (&'a str, String)> {
+) -> Result<Table, (&'a str, SetKeyError)> {
     let mut t = base.clone();
     for (k, v) in overrides {
         set_key(&mut t, k, v.clone()).map_err(|m| (k.as_str(), m))?;
@@ -311,30 +399,42 @@ pub fn override_scene(
     base_dir: &Path,
     origin: &str,
     name: &str,
-) -> Result<(Scene, String), String> {
+) -> Result<(Scene, String), OverrideError> {
     for (k, _) in overrides {
-        if let Some(m) = key_shape_error(k) {
-            return Err(format!("\"{k}\": {m}"));
+        if let Some(message) = key_shape_error(k) {
+            return Err(OverrideError::KeyShape {
+                key: k.clone(),
+                message,
+            });
         }
     }
-    let t = write_overrides(base, overrides).map_err(|(k, m)| format!("\"{k}\": {m}"))?;
+    let t = write_overrides(base, overrides).map_err(|(k, source)| OverrideError::Set {
+        key: k.to_string(),
+        source,
+    })?;
     let describe = RunPoint {
         index: 0,
         params: overrides.to_vec(),
     }
     .describe();
     let scene = parse_table(&t, base_dir, origin, name).map_err(|e| match e {
-        TableError::Toml(m) => format!("({describe}): {m}"),
-        TableError::Scene(s) => format!("({describe}): {s}"),
+        TableError::Toml(message) => OverrideError::Toml {
+            params: describe,
+            message,
+        },
+        TableError::Scene(source) => OverrideError::Scene {
+            params: describe,
+            source: Box::new(source),
+        },
     })?;
     Ok((scene, toml::to_string(&t).unwrap_or_default()))
 }
 
 /// Writes `value` at the dotted `key` of `root`: parts walk into tables (created when missing)
 /// and numeric parts index arrays.
-pub fn set_key(root: &mut Table, key: &str, value: Value) -> Result<(), String> {
+pub fn set_key(root: &mut Table, key: &str, value: Value) -> Result<(), SetKeyError> {
     let parts: Vec<&str> = key.split('.').collect();
-    let (last, path) = parts.split_last().ok_or_else(|| "empty key".to_string())?;
+    let (last, path) = parts.split_last().ok_or(SetKeyError::Empty)?;
     let mut cur: &mut Value = root
         .entry(parts[0].to_string())
         .or_insert_with(|| Value::Table(Table::new()));
@@ -353,10 +453,10 @@ pub fn set_key(root: &mut Table, key: &str, value: Value) -> Result<(), String> 
             *slot = value;
             Ok(())
         }
-        other => Err(format!(
-            "the base scene's `{walked}` is {}, not a table",
-            super::type_name(other)
-        )),
+        other => Err(SetKeyError::NotTable {
+            walked,
+            kind: super::type_name(other),
+        }),
     }
 }
 
@@ -365,28 +465,35 @@ fn step<'a>(
     p: &str,
     walked: &str,
     create: bool,
-) -> Result<&'a mut Value, String> {
+) -> Result<&'a mut Value, SetKeyError> {
     match cur {
         Value::Table(t) => {
             if create {
                 Ok(t.entry(p.to_string())
                     .or_insert_with(|| Value::Table(Table::new())))
             } else {
-                t.get_mut(p).ok_or_else(|| format!("no `{walked}.{p}`"))
+                t.get_mut(p).ok_or_else(|| SetKeyError::Missing {
+                    walked: walked.to_string(),
+                    part: p.to_string(),
+                })
             }
         }
         Value::Array(a) => {
             let len = a.len();
-            let i: usize = p
-                .parse()
-                .map_err(|_| format!("`{walked}` is an array: `{p}` must be an index"))?;
-            a.get_mut(i)
-                .ok_or_else(|| format!("`{walked}` has {len} entries, index {i} is out of range"))
+            let i: usize = p.parse().map_err(|_| SetKeyError::NotIndex {
+                walked: walked.to_string(),
+                part: p.to_string(),
+            })?;
+            a.get_mut(i).ok_or_else(|| SetKeyError::OutOfRange {
+                walked: walked.to_string(),
+                len,
+                index: i,
+            })
         }
-        other => Err(format!(
-            "the base scene's `{walked}` is {}, not a table or array",
-            super::type_name(other)
-        )),
+        other => Err(SetKeyError::NotContainer {
+            walked: walked.to_string(),
+            kind: super::type_name(other),
+        }),
     }
 }
 

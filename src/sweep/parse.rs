@@ -225,22 +225,44 @@ fn check_claims(
     Ok(())
 }
 
+/// Why the base scene of a sweep cannot be had.
+#[derive(Debug, thiserror::Error)]
+enum BaseSceneError {
+    /// The scene file exists but cannot be read.
+    #[error("cannot read {}: {source}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// Neither a file nor a preset.
+    #[error("no scene file {} and no preset of that name{hint}", path.display())]
+    NotFound {
+        /// The path tried.
+        path: PathBuf,
+        /// A "did you mean" hint (may be empty).
+        hint: String,
+    },
+}
+
 /// TOML text and base directory of the base scene: a file relative to `dir`, else a preset.
-fn base_scene(spec: &str, dir: &Path) -> Result<(String, PathBuf), String> {
+fn base_scene(spec: &str, dir: &Path) -> Result<(String, PathBuf), BaseSceneError> {
     let path = dir.join(spec);
     if path.is_file() {
-        let text = crate::files::read_text(&path)
-            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+        let text = crate::files::read_text(&path).map_err(|source| BaseSceneError::Read {
+            path: path.clone(),
+            source,
+        })?;
         let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
         return Ok((text, base));
     }
     match presets::presets().iter().find(|p| p.name == spec) {
         Some(p) => Ok((p.toml.to_string(), PathBuf::from("."))),
-        None => Err(format!(
-            "no scene file {} and no preset of that name{}",
-            path.display(),
-            crate::suggest::preset_hint(spec)
-        )),
+        None => Err(BaseSceneError::NotFound {
+            hint: crate::suggest::preset_hint(spec),
+            path,
+        }),
     }
 }
 

@@ -90,7 +90,7 @@ pub(super) fn check_scan_against_event_index(
 ) -> Result<(), SnapshotError> {
     let n = payload.len();
     let ok = n >= 8
-        && n % 8 == 0
+        && n.is_multiple_of(8)
         && le_u64(payload, 0) == c.event_blocks.len() as u64
         && (n - 8) / 8 == c.event_blocks.len()
         && c.event_blocks
@@ -121,7 +121,7 @@ pub(super) fn read_block(
     events: &mut Vec<EventRecord>,
 ) -> Result<(), SnapshotError> {
     if payload.len() < 8 {
-        return Err(raw.corrupt(name, at, "payload shorter than its first index".into()));
+        return Err(raw.corrupt(name, at, "payload shorter than its first index"));
     }
     let first = le_u64(payload, 0);
     if first != events.len() as u64 {

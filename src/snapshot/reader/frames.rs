@@ -117,7 +117,7 @@ pub(super) fn check_scan_against_index(
     let len = payload.len() as u64;
     let count = if len >= 24 { le_u64(payload, 0) } else { 0 };
     if len < 24 || count.checked_mul(16).and_then(|x| x.checked_add(24)) != Some(len) {
-        return Err(raw.corrupt("INDEX", pos, "malformed INDEX payload".into()));
+        return Err(raw.corrupt("INDEX", pos, "malformed INDEX payload"));
     }
     let count = count as usize;
     let listed = (0..count).map(|i| le_u64(payload, 24 + 8 * (count + i)));

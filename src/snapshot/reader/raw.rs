@@ -93,12 +93,17 @@ impl Raw {
         }
     }
 
-    pub(super) fn corrupt(&self, section: &str, offset: u64, detail: String) -> SnapshotError {
+    pub(super) fn corrupt(
+        &self,
+        section: &str,
+        offset: u64,
+        detail: impl std::fmt::Display,
+    ) -> SnapshotError {
         SnapshotError::Corrupt {
             path: self.path.clone(),
             section: section.to_string(),
             offset,
-            detail,
+            detail: detail.to_string(),
         }
     }
 

@@ -51,6 +51,54 @@ const RESOLVED: f64 = 1e-15;
 /// fraction of the peak (below it, the FFT's round-off floor).
 pub const SUPPORT_THRESHOLD: f64 = 1e-15;
 
+/// Why a solitary wave cannot be computed or placed (one line).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SolitaryError {
+    /// `n <= 2` (or not finite): no solitary wave.
+    #[error("solitary waves need a contact exponent n > 2 (got n = {0})")]
+    Exponent(f64),
+    /// The profile did not converge to round-off.
+    #[error(
+        "the solitary-wave profile for n = {n} did not converge (residual {residual:.1e}, \
+         spectral tail {tail:.1e}, support ±{support} of period {period})"
+    )]
+    NotConverged {
+        /// Contact exponent.
+        n: f64,
+        /// Residual of the last profile.
+        residual: f64,
+        /// Its spectral tail.
+        tail: f64,
+        /// Its support (beads).
+        support: usize,
+        /// Its period (beads).
+        period: usize,
+    },
+    /// A peak velocity that is not positive and finite.
+    #[error("the peak velocity must be > 0 (got {0})")]
+    PeakVelocity(f64),
+    /// An energy that is not positive and finite.
+    #[error("the energy must be > 0 (got {0})")]
+    Energy(f64),
+    /// The support does not fit in the chain.
+    #[error(
+        "the wave needs beads {first}..={last} around its centre (support ±{support} beads for \
+         n = {n}), but the chain has beads 0..={chain_last}"
+    )]
+    DoesNotFit {
+        /// First bead needed (may be negative).
+        first: i64,
+        /// Last bead needed.
+        last: usize,
+        /// Support (beads each side).
+        support: usize,
+        /// Contact exponent.
+        n: f64,
+        /// Last bead of the chain.
+        chain_last: usize,
+    },
+}
+
 /// The profile of the scaled equation `S = K ∗ S^p` for one exponent `n`.
 #[derive(Clone, Debug)]
 pub struct UnitProfile {
@@ -82,11 +130,9 @@ impl UnitProfile {
     /// Solves `S = K ∗ S^p` to round-off; the grid refines until it resolves `S^p`, the period
     /// doubles until the support fits in a quarter of it. Fails for `n ≤ 2` (no solitary wave:
     /// linear or sublinear force) and where that does not converge to round-off.
-    pub fn compute(n: f64) -> Result<Self, String> {
+    pub fn compute(n: f64) -> Result<Self, SolitaryError> {
         if !(n.is_finite() && n > 2.0) {
-            return Err(format!(
-                "solitary waves need a contact exponent n > 2 (got n = {n})"
-            ));
+            return Err(SolitaryError::Exponent(n));
         }
         let (mut period, mut per_bead) = (32, PER_BEAD);
         loop {
@@ -96,11 +142,13 @@ impl UnitProfile {
             } else if 4 * p.support > period && period * per_bead < MAX_GRID {
                 period *= 2;
             } else if p.residual > 1e-13 || p.tail > RESOLVED || 4 * p.support > period {
-                return Err(format!(
-                    "the solitary-wave profile for n = {n} did not converge (residual {:.1e}, \
-                     spectral tail {:.1e}, support ±{} of period {})",
-                    p.residual, p.tail, p.support, p.period
-                ));
+                return Err(SolitaryError::NotConverged {
+                    n,
+                    residual: p.residual,
+                    tail: p.tail,
+                    support: p.support,
+                    period: p.period,
+                });
             } else {
                 return Ok(p);
             }

@@ -95,7 +95,7 @@ fn placement_builds_the_overlaps() {
         assert_eq!(vl[at + x], -v[at - x], "bead {}", at + x);
     }
     // Too close to an end: refused with the beads it needs.
-    let e = w.place(3, Direction::Right, nb).unwrap_err();
+    let e = w.place(3, Direction::Right, nb).unwrap_err().to_string();
     assert!(e.contains("needs beads"), "{e}");
 }
 

@@ -1,7 +1,7 @@
 //! A solitary wave of given peak velocity (or energy) on a uniform chain (mass `m`, prefactor
 //! `a`), and its placement on a chain: the formulas are in the parent module's docs.
 
-use super::UnitProfile;
+use super::{SolitaryError, UnitProfile};
 use std::ops::RangeInclusive;
 
 /// Direction of travel.
@@ -37,9 +37,9 @@ impl Wave {
         mass: f64,
         prefactor: f64,
         v_m: f64,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, SolitaryError> {
         if !(v_m.is_finite() && v_m > 0.0) {
-            return Err(format!("the peak velocity must be > 0 (got {v_m})"));
+            return Err(SolitaryError::PeakVelocity(v_m));
         }
         let n = profile.exponent;
         let wm = profile.w_at(0.5);
@@ -63,9 +63,9 @@ impl Wave {
         mass: f64,
         prefactor: f64,
         energy: f64,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, SolitaryError> {
         if !(energy.is_finite() && energy > 0.0) {
-            return Err(format!("the energy must be > 0 (got {energy})"));
+            return Err(SolitaryError::Energy(energy));
         }
         let v_m = (energy / (profile.energy_constant() * mass)).sqrt();
         Self::with_peak_velocity(profile, mass, prefactor, v_m)
@@ -100,17 +100,16 @@ impl Wave {
 
     /// The beads `u`, `v` of the wave centred at bead `at` of a chain of `nb` beads; fails where
     /// the support (and the contacts on its two sides) does not fit in the chain.
-    pub fn place(&self, at: usize, dir: Direction, nb: usize) -> Result<Placement, String> {
+    pub fn place(&self, at: usize, dir: Direction, nb: usize) -> Result<Placement, SolitaryError> {
         let b = self.profile.support;
         if at < b + 1 || at + b + 2 > nb {
-            return Err(format!(
-                "the wave needs beads {}..={} around its centre (support ±{b} beads for n = {}), \
-                 but the chain has beads 0..={}",
-                at as i64 - b as i64 - 1,
-                at + b + 1,
-                self.exponent(),
-                nb - 1
-            ));
+            return Err(SolitaryError::DoesNotFit {
+                first: at as i64 - b as i64 - 1,
+                last: at + b + 1,
+                support: b,
+                n: self.exponent(),
+                chain_last: nb - 1,
+            });
         }
         let (lo, hi) = (at - b, at + b);
         // Right-moving: u_k = Σ_{j=k}^{hi} r_j (beads ahead unshifted), D for the beads behind.
