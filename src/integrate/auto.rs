@@ -390,6 +390,18 @@ mod tests {
     use crate::integrate::test_util::{striker, uniform_chain};
     use crate::integrate::ChainRange;
 
+    /// The tolerances of these tests: `rtol`, `atol` on the chain's scales in the lab frame.
+    fn tol_of(chain: &crate::model::Chain, u: &[f64], v: &[f64], atol: f64) -> Tolerances {
+        Tolerances {
+            rtol: 1e-8,
+            atol,
+            scales: chain.scales(u, v),
+            v_frame: 0.0,
+            u_origin: 0.0,
+            dissipation: Default::default(),
+        }
+    }
+
     /// Radau IIA is built at the first switch to it, not with the integrator (a hybrid run
     /// makes one integrator per cluster; building Radau IIA for each was ~10 % of a 1000-bead
     /// striker run): explicit steps never build it, a switch does (here forced, as the
@@ -399,14 +411,7 @@ mod tests {
     fn radau_is_built_at_the_first_switch_only() {
         let chain = uniform_chain(6);
         let (u, v) = striker(6, 1.0);
-        let tol = Tolerances {
-            rtol: 1e-8,
-            atol: 1e-10,
-            scales: chain.scales(&u, &v),
-            v_frame: 0.0,
-            u_origin: 0.0,
-            dissipation: Default::default(),
-        };
+        let tol = tol_of(&chain, &u, &v, 1e-10);
         let sys = ChainRange::whole(&chain);
         let mut a = Auto::new(6, tol, SolverKind::Auto, false);
         a.reset(&sys, 0.0, &u, &v);
@@ -435,19 +440,11 @@ mod tests {
     /// zeros before the first step) and take bit-identical steps.
     #[test]
     fn renewed_integrator_is_bit_identical_to_a_new_one() {
-        let tol_of = |chain: &crate::model::Chain, u: &[f64], v: &[f64]| Tolerances {
-            rtol: 1e-8,
-            atol: 1e-12,
-            scales: chain.scales(u, v),
-            v_frame: 0.0,
-            u_origin: 0.0,
-            dissipation: Default::default(),
-        };
         let (chain6, chain4) = (uniform_chain(6), uniform_chain(4));
         let (u6, v6) = striker(6, 1.0);
         let (u4, v4) = striker(4, 0.7);
         let (sys6, sys4) = (ChainRange::whole(&chain6), ChainRange::whole(&chain4));
-        let mut a = Auto::new(6, tol_of(&chain6, &u6, &v6), SolverKind::Auto, false);
+        let mut a = Auto::new(6, tol_of(&chain6, &u6, &v6, 1e-12), SolverKind::Auto, false);
         a.reset(&sys6, 0.0, &u6, &v6);
         for _ in 0..20 {
             a.step(&sys6, 1e4).expect("steps");
@@ -455,7 +452,7 @@ mod tests {
         a.mode.pending = true;
         a.step(&sys6, 1e4).expect("steps");
         assert!(a.mode.implicit);
-        let tol4 = tol_of(&chain4, &u4, &v4);
+        let tol4 = tol_of(&chain4, &u4, &v4, 1e-12);
         assert!(a.renew(4, tol4));
         let mut b = Auto::new(4, tol4, SolverKind::Auto, false);
         a.reset(&sys4, 0.5, &u4, &v4);
@@ -476,20 +473,13 @@ mod tests {
     /// exact pair; each refusal names both methods (the pair's state used to call itself
     /// "auto") and leaves the integrator unchanged.
     #[test]
-    fn exact_pair_and_integrator_states_do_not_cross() {
+    fn exact_pair_state_is_refused_by_its_own_name_not_as_auto() {
         use crate::integrate::exact_pair::{ExactPair, PairLaw};
         use crate::model::profile::Profile;
         use std::rc::Rc;
         let chain = uniform_chain(2);
         let (u, v) = striker(2, 1.0);
-        let tol = Tolerances {
-            rtol: 1e-8,
-            atol: 1e-12,
-            scales: chain.scales(&u, &v),
-            v_frame: 0.0,
-            u_origin: 0.0,
-            dissipation: Default::default(),
-        };
+        let tol = tol_of(&chain, &u, &v, 1e-12);
         let sys = ChainRange::whole(&chain);
         let law = PairLaw {
             mass: [1.0, 1.0],
