@@ -255,7 +255,7 @@ impl Integrator for Auto {
         self.active_mut().set_step_size(h);
     }
 
-    fn set_rough(&mut self, rough: bool) {
+    fn set_rough(&mut self, rough: super::Rough) {
         self.dop.set_rough(rough);
     }
 

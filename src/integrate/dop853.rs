@@ -27,6 +27,11 @@
 //!   error estimate is mostly rounding noise when it is very short).
 //! - A step marked rough ([`Integrator::set_rough`]: at a kink of the right-hand side, where
 //!   the combined estimate's smoothness assumption fails) needs `e5 ≤ 1` too (hybrid `kinks`).
+//!   A rejected step that starts at the onset of a contact force `a δ₊ⁿ` ([`Rough::Onset`])
+//!   shrinks by `0.9·err^{−1/n}` (factors down to 0.01): its error grows like `hⁿ`
+//!   (measured on a chain with gaps of 0.1, n = 2.5: `err` 75, 15, 4.9, 2.3, 1.4 at `h` 3.6,
+//!   1.9, 1.2, 0.90, 0.73·10⁻³), so the smooth exponent `−1/8` took five rejections where
+//!   this takes one.
 //! - The three extra dense-output stages are evaluated eagerly after every accepted step (15
 //!   right-hand sides per accepted step, 12 per rejected one), because [`Integrator::dense`]
 //!   has no access to the system.
@@ -42,12 +47,18 @@ mod state;
 
 pub use state::Dop853State;
 
-use super::{IntegrationError, Integrator, IntegratorState, LoadError, Stats, System, Tolerances};
+use super::{
+    IntegrationError, Integrator, IntegratorState, LoadError, Rough, Stats, System, Tolerances,
+};
 
 /// Multiplier of the asymptotically optimal step.
 const SAFETY: f64 = 0.9;
 /// Smallest step-size factor after a rejection.
 const MIN_FACTOR: f64 = 0.2;
+/// Smallest step-size factor after a rejected step at a force's onset ([`Rough::Onset`]), whose
+/// error's order is known: the first step after a closing is typically `err ≈ 10²` from the
+/// tolerance, a factor `0.15` at `n = 2.5`.
+const MIN_ONSET_FACTOR: f64 = 0.01;
 /// Largest step-size factor after an acceptance.
 const MAX_FACTOR: f64 = 10.0;
 /// Step-size exponent `−1/(q+1)` for the error-estimator order `q = 7`.
@@ -90,7 +101,7 @@ pub struct Dop853 {
     /// The system is dissipative: `E_d` is an error-controlled component (set every step).
     damped: bool,
     /// Steps at a kink ([`Integrator::set_rough`]; set around steps, never saved).
-    rough: bool,
+    rough: Rough,
     stats: Stats,
     /// The stages packed by groups of 4 components for the stage sums of small states
     /// ([`packed`]; empty for longer ones).
@@ -148,7 +159,7 @@ impl Dop853 {
             pw: [0.0; N_MAIN],
             diss: (0.0, 0.0),
             damped: false,
-            rough: false,
+            rough: Rough::Smooth,
             stats: Stats::default(),
         }
     }
@@ -304,6 +315,9 @@ impl Dop853 {
             last_nonfinite = !err.is_finite();
             let factor = if last_nonfinite {
                 MIN_FACTOR
+            } else if let Rough::Onset(n) = self.rough {
+                // error ∝ hⁿ at a force's onset (`Rough::Onset`): one shrink to the tolerance
+                MIN_ONSET_FACTOR.max(SAFETY * err.powf(-1.0 / n))
             } else {
                 MIN_FACTOR.max(SAFETY * err.powf(ERROR_EXPONENT))
             };
@@ -353,7 +367,7 @@ impl Integrator for Dop853 {
         self.h = h;
     }
 
-    fn set_rough(&mut self, rough: bool) {
+    fn set_rough(&mut self, rough: Rough) {
         self.rough = rough;
     }
 

@@ -51,6 +51,23 @@ pub mod radau5;
 mod state;
 pub mod verlet;
 
+/// How the next steps of an integrator meet a kink of the right-hand side
+/// ([`Integrator::set_rough`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Rough {
+    /// No kink: the method's own error estimate.
+    #[default]
+    Smooth,
+    /// The steps end at, or are carried to, a kink: measured by an estimate that does not
+    /// assume a smooth solution.
+    Kink,
+    /// The steps start at the kink of a contact `V = a δⁿ` that has just closed (this `n`):
+    /// measured as [`Rough::Kink`], and their error grows like `hⁿ`, as the velocity change
+    /// `a w^{n−1} hⁿ/μ` of the onset force does (a closing at speed `w`), not like the
+    /// smooth `h⁸` of DOP853's estimator, so a rejected one is shrunk by `err^{−1/n}`.
+    Onset(f64),
+}
+
 pub use state::{check_lengths, IntegratorState, LoadError, MethodState, EXACT_NAME};
 
 use crate::linalg::SolverKind;
@@ -375,9 +392,11 @@ pub trait Integrator {
     /// Whether the next steps start or end at a kink of the right-hand side (a contact force
     /// `n a δ₊^{n−1}` at `δ = 0`), where the solution is not smooth: a method whose error
     /// estimate assumes a smooth solution then measures them by one that does not
-    /// ([`dop853`]: its 5th-order estimate too). Not part of the saved state: the caller sets
-    /// it before the steps and clears it after. Default: ignored.
-    fn set_rough(&mut self, _rough: bool) {}
+    /// ([`dop853`]: its 5th-order estimate too), and shrinks a rejected step that starts at
+    /// the onset of a force by the order the error has there ([`Rough::Onset`]). Not part of
+    /// the saved state: the caller sets it before the steps and resets it to
+    /// [`Rough::Smooth`] after. Default: ignored.
+    fn set_rough(&mut self, _rough: Rough) {}
     /// [`Integrator::reset`] then [`Integrator::set_step_size`]`(h)`, for a restart whose first
     /// step is known (the hybrid engine redoing a step to land on an event, a method switch):
     /// a method whose `reset` estimates a starting step skips that estimate (DOP853: one

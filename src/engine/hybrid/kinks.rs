@@ -38,6 +38,7 @@
 
 use super::cluster::Cluster;
 use super::Hybrid;
+use crate::integrate::Rough;
 
 /// Where a force has its kink.
 #[derive(Clone, Copy)]
@@ -99,23 +100,27 @@ impl Hybrid<'_> {
         first
     }
 
-    /// Is the next step of `cl`, of length `h` from its integrator's time `t`, rough (module
-    /// docs, case 2)? A soft contact or wall at its kink at `t` ([`Self::rough_at`]), or one the
-    /// quadratic `δ + δ̇τ + δ̈τ²/2` (from the state and the `f(z)` the method holds) carries
-    /// from `δ > θ` to within `θ` of its kink within the step (a step bounded by a predicted
-    /// opening), at the rate `|δ̇ + δ̈τ|` it arrives with.
-    pub(super) fn rough_step(&self, cl: &Cluster, h: f64) -> bool {
+    /// How the next step of `cl`, of length `h` from its integrator's time `t`, meets a kink
+    /// (module docs, case 2): [`Rough::Onset`] of the smallest exponent among the soft
+    /// contacts or walls at their kink at `t` that are closing (`δ̇ > 0`: a merge's new
+    /// contact, whose force sets in over the step); [`Rough::Kink`] where one is at its kink
+    /// otherwise ([`Self::rough_at`]), or the quadratic `δ + δ̇τ + δ̈τ²/2` (from the state and the
+    /// `f(z)` the method holds) carries one from `δ > θ` to within `θ` of its kink within the
+    /// step (a step bounded by a predicted opening), at the rate `|δ̇ + δ̈τ|` it arrives with;
+    /// each only where the kink matters at the tolerance.
+    pub(super) fn rough_step(&self, cl: &Cluster, h: f64) -> Rough {
         if h.is_nan() || h <= 0.0 {
-            return false;
+            return Rough::Smooth;
         }
         let t = cl.integ.t();
         let (m, z) = (cl.m(), cl.integ.state());
         let f = cl.integ.rate();
         let theta = self.ctx.theta;
-        // (δ, δ̇, δ̈) at t → the rate at the kink, where the step starts or ends at one
-        let at_kink = |d: f64, dd: f64, ddd: Option<f64>| -> Option<f64> {
+        // (δ, δ̇, δ̈) at t → the rate at the kink and whether the force sets in at the step
+        // start, where the step starts or ends at one
+        let at_kink = |d: f64, dd: f64, ddd: Option<f64>| -> Option<(f64, bool)> {
             if d.abs() <= theta.max(MIN_FRACTION * dd.abs() * h) {
-                return Some(dd.abs());
+                return Some((dd.abs(), dd > 0.0));
             }
             let ddd = ddd?;
             // cheap filter first: not closing in on θ within the step
@@ -123,9 +128,10 @@ impl Hybrid<'_> {
                 return None;
             }
             let tau = super::opening::reaches(d - theta, dd, ddd);
-            (tau <= h).then(|| (dd + ddd * tau).abs())
+            (tau <= h).then(|| ((dd + ddd * tau).abs(), false))
         };
-        self.soft_kinks(cl).any(|(kink, law, beads)| {
+        let mut rough = Rough::Smooth;
+        for (kink, law, beads) in self.soft_kinks(cl) {
             let (d, dd, ddd) = match kink {
                 Kink::Contact(c) => {
                     let k = c - cl.lo;
@@ -139,8 +145,20 @@ impl Hybrid<'_> {
                     (pre + s * cl.u_at(t, i), s * cl.v_at(t, i), ddd)
                 }
             };
-            at_kink(d, dd, ddd).is_some_and(|rate| self.kink_matters(cl, t, rate, law, h, beads))
-        })
+            let Some((rate, onset)) = at_kink(d, dd, ddd) else {
+                continue;
+            };
+            if !self.kink_matters(cl, t, rate, law, h, beads) {
+                continue;
+            }
+            rough = match rough {
+                Rough::Onset(n) if onset => Rough::Onset(n.min(law.0)),
+                Rough::Onset(n) => Rough::Onset(n),
+                _ if onset => Rough::Onset(law.0),
+                _ => Rough::Kink,
+            };
+        }
+        rough
     }
 
     /// Is a soft contact or wall of `cl` at its kink at `t` (the start of a step of length `h`,

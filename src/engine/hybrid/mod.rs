@@ -457,7 +457,7 @@ impl<'a> Hybrid<'a> {
             let t0 = cl.t_now;
             cl.integ.set_rough(rough);
             let t1 = cl.integ.step(&sys, bound);
-            cl.integ.set_rough(false);
+            cl.integ.set_rough(crate::integrate::Rough::Smooth);
             let t1 = t1?;
             cl.t_now = t1;
             (cl.lo, t0, t1)

@@ -6,7 +6,7 @@ use super::free::{first_upward_crossing, Free};
 use super::{prio, Hybrid, Key, FREE};
 use crate::engine::events::EventKind;
 use crate::engine::EngineError;
-use crate::integrate::Tolerances;
+use crate::integrate::{Rough, Tolerances};
 
 /// Integrators of removed clusters kept for reuse ([`Hybrid::recycle`]).
 const SPARE_INTEGRATORS: usize = 64;
@@ -267,7 +267,12 @@ impl Hybrid<'_> {
         // a redone step starts at a kink, or ends on the one it lands on (kinks module)
         let rough = {
             let cl = &self.clusters[slot];
-            self.rough_at(cl, t0, t - t0) || self.rough_at(cl, t, t - t0)
+            let kink = self.rough_at(cl, t0, t - t0) || self.rough_at(cl, t, t - t0);
+            if kink {
+                Rough::Kink
+            } else {
+                Rough::Smooth
+            }
         };
         let cl = &mut self.clusters[slot];
         let m = cl.m();
@@ -293,11 +298,11 @@ impl Hybrid<'_> {
         cl.integ.set_rough(rough);
         while cl.integ.t() < t {
             if let Err(e) = cl.integ.step(&sys, t) {
-                cl.integ.set_rough(false);
+                cl.integ.set_rough(Rough::Smooth);
                 return Err(e.into());
             }
         }
-        cl.integ.set_rough(false);
+        cl.integ.set_rough(Rough::Smooth);
         Ok(())
     }
 

@@ -135,7 +135,7 @@ impl Dop853 {
         }
         let (n5sq, n3sq) = (n5 * n5, n3 * n3);
         let err = h.abs() * n5sq / (n5sq + 0.01 * n3sq).sqrt();
-        if self.rough {
+        if self.rough != super::Rough::Smooth {
             // at a kink the 8th-order solution is no better than the 5th-order one
             err.max(h.abs() * n5)
         } else {

@@ -344,3 +344,37 @@ fn error_weights_are_nonzero_on_the_same_stages() {
         assert_eq!(E5[j] != 0.0, E3[j] != 0.0, "stage {j}");
     }
 }
+
+/// Regression (issue 33): a rejected step at the onset of a contact force shrank by the smooth
+/// exponent `err^{−1/8}`, although its error grows like `hⁿ` there, and took five rejections
+/// (each 12 right-hand sides) where one suffices: every closing of a chain with gaps of 0.1 paid
+/// them. Two beads that touch at `t = 0` (`δ = 0`) and close at speed 1 (n = 2.5), first step
+/// proposed at 0.01 (about 17× the longest step the tolerance allows there): marked
+/// [`Rough::Onset`] it is rejected once; marked [`Rough::Kink`] (the smooth exponent) at least
+/// three times. Either accepted step must agree with a tight run to its tolerance (abs 1e-7 on
+/// velocities of order 1, rtol 1e-8).
+#[test]
+fn onset_step_shrinks_by_its_own_order_not_the_smooth_one() {
+    let chain = uniform_chain(2);
+    let (u, v) = striker(2, 1.0);
+    let sys = ChainRange::whole(&chain);
+    let first_step = |rough: Rough| {
+        let mut ig = Dop853::new(2, tolerances(&chain, &u, &v, 1e-8, 1e-12));
+        ig.reset(&sys, 0.0, &u, &v);
+        ig.set_step_size(0.01);
+        ig.set_rough(rough);
+        let t1 = ig.step(&sys, 1.0).expect("step");
+        ig.set_rough(Rough::Smooth);
+        (t1, ig.state().to_vec(), ig.stats().rejected)
+    };
+    let (t_onset, z_onset, rej_onset) = first_step(Rough::Onset(2.5));
+    let (t_kink, z_kink, rej_kink) = first_step(Rough::Kink);
+    assert_eq!(rej_onset, 1, "onset-aware shrink: one rejection");
+    assert!(rej_kink >= 3, "smooth shrink: {rej_kink} rejections");
+    for (t1, z) in [(t_onset, z_onset), (t_kink, z_kink)] {
+        let tight = run(&chain, &u, &v, tolerances(&chain, &u, &v, 1e-13, 1e-15), t1);
+        for (a, b) in z[2..].iter().zip(&tight.state()[2..]) {
+            assert!((a - b).abs() <= 1e-7, "v {a} vs tight {b} at t = {t1}");
+        }
+    }
+}
