@@ -28,7 +28,7 @@
 //! - A step marked rough ([`Integrator::set_rough`]: at a kink of the right-hand side, where
 //!   the combined estimate's smoothness assumption fails) needs `e5 ≤ 1` too (hybrid `kinks`).
 //!   A rejected step that starts at the onset of a contact force `a δ₊ⁿ` ([`Rough::Onset`])
-//!   shrinks by `0.9·err^{−1/n}` (factors down to 0.01): its error grows like `hⁿ`
+//!   with `n < 8` shrinks by `0.9·err^{−1/n}` (factors down to 0.01): its error grows like `hⁿ`
 //!   (measured on a chain with gaps of 0.1, n = 2.5: `err` 75, 15, 4.9, 2.3, 1.4 at `h` 3.6,
 //!   1.9, 1.2, 0.90, 0.73·10⁻³), so the smooth exponent `−1/8` took five rejections where
 //!   this takes one.
@@ -315,8 +315,8 @@ impl Dop853 {
             last_nonfinite = !err.is_finite();
             let factor = if last_nonfinite {
                 MIN_FACTOR
-            } else if let Rough::Onset(n) = self.rough {
-                // error ∝ hⁿ at a force's onset (`Rough::Onset`): one shrink to the tolerance
+            } else if let Rough::Onset(n) = self.rough.filter_onset(-1.0 / ERROR_EXPONENT) {
+                // error ∝ hⁿ at a force's onset (`Rough::Onset`) rougher than the method
                 MIN_ONSET_FACTOR.max(SAFETY * err.powf(-1.0 / n))
             } else {
                 MIN_FACTOR.max(SAFETY * err.powf(ERROR_EXPONENT))

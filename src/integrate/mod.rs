@@ -64,8 +64,21 @@ pub enum Rough {
     /// The steps start at the kink of a contact `V = a δⁿ` that has just closed (this `n`):
     /// measured as [`Rough::Kink`], and their error grows like `hⁿ`, as the velocity change
     /// `a w^{n−1} hⁿ/μ` of the onset force does (a closing at speed `w`), not like the
-    /// smooth `h⁸` of DOP853's estimator, so a rejected one is shrunk by `err^{−1/n}`.
+    /// smooth `h⁸` of DOP853's estimator, so a rejected one is shrunk by `err^{−1/n}` (for
+    /// `n` below the method's error order; a smoother onset errs like the method and is
+    /// retried like a smooth step).
     Onset(f64),
+}
+
+impl Rough {
+    /// `self` where it is an [`Rough::Onset`] rougher than a method whose error estimate has
+    /// order `order` (`n < order`), else [`Rough::Smooth`] (for the retry factor only).
+    pub fn filter_onset(self, order: f64) -> Rough {
+        match self {
+            Rough::Onset(n) if n < order => self,
+            _ => Rough::Smooth,
+        }
+    }
 }
 
 pub use state::{check_lengths, IntegratorState, LoadError, MethodState, EXACT_NAME};

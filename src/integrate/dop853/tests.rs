@@ -378,3 +378,29 @@ fn onset_step_shrinks_by_its_own_order_not_the_smooth_one() {
         }
     }
 }
+
+/// Regression (issue 33, the onset retry above): for `n > 8` the onset `δ^{n−1}` is smoother
+/// than the method, its error grows like the estimator's `h⁸`, and a retry by `err^{−1/n}`
+/// shrank less than the smooth one (n = 10: `err^{−1/10}`), taking more rejections than
+/// before. It now retries as a smooth step for `n ≥ 8`: two beads at n = 10, a = 0.4, closing at speed
+/// 1, first step proposed at 0.5: exactly as many rejections and the same accepted step as
+/// with [`Rough::Kink`] (the smooth factor), bit for bit.
+#[test]
+fn onset_retry_of_a_smooth_onset_is_the_smooth_one() {
+    let mut chain = uniform_chain(2);
+    chain.exponent = vec![10.0];
+    let (u, v) = striker(2, 1.0);
+    let sys = ChainRange::whole(&chain);
+    let first_step = |rough: Rough| {
+        let mut ig = Dop853::new(2, tolerances(&chain, &u, &v, 1e-8, 1e-12));
+        ig.reset(&sys, 0.0, &u, &v);
+        ig.set_step_size(0.5);
+        ig.set_rough(rough);
+        let t1 = ig.step(&sys, 10.0).expect("step");
+        (t1, ig.stats().rejected)
+    };
+    let (t_onset, rej_onset) = first_step(Rough::Onset(10.0));
+    let (t_kink, rej_kink) = first_step(Rough::Kink);
+    assert!(rej_kink >= 1, "the test needs a rejected first step");
+    assert_eq!((t_onset, rej_onset), (t_kink, rej_kink));
+}
