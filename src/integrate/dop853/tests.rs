@@ -345,62 +345,67 @@ fn error_weights_are_nonzero_on_the_same_stages() {
     }
 }
 
+/// The first step of two beads that touch at `t = 0` (`δ = 0`) and close at speed 1 (rtol
+/// 1e-8, atol 1e-12), proposed at `h0` and marked `rough`.
+fn first_onset_step(chain: &Chain, h0: f64, rough: Rough) -> Dop853 {
+    let (u, v) = striker(2, 1.0);
+    let sys = ChainRange::whole(chain);
+    let mut ig = Dop853::new(2, tolerances(chain, &u, &v, 1e-8, 1e-12));
+    ig.reset(&sys, 0.0, &u, &v);
+    ig.set_step_size(h0);
+    ig.set_rough(rough);
+    ig.step(&sys, 10.0).expect("step");
+    ig.set_rough(Rough::Smooth);
+    ig
+}
+
 /// Regression (issue 33): a rejected step at the onset of a contact force shrank by the smooth
 /// exponent `err^{−1/8}`, although its error grows like `hⁿ` there, and took five rejections
 /// (each 12 right-hand sides) where one suffices: every closing of a chain with gaps of 0.1 paid
-/// them. Two beads that touch at `t = 0` (`δ = 0`) and close at speed 1 (n = 2.5), first step
-/// proposed at 0.01 (about 17× the longest step the tolerance allows there): marked
-/// [`Rough::Onset`] it is rejected once; marked [`Rough::Kink`] (the smooth exponent) at least
-/// three times. Either accepted step must agree with a tight run to its tolerance (abs 1e-7 on
-/// velocities of order 1, rtol 1e-8).
+/// them. Two beads closing at `δ = 0` (n = 2.5), first step proposed at 0.01 (about 17× the
+/// longest step the tolerance allows there): marked [`Rough::Onset`] it is rejected once;
+/// marked [`Rough::Kink`] (the smooth exponent) at least three times. Either accepted step must
+/// agree with a tight run to its tolerance (abs 1e-7 on velocities of order 1, rtol 1e-8).
 #[test]
 fn onset_step_shrinks_by_its_own_order_not_the_smooth_one() {
     let chain = uniform_chain(2);
-    let (u, v) = striker(2, 1.0);
-    let sys = ChainRange::whole(&chain);
-    let first_step = |rough: Rough| {
-        let mut ig = Dop853::new(2, tolerances(&chain, &u, &v, 1e-8, 1e-12));
-        ig.reset(&sys, 0.0, &u, &v);
-        ig.set_step_size(0.01);
-        ig.set_rough(rough);
-        let t1 = ig.step(&sys, 1.0).expect("step");
-        ig.set_rough(Rough::Smooth);
-        (t1, ig.state().to_vec(), ig.stats().rejected)
-    };
-    let (t_onset, z_onset, rej_onset) = first_step(Rough::Onset(2.5));
-    let (t_kink, z_kink, rej_kink) = first_step(Rough::Kink);
-    assert_eq!(rej_onset, 1, "onset-aware shrink: one rejection");
+    let onset = first_onset_step(&chain, 0.01, Rough::Onset(2.5));
+    let kink = first_onset_step(&chain, 0.01, Rough::Kink);
+    assert_eq!(
+        onset.stats().rejected,
+        1,
+        "onset-aware shrink: one rejection"
+    );
+    let rej_kink = kink.stats().rejected;
     assert!(rej_kink >= 3, "smooth shrink: {rej_kink} rejections");
-    for (t1, z) in [(t_onset, z_onset), (t_kink, z_kink)] {
+    let (u, v) = striker(2, 1.0);
+    for ig in [onset, kink] {
+        let t1 = ig.t();
         let tight = run(&chain, &u, &v, tolerances(&chain, &u, &v, 1e-13, 1e-15), t1);
-        for (a, b) in z[2..].iter().zip(&tight.state()[2..]) {
+        for (a, b) in ig.state()[2..].iter().zip(&tight.state()[2..]) {
             assert!((a - b).abs() <= 1e-7, "v {a} vs tight {b} at t = {t1}");
         }
     }
 }
 
-/// Regression (issue 33, the onset retry above): for `n > 8` the onset `δ^{n−1}` is smoother
-/// than the method, its error grows like the estimator's `h⁸`, and a retry by `err^{−1/n}`
-/// shrank less than the smooth one (n = 10: `err^{−1/10}`), taking more rejections than
-/// before. It now retries as a smooth step for `n ≥ 8`: two beads at n = 10, a = 0.4, closing at speed
-/// 1, first step proposed at 0.5: exactly as many rejections and the same accepted step as
-/// with [`Rough::Kink`] (the smooth factor), bit for bit.
+/// Regression (issue 33, the onset retry above): for `n ≥ 8` the onset `δ^{n−1}` is as smooth
+/// as the method sees, its error grows like the estimator's `h⁸`, and a retry by `err^{−1/n}`
+/// shrank less than the smooth one (n = 10: `err^{−1/10}`), taking more rejections than before.
+/// It now retries as a smooth step: two beads at n = 10, a = 0.4, closing at speed 1, first step
+/// proposed at 0.5: as many rejections and the same accepted step as with [`Rough::Kink`] (the
+/// smooth factor), bit for bit.
 #[test]
 fn onset_retry_of_a_smooth_onset_is_the_smooth_one() {
     let mut chain = uniform_chain(2);
     chain.exponent = vec![10.0];
-    let (u, v) = striker(2, 1.0);
-    let sys = ChainRange::whole(&chain);
-    let first_step = |rough: Rough| {
-        let mut ig = Dop853::new(2, tolerances(&chain, &u, &v, 1e-8, 1e-12));
-        ig.reset(&sys, 0.0, &u, &v);
-        ig.set_step_size(0.5);
-        ig.set_rough(rough);
-        let t1 = ig.step(&sys, 10.0).expect("step");
-        (t1, ig.stats().rejected)
-    };
-    let (t_onset, rej_onset) = first_step(Rough::Onset(10.0));
-    let (t_kink, rej_kink) = first_step(Rough::Kink);
-    assert!(rej_kink >= 1, "the test needs a rejected first step");
-    assert_eq!((t_onset, rej_onset), (t_kink, rej_kink));
+    let onset = first_onset_step(&chain, 0.5, Rough::Onset(10.0));
+    let kink = first_onset_step(&chain, 0.5, Rough::Kink);
+    assert!(
+        kink.stats().rejected >= 1,
+        "the test needs a rejected first step"
+    );
+    assert_eq!(
+        (onset.t(), onset.stats().rejected),
+        (kink.t(), kink.stats().rejected)
+    );
 }
