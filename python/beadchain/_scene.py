@@ -8,7 +8,7 @@ from typing import Any, Mapping, Optional
 
 import numpy as np
 
-from . import _beadchain, _toml
+from . import _beadchain
 
 # Keyword arguments of Scene(...) and the TOML table each belongs to (see docs/scenes.md).
 _KEYS = {
@@ -173,7 +173,7 @@ def _masked_data(key: str, v: np.ma.MaskedArray) -> np.ndarray:
 
 
 def _plain(key: str, v: Any) -> Any:
-    """A keyword's value as the TOML writer takes it: NumPy 0-d arrays as scalars, masked arrays
+    """A keyword's value, checked: NumPy 0-d arrays as scalars, masked arrays
     as their data (refused when a value is masked); arrays of another shape, or values of
     another type, raise an error naming ``key`` and what was expected."""
     if isinstance(v, np.ma.MaskedArray):
@@ -249,10 +249,12 @@ class Scene:
     ``solitary`` (a dict ``{"at": K, "velocity": v_m}`` or a list of them, docs/studies.md);
     ``force``, ``gravity``; ``until``, ``every``, ``rtol``, ``atol``, ``method``, ``engine`` (and
     their ``*_si`` twins); whole tables as dicts: ``walls``, ``units``, ``hard``, ``output``.
-    Values are numbers, arrays (one per bead or per contact) or builder dicts. They are written
-    as TOML and go through the same parser and validator as a scene file: bad values raise
-    :class:`SceneError` (a ``ValueError``) with the CLI's one-line message naming the key,
-    bead or contact.
+    Values are numbers, arrays (one per bead or per contact) or builder dicts. They are passed
+    as tables (plain Python values, NumPy arrays as lists) to the same parser and validator as
+    a scene file: bad values raise :class:`SceneError` (a ``ValueError``) with the CLI's
+    one-line message naming the key, bead or contact; a value of another type (None inside a
+    dict or list, an object) raises ``TypeError`` naming it. Keys whose value is None are left
+    out. :attr:`source` is the TOML text of those tables.
     """
 
     __slots__ = ("_s", "_text", "_dir")
@@ -269,9 +271,11 @@ class Scene:
                 tables[_WHERE[k]][k] = _plain(f"{origin}: [{_WHERE[k]}].{k}", v)
             else:
                 raise TypeError(f"Scene(): unexpected keyword {k!r}")
-        text = _toml.document(tables)
-        self._s = _beadchain.Scene._from_text(text, origin, ".")
-        self._text = text
+        # Tables with no keys are left out; keys whose value is None are (their table stays).
+        doc = {t: {k: _toml_plain(f"{origin}: [{t}].{k}", x) for k, x in items.items()
+                   if x is not None}
+               for t, items in tables.items() if items}
+        self._s, self._text = _beadchain.Scene._from_tables(doc, origin, ".")
         self._dir = "."
 
     @classmethod
@@ -377,8 +381,8 @@ class Scene:
 
     @property
     def source(self) -> Optional[str]:
-        """The TOML text this scene was made from (file, text, preset or the text written for
-        Python values); None for a scene read from a snapshot."""
+        """The TOML text this scene was made from (file, text, preset, or the tables of Python
+        values written as TOML); None for a scene read from a snapshot."""
         return self._text
 
     def to_toml(self) -> str:

@@ -3,8 +3,9 @@
 //!
 //! Every way to make one goes through the library's parser and validator
 //! ([`beadchain::scene::parse_str`], [`beadchain::scene::load`], [`beadchain::scene::preset`]),
-//! so a scene built from Python values (the Python layer writes them as TOML text) gets the same
-//! checks and the same one-line messages as a scene file given to the CLI.
+//! so a scene built from Python values (the Python layer passes them as tables of plain values,
+//! [`beadchain::scene::parse::parse_table`]) gets the same checks and the same one-line messages
+//! as a scene file given to the CLI.
 
 use crate::SceneError as PySceneError;
 use beadchain::names::Named;
@@ -64,6 +65,59 @@ impl Scene {
         Self::parsed(
             scene::parse::parse_full(text, Path::new(base_dir), origin).map_err(scene_err)?,
         )
+    }
+
+    /// A scene from Python values: `tables` is the document as a dict of tables (`{"chain":
+    /// {"mass": [...], ...}, "walls": {...}}`) of plain values (bool, int, float, str, lists and
+    /// str-keyed dicts; the Python layer makes NumPy values plain and leaves out what is None),
+    /// read by the same parser and validator as scene text ([`scene::parse::parse_table`]).
+    /// `origin` names it in messages (its stem is the default scene name), `base_dir` resolves
+    /// `{ file = ... }` CSVs. A value that is not one raises `TypeError` naming its key
+    /// (`scene: [chain].mass: ...`). Returns the scene and the TOML text of `tables` (its
+    /// source, as `Scene.source`, `with_overrides` and pickling keep it).
+    #[staticmethod]
+    #[pyo3(signature = (tables, origin="scene", base_dir="."))]
+    fn _from_tables(
+        tables: &Bound<'_, PyDict>,
+        origin: &str,
+        base_dir: &str,
+    ) -> PyResult<(Self, String)> {
+        let type_err = |key: String, why: String| {
+            pyo3::exceptions::PyTypeError::new_err(format!("{origin}: {key}: {why}"))
+        };
+        let mut root = toml::Table::new();
+        for (name, items) in tables.iter() {
+            let name: String = name
+                .extract()
+                .map_err(|_| type_err(format!("{name}"), "table names must be strings".into()))?;
+            let items = items.cast::<PyDict>().map_err(|_| {
+                type_err(
+                    format!("[{name}]"),
+                    "expected a dict (the table's keys)".into(),
+                )
+            })?;
+            let mut table = toml::Table::new();
+            for (k, v) in items.iter() {
+                let k: String = k.extract().map_err(|_| {
+                    type_err(
+                        format!("[{name}]"),
+                        format!("keys must be strings, got {k}"),
+                    )
+                })?;
+                let value =
+                    toml_value(&v, 0).map_err(|why| type_err(format!("[{name}].{k}"), why))?;
+                table.insert(k, value);
+            }
+            root.insert(name, toml::Value::Table(table));
+        }
+        let text = toml::to_string(&root).map_err(|e| {
+            PySceneError::new_err(format!(
+                "{origin}: the scene cannot be written as TOML ({e})"
+            ))
+        })?;
+        let parsed =
+            scene::parse::parse_table(&root, Path::new(base_dir), origin).map_err(scene_err)?;
+        Ok((Self::parsed(parsed)?, text))
     }
 
     /// Loads a scene file, or a preset when no file of that name exists (as the CLI does).

@@ -47,7 +47,17 @@ pub struct Parsed {
 pub fn parse_full(text: &str, base_dir: &Path, origin: &str) -> Result<Parsed, SceneError> {
     let origin = one_line(origin);
     let root: Table = toml::from_str(text).map_err(|e| syntax_error(&origin, text, &e))?;
-    let parsed = build(&root, base_dir, &origin)?;
+    parse_table(&root, base_dir, &origin)
+}
+
+/// [`parse_full`] of an already parsed TOML document (the Python package's `Scene(...)` passes
+/// its keywords as tables): the same construction, checks and messages as the text, which
+/// [`parse_full`] reads into a [`Table`] and hands here. `origin` names the scene in messages
+/// (its stem is the default scene name), `base_dir` resolves `{ file = ... }` CSVs. The result
+/// is validated.
+pub fn parse_table(root: &Table, base_dir: &Path, origin: &str) -> Result<Parsed, SceneError> {
+    let origin = one_line(origin);
+    let parsed = build(root, base_dir, &origin)?;
     validate_in(&parsed.scene, &origin)?;
     Ok(parsed)
 }
@@ -208,4 +218,91 @@ fn precompression(
         }
         None => None,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use toml::Value;
+
+    /// A scene file's text and the same document built in Rust as a [`Table`] (per-bead array,
+    /// builder with segments, walls, units and run tables): [`parse_table`] gives the scene,
+    /// material and warnings of [`parse_full`], and its errors are the text's too.
+    #[test]
+    fn parse_table_equals_parse_full_of_the_same_document() {
+        let mass: Vec<f64> = (0..12).map(|i| 1.0 + f64::from(i) / 7.0).collect();
+        let text = format!(
+            "[scene]\nseed = 3\n\
+             [chain]\nmass = {mass:?}\n\
+             exponent = {{ base = 3.0, segments = [{{ from = 5, value = 2.5 }}] }}\n\
+             [initial]\nstriker = 0.7\n\
+             [run]\nuntil = 4.0\nevery = 0.5\n\
+             [walls]\nright = {{ exponent = 2.5 }}\n"
+        );
+        let t = |items: Vec<(&str, Value)>| {
+            Value::Table(items.into_iter().map(|(k, v)| (k.to_string(), v)).collect())
+        };
+        let root = match t(vec![
+            ("scene", t(vec![("seed", Value::Integer(3))])),
+            (
+                "chain",
+                t(vec![
+                    (
+                        "mass",
+                        Value::Array(mass.iter().map(|&m| Value::Float(m)).collect()),
+                    ),
+                    (
+                        "exponent",
+                        t(vec![
+                            ("base", Value::Float(3.0)),
+                            (
+                                "segments",
+                                Value::Array(vec![t(vec![
+                                    ("from", Value::Integer(5)),
+                                    ("value", Value::Float(2.5)),
+                                ])]),
+                            ),
+                        ]),
+                    ),
+                ]),
+            ),
+            ("initial", t(vec![("striker", Value::Float(0.7))])),
+            (
+                "run",
+                t(vec![
+                    ("until", Value::Float(4.0)),
+                    ("every", Value::Float(0.5)),
+                ]),
+            ),
+            (
+                "walls",
+                t(vec![("right", t(vec![("exponent", Value::Float(2.5))]))]),
+            ),
+        ]) {
+            Value::Table(root) => root,
+            _ => unreachable!(),
+        };
+        let here = Path::new(".");
+        let a = parse_full(&text, here, "c.toml").unwrap();
+        let b = parse_table(&root, here, "c.toml").unwrap();
+        assert_eq!(a.scene, b.scene);
+        assert_eq!(a.scene.name, "c");
+        assert_eq!(a.scene.chain.mass, mass);
+        assert_eq!(format!("{:?}", a.material), format!("{:?}", b.material));
+        assert_eq!(a.warnings, b.warnings);
+
+        // A bad value: the same one-line message from both.
+        let mut bad = root.clone();
+        bad["run"]
+            .as_table_mut()
+            .unwrap()
+            .insert("until".into(), Value::Float(f64::NAN));
+        let text_bad = text.replace("until = 4.0", "until = nan");
+        let ea = parse_full(&text_bad, here, "c.toml")
+            .unwrap_err()
+            .to_string();
+        let eb = parse_table(&bad, here, "c.toml").unwrap_err().to_string();
+        assert_eq!(ea, eb);
+        assert!(ea.starts_with("c.toml: [run].until: "), "{ea}");
+    }
 }
