@@ -36,6 +36,10 @@
 //! steady_state = true              # at the appendix-A steady state
 //! ```
 //!
+//! The file is read through typed structs (`parse`: serde with `deny_unknown_fields`; [`Measure`],
+//! [`Decay`], [`Stop`] are the tables as written): an unknown key, a missing one or a value of the
+//! wrong form fails with one line naming the sweep file and the key (`[stop].margin`).
+//!
 //! **Keys** are the keys of a scene file written with dots and always quoted: `"chain.exponent"`
 //! is `exponent` in `[chain]`; deeper parts walk into inline tables (`"chain.exponent.random.eps"`)
 //! and numeric parts index arrays (`"chain.exponent.segments.0.value"`). Missing tables on the way
@@ -86,6 +90,7 @@ pub use exec::{run_sweep, Shard, SweepOptions, SweepSummary};
 pub use expand::{RunPoint, MAX_RUNS};
 
 use crate::scene::SceneError;
+use serde::Deserialize;
 use std::path::PathBuf;
 use toml::{Table, Value};
 
@@ -149,27 +154,37 @@ fn line_suffix(line: usize) -> String {
     }
 }
 
-/// What `[measure]` asks for beyond the fixed columns.
-#[derive(Clone, Debug, Default, PartialEq)]
+/// What `[measure]` asks for beyond the fixed columns (read from the sweep file as written; the
+/// value forms are checked in `parse`).
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Measure {
     /// Interface bead `K` for `left_fraction`.
+    #[serde(default, deserialize_with = "parse::non_neg")]
     pub interface: Option<usize>,
     /// Impurity bead `K` for `v_ratio`.
+    #[serde(default, deserialize_with = "parse::non_neg")]
     pub impurity: Option<usize>,
     /// Leading-wave decay fit settings for `gamma`, `gamma_se`.
+    #[serde(default, deserialize_with = "parse::toggle")]
     pub decay: Option<Decay>,
     /// Gap tolerance of the fragment count, when asked for.
+    #[serde(default, deserialize_with = "parse::fragments")]
     pub fragments: Option<f64>,
 }
 
 /// Settings of the leading-wave decay fit (defaults as in `experiments::paper::decay_gamma`).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct Decay {
     /// Fit the points whose peak bead is at least this (default 25).
+    #[serde(deserialize_with = "parse::non_neg")]
     pub from: usize,
     /// Normalise by the energy at the first frame whose peak bead is at least this (default 15).
+    #[serde(deserialize_with = "parse::non_neg")]
     pub e0_bead: usize,
     /// Stop the fit at the first frame-to-frame energy rise by more than this factor (default 1.3).
+    #[serde(deserialize_with = "parse::jump")]
     pub jump: f64,
 }
 
@@ -184,11 +199,14 @@ impl Default for Decay {
 }
 
 /// Early stop conditions (`[stop]`).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Stop {
     /// Stop when the leading pulse's peak reaches bead `N − margin`.
+    #[serde(default, deserialize_with = "parse::non_neg")]
     pub margin: Option<usize>,
     /// Stop at the appendix-A steady state.
+    #[serde(default, deserialize_with = "parse::flag")]
     pub steady_state: bool,
 }
 

@@ -1,11 +1,57 @@
-//! Reading sweep files (format in the [`super`] module docs): the base scene, the overrides of
-//! `[set]`, `[grid]`, `[[point]]` and `[seeds]` (each key in one place only), `[measure]` and
-//! `[stop]`. Every error names the sweep file and the key.
+//! Reading sweep files (format in the [`super`] module docs). The file's shape is declared in
+//! types read through serde: [`SweepFile`] (top level, unknown keys refused), [`Seeds`] and
+//! [`Measure`], [`super::Decay`], [`Stop`] (`deny_unknown_fields`), each value read in the form the
+//! format allows (functions below; a wrong form is refused with our message). The override tables
+//! `[set]`, `[grid]`, `[[point]]` keep free dotted keys (TOML tables), checked here: key shape,
+//! non-empty lists, each key set in one place only. Every error names the sweep file and the key
+//! (the serde path as the file writes it: `[stop].margin`, `[seeds].values[1]`, `[[point]] 2`).
 
-use super::{expand, fnv1a, type_name, Decay, Measure, Stop, SweepError, SweepSpec};
+use super::{expand, fnv1a, type_name, Measure, Stop, SweepError, SweepSpec};
 use crate::scene::presets;
+use serde::de::value::{MapAccessDeserializer, SeqAccessDeserializer};
+use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
+use serde::Deserialize;
+use serde_path_to_error::Segment;
+use std::fmt;
+use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
 use toml::{Table, Value};
+
+/// A sweep file as written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SweepFile {
+    #[serde(default, deserialize_with = "scene")]
+    scene: Option<String>,
+    #[serde(default, deserialize_with = "table")]
+    set: Table,
+    #[serde(default, deserialize_with = "table")]
+    grid: Table,
+    #[serde(default, deserialize_with = "points")]
+    point: Vec<Tbl>,
+    #[serde(default, deserialize_with = "section")]
+    seeds: Option<Seeds>,
+    #[serde(default, deserialize_with = "section")]
+    measure: Option<Measure>,
+    #[serde(default, deserialize_with = "section")]
+    stop: Option<Stop>,
+}
+
+/// `[seeds]` as written (both keys required, checked after reading for our messages).
+#[derive(Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Seeds {
+    #[serde(default, deserialize_with = "seed_key")]
+    key: Option<String>,
+    #[serde(default, deserialize_with = "seed_values")]
+    values: Option<Vec<Seed>>,
+}
+
+/// Top-level keys whose value is a table: their key is written `[set]`.
+const SECTIONS: &[&str] = &["set", "grid", "seeds", "measure", "stop"];
+
+/// The key of the one-key table a TOML date is read as (not a key of ours: dropped from paths).
+const DATE: &str = "$__toml_private_datetime";
 
 impl SweepSpec {
     /// Reads and checks a sweep file (the base scene is resolved relative to it).
@@ -28,38 +74,28 @@ impl SweepSpec {
             message,
         };
         let e: &KeyErr = &key_err;
+        // The parsed table is hashed; the typed read parses the text again (dates stay dates).
         let root = root_table(text, file)?;
-        let scene_spec = scene_key(&root, e)?;
+        let f: SweepFile = serde_path_to_error::deserialize(toml::Deserializer::new(text))
+            .map_err(|err| serde_error(file, &err))?;
+        let scene_spec = f
+            .scene
+            .ok_or_else(|| key_err("scene", "missing (base scene: preset or file)".into()))?;
         let (base_text, base_dir) = base_scene(&scene_spec, dir)
             .map_err(|m| key_err("scene", format!("\"{scene_spec}\": {m}")))?;
         let base: Table = toml::from_str(&base_text)
             .map_err(|e| key_err("scene", format!("\"{scene_spec}\": malformed TOML: {e}")))?;
-        let set = match table(&root, "set", e)? {
-            Some(t) => overrides("[set]", t, e)?,
-            None => Vec::new(),
-        };
-        let grid = grid(&root, e)?;
-        let points = points(&root, e)?;
-        let seeds = match table(&root, "seeds", e)? {
-            None => None,
-            Some(t) => Some(parse_seeds(t, e)?),
-        };
-        if let Some((k, _)) = &seeds {
-            check_key("[seeds].key", k, e)?;
-        }
+        let set = overrides("[set]", &f.set, e)?;
+        let grid = grid(&f.grid, e)?;
+        let points = (f.point.iter().enumerate())
+            .map(|(i, p)| overrides(&format!("[[point]] {i}"), &p.0, e))
+            .collect::<Result<Vec<_>, _>>()?;
+        let seeds = f.seeds.map(|s| seeds(s, e)).transpose()?;
         let n_seeds = seeds.as_ref().map(|(_, v)| v.len());
         if let Some(m) = expand::too_many_runs(&grid, points.len(), n_seeds) {
             return Err(key_err("[grid]", m));
         }
         check_claims(&set, &grid, &points, &seeds, e)?;
-        let measure = match table(&root, "measure", e)? {
-            Some(t) => parse_measure(t, e)?,
-            None => Measure::default(),
-        };
-        let stop = match table(&root, "stop", e)? {
-            Some(t) => parse_stop(t, e)?,
-            None => Stop::default(),
-        };
         let canon = format!(
             "{}\n#--scene--\n{}",
             toml::to_string(&root).unwrap_or_else(|_| text.to_string()),
@@ -74,17 +110,17 @@ impl SweepSpec {
             grid,
             points,
             seeds,
-            measure,
-            stop,
+            measure: f.measure.unwrap_or_default(),
+            stop: f.stop.unwrap_or_default(),
             hash: fnv1a(canon.as_bytes()),
             max_output_bytes: crate::snapshot::size::DEFAULT_MAX_OUTPUT_BYTES,
         })
     }
 }
 
-/// The sweep file's TOML, its top-level keys checked.
+/// The sweep file's TOML (hashed as parsed).
 fn root_table(text: &str, file: &str) -> Result<Table, SweepError> {
-    let root: Table = toml::from_str(text).map_err(|e| {
+    toml::from_str(text).map_err(|e| {
         let line = e.span().map_or(0, |s| {
             text[..s.start.min(text.len())].matches('\n').count() + 1
         });
@@ -93,41 +129,45 @@ fn root_table(text: &str, file: &str) -> Result<Table, SweepError> {
             line,
             message: format!("malformed TOML: {}", e.message().trim().replace('\n', "; ")),
         }
-    })?;
-    const TOP: &[&str] = &["scene", "set", "grid", "point", "seeds", "measure", "stop"];
-    for k in root.keys() {
-        if !TOP.contains(&k.as_str()) {
-            return Err(SweepError::Key {
-                file: file.to_string(),
-                key: k.to_string(),
-                message: format!("unknown key (expected one of: {})", TOP.join(", ")),
-            });
+    })
+}
+
+/// A serde error of the typed read: its path written as the file writes keys (`[stop].margin`,
+/// `[seeds].values[1]`, `[[point]] 2`, `scene`), serde's "unknown field" in our words.
+fn serde_error(file: &str, err: &serde_path_to_error::Error<toml::de::Error>) -> SweepError {
+    let segments: Vec<&Segment> = (err.path().iter())
+        .filter(|s| !matches!(s, Segment::Map { key } if key == DATE))
+        .collect();
+    let key = match segments.as_slice() {
+        [Segment::Map { key }] if SECTIONS.contains(&key.as_str()) => format!("[{key}]"),
+        [Segment::Map { key }, Segment::Seq { index }] if key == "point" => {
+            format!("[[point]] {index}")
         }
-    }
-    Ok(root)
-}
-
-/// `scene = "preset or file"`.
-fn scene_key(root: &Table, e: &KeyErr) -> Result<String, SweepError> {
-    match root.get("scene") {
-        Some(Value::String(s)) => Ok(s.clone()),
-        Some(v) => Err(e(
-            "scene",
-            format!("expected a preset name or file, got {}", type_name(v)),
-        )),
-        None => Err(e("scene", "missing (base scene: preset or file)".into())),
-    }
-}
-
-/// A top-level table of the sweep (`None` when absent).
-fn table<'a>(root: &'a Table, name: &str, e: &KeyErr) -> Result<Option<&'a Table>, SweepError> {
-    match root.get(name) {
-        None => Ok(None),
-        Some(Value::Table(t)) => Ok(Some(t)),
-        Some(v) => Err(e(
-            &format!("[{name}]"),
-            format!("expected a table, got {}", type_name(v)),
-        )),
+        [only] => only.to_string(),
+        [first, rest @ ..] => rest.iter().fold(format!("[{first}]"), |k, s| match s {
+            Segment::Seq { index } => format!("{k}[{index}]"),
+            s => format!("{k}.{s}"),
+        }),
+        [] => String::new(),
+    };
+    let m = err.inner().message();
+    let message = match m
+        .strip_prefix("unknown field `")
+        .and_then(|r| r.split_once(", expected "))
+    {
+        Some((_, allowed)) => format!(
+            "unknown key (expected one of: {})",
+            allowed
+                .trim_start_matches("one of ")
+                .replace('`', "")
+                .replace(" or ", ", ")
+        ),
+        None => m.to_string(),
+    };
+    SweepError::Key {
+        file: file.to_string(),
+        key,
+        message,
     }
 }
 
@@ -150,51 +190,41 @@ fn overrides(where_: &str, t: &Table, e: &KeyErr) -> Result<Vec<(String, Value)>
 }
 
 /// `[grid]`: each key with its non-empty list of values.
-fn grid(root: &Table, e: &KeyErr) -> Result<Vec<(String, Vec<Value>)>, SweepError> {
+fn grid(t: &Table, e: &KeyErr) -> Result<Vec<(String, Vec<Value>)>, SweepError> {
     let mut grid = Vec::new();
-    if let Some(t) = table(root, "grid", e)? {
-        for (k, v) in t {
-            check_key("[grid]", k, e)?;
-            let key = format!("[grid].\"{k}\"");
-            match v {
-                Value::Array(a) if a.is_empty() => {
-                    return Err(e(&key, "empty list of values".into()))
-                }
-                Value::Array(a) => grid.push((k.clone(), a.clone())),
-                v => {
-                    return Err(e(
-                        &key,
-                        format!("expected a list of values, got {}", type_name(v)),
-                    ))
-                }
+    for (k, v) in t {
+        check_key("[grid]", k, e)?;
+        let key = format!("[grid].\"{k}\"");
+        match v {
+            Value::Array(a) if a.is_empty() => return Err(e(&key, "empty list of values".into())),
+            Value::Array(a) => grid.push((k.clone(), a.clone())),
+            v => {
+                return Err(e(
+                    &key,
+                    format!("expected a list of values, got {}", type_name(v)),
+                ))
             }
         }
     }
     Ok(grid)
 }
 
-/// `[[point]]` tables, each a list of overrides.
-fn points(root: &Table, e: &KeyErr) -> Result<Vec<Vec<(String, Value)>>, SweepError> {
-    let mut points = Vec::new();
-    match root.get("point") {
-        None => {}
-        Some(Value::Array(a)) => {
-            for (i, p) in a.iter().enumerate() {
-                let w = format!("[[point]] {i}");
-                match p {
-                    Value::Table(t) => points.push(overrides(&w, t, e)?),
-                    v => return Err(e(&w, format!("expected a table, got {}", type_name(v)))),
-                }
-            }
-        }
-        Some(v) => {
-            return Err(e(
-                "point",
-                format!("expected [[point]] tables, got {}", type_name(v)),
-            ))
-        }
+/// `[seeds]`: the scene key (quoted, dotted) and its non-empty list of seeds.
+fn seeds(s: Seeds, e: &KeyErr) -> Result<(String, Vec<Value>), SweepError> {
+    let key = s.key.ok_or_else(|| {
+        e(
+            "[seeds].key",
+            "missing: name the scene key the seed goes to, e.g. \"scene.seed\"".into(),
+        )
+    })?;
+    let values = s
+        .values
+        .ok_or_else(|| e("[seeds].values", "missing".into()))?;
+    if values.is_empty() {
+        return Err(e("[seeds].values", "empty list of seeds".into()));
     }
-    Ok(points)
+    check_key("[seeds].key", &key, e)?;
+    Ok((key, values.into_iter().map(|v| v.0).collect()))
 }
 
 /// A key may be set by only one of `[set]`, `[grid]`, `[[point]]`, `[seeds]`.
@@ -268,154 +298,204 @@ fn base_scene(spec: &str, dir: &Path) -> Result<(String, PathBuf), BaseSceneErro
 
 type KeyErr<'a> = dyn Fn(&str, String) -> SweepError + 'a;
 
-fn check_table_keys(t: &Table, name: &str, allowed: &[&str], e: &KeyErr) -> Result<(), SweepError> {
-    for k in t.keys() {
-        if !allowed.contains(&k.as_str()) {
-            return Err(e(
-                &format!("[{name}].{k}"),
-                format!("unknown key (expected one of: {})", allowed.join(", ")),
-            ));
-        }
-    }
-    Ok(())
+/// Reads one TOML value and checks its form (`Err`: the message after the key).
+fn form<'de, D: Deserializer<'de>, T>(
+    d: D,
+    check: impl FnOnce(Value) -> Result<T, String>,
+) -> Result<T, D::Error> {
+    check(Value::deserialize(d)?).map_err(de::Error::custom)
 }
 
-fn get_usize(t: &Table, name: &str, key: &str, e: &KeyErr) -> Result<Option<usize>, SweepError> {
-    match t.get(key) {
-        None => Ok(None),
-        Some(Value::Integer(i)) if *i >= 0 => Ok(Some(*i as usize)),
-        Some(v) => Err(e(
-            &format!("[{name}].{key}"),
-            format!("expected a non-negative integer, got {v}"),
-        )),
-    }
-}
-
-fn get_f64(t: &Table, name: &str, key: &str, e: &KeyErr) -> Result<Option<f64>, SweepError> {
-    match t.get(key) {
-        None => Ok(None),
-        Some(Value::Float(x)) if x.is_finite() => Ok(Some(*x)),
-        Some(Value::Integer(i)) => Ok(Some(*i as f64)),
-        Some(v) => Err(e(
-            &format!("[{name}].{key}"),
-            format!("expected a finite number, got {v}"),
-        )),
-    }
-}
-
-fn parse_seeds(t: &Table, e: &KeyErr) -> Result<(String, Vec<Value>), SweepError> {
-    check_table_keys(t, "seeds", &["key", "values"], e)?;
-    let key = match t.get("key") {
-        Some(Value::String(s)) => s.clone(),
-        Some(v) => {
-            return Err(e(
-                "[seeds].key",
-                format!("expected a string, got {}", type_name(v)),
-            ))
-        }
-        None => {
-            return Err(e(
-                "[seeds].key",
-                "missing: name the scene key the seed goes to, e.g. \"scene.seed\"".into(),
-            ))
-        }
-    };
-    let values = match t.get("values") {
-        Some(Value::Array(a)) if a.is_empty() => {
-            return Err(e("[seeds].values", "empty list of seeds".into()))
-        }
-        Some(Value::Array(a)) => a.clone(),
-        Some(v) => {
-            return Err(e(
-                "[seeds].values",
-                format!("expected a list of integers, got {}", type_name(v)),
-            ))
-        }
-        None => return Err(e("[seeds].values", "missing".into())),
-    };
-    for (i, v) in values.iter().enumerate() {
-        if !matches!(v, Value::Integer(s) if *s >= 0) {
-            return Err(e(
-                &format!("[seeds].values[{i}]"),
-                format!("expected a non-negative integer, got {v}"),
-            ));
-        }
-    }
-    Ok((key, values))
-}
-
-fn parse_measure(t: &Table, e: &KeyErr) -> Result<Measure, SweepError> {
-    const M: &str = "measure";
-    check_table_keys(t, M, &["interface", "impurity", "decay", "fragments"], e)?;
-    let decay = match t.get("decay") {
-        None | Some(Value::Boolean(false)) => None,
-        Some(Value::Boolean(true)) => Some(Decay::default()),
-        Some(Value::Table(d)) => {
-            check_table_keys(d, "measure].decay", &["from", "e0_bead", "jump"], e)?;
-            let def = Decay::default();
-            let jump = get_f64(d, "measure].decay", "jump", e)?.unwrap_or(def.jump);
-            if jump <= 1.0 {
-                return Err(e(
-                    "[measure].decay.jump",
-                    format!("must be > 1, got {jump}"),
-                ));
-            }
-            Some(Decay {
-                from: get_usize(d, "measure].decay", "from", e)?.unwrap_or(def.from),
-                e0_bead: get_usize(d, "measure].decay", "e0_bead", e)?.unwrap_or(def.e0_bead),
-                jump,
-            })
-        }
-        Some(v) => {
-            return Err(e(
-                "[measure].decay",
-                format!("expected true/false or a table, got {}", type_name(v)),
-            ))
-        }
-    };
-    let fragments = match t.get("fragments") {
-        None | Some(Value::Boolean(false)) => None,
-        Some(Value::Boolean(true)) => Some(0.0),
-        Some(Value::Table(f)) => {
-            check_table_keys(f, "measure].fragments", &["gap_tol"], e)?;
-            let g = get_f64(f, "measure].fragments", "gap_tol", e)?.unwrap_or(0.0);
-            if g < 0.0 {
-                return Err(e(
-                    "[measure].fragments.gap_tol",
-                    format!("must be >= 0, got {g}"),
-                ));
-            }
-            Some(g)
-        }
-        Some(v) => {
-            return Err(e(
-                "[measure].fragments",
-                format!("expected true/false or a table, got {}", type_name(v)),
-            ))
-        }
-    };
-    Ok(Measure {
-        interface: get_usize(t, M, "interface", e)?,
-        impurity: get_usize(t, M, "impurity", e)?,
-        decay,
-        fragments,
+/// A string (`what` names it in the message).
+fn string<'de, D: Deserializer<'de>>(d: D, what: &str) -> Result<Option<String>, D::Error> {
+    form(d, |v| match v {
+        Value::String(s) => Ok(Some(s)),
+        v => Err(format!("expected {what}, got {}", type_name(&v))),
     })
 }
 
-fn parse_stop(t: &Table, e: &KeyErr) -> Result<Stop, SweepError> {
-    check_table_keys(t, "stop", &["margin", "steady_state"], e)?;
-    let steady_state = match t.get("steady_state") {
-        None => false,
-        Some(Value::Boolean(b)) => *b,
-        Some(v) => {
-            return Err(e(
-                "[stop].steady_state",
-                format!("expected true or false, got {}", type_name(v)),
-            ))
-        }
-    };
-    Ok(Stop {
-        margin: get_usize(t, "stop", "margin", e)?,
-        steady_state,
+/// `scene = "preset or file"`.
+fn scene<'de, D: Deserializer<'de>>(d: D) -> Result<Option<String>, D::Error> {
+    string(d, "a preset name or file")
+}
+
+/// `[seeds].key`.
+fn seed_key<'de, D: Deserializer<'de>>(d: D) -> Result<Option<String>, D::Error> {
+    string(d, "a string")
+}
+
+/// `[set]`, `[grid]`, one `[[point]]`: a table of overrides.
+fn table<'de, D: Deserializer<'de>>(d: D) -> Result<Table, D::Error> {
+    form(d, |v| match v {
+        Value::Table(t) => Ok(t),
+        v => Err(format!("expected a table, got {}", type_name(&v))),
     })
+}
+
+/// One `[[point]]` table.
+#[derive(Deserialize)]
+struct Tbl(#[serde(deserialize_with = "table")] Table);
+
+/// One seed: a non-negative integer, kept as written.
+struct Seed(Value);
+
+impl<'de> Deserialize<'de> for Seed {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        form(d, |v| match v {
+            Value::Integer(s) if s >= 0 => Ok(Seed(v)),
+            v => Err(format!("expected a non-negative integer, got {v}")),
+        })
+    }
+}
+
+/// A non-negative integer (bead indices, counts).
+pub(super) fn non_neg<'de, D: Deserializer<'de>, T: From<usize>>(d: D) -> Result<T, D::Error> {
+    form(d, |v| match v {
+        Value::Integer(i) if i >= 0 => Ok(T::from(i as usize)),
+        v => Err(format!("expected a non-negative integer, got {v}")),
+    })
+}
+
+/// A finite number (an integer is taken as a float).
+fn finite<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    form(d, |v| match v {
+        Value::Float(x) if x.is_finite() => Ok(x),
+        Value::Integer(i) => Ok(i as f64),
+        v => Err(format!("expected a finite number, got {v}")),
+    })
+}
+
+/// `[measure].decay.jump`: a factor > 1.
+pub(super) fn jump<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    let jump = finite(d)?;
+    if jump <= 1.0 {
+        return Err(de::Error::custom(format!("must be > 1, got {jump}")));
+    }
+    Ok(jump)
+}
+
+/// `[measure].fragments = true | false | { gap_tol = G }` (G >= 0, default 0).
+pub(super) fn fragments<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+    #[derive(Default, Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Fragments {
+        #[serde(default, deserialize_with = "gap_tol")]
+        gap_tol: f64,
+    }
+    fn gap_tol<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        let g = finite(d)?;
+        if g < 0.0 {
+            return Err(de::Error::custom(format!("must be >= 0, got {g}")));
+        }
+        Ok(g)
+    }
+    Ok(toggle::<D, Fragments>(d)?.map(|f| f.gap_tol))
+}
+
+/// `true` or `false`.
+pub(super) fn flag<'de, D: Deserializer<'de>>(d: D) -> Result<bool, D::Error> {
+    form(d, |v| match v {
+        Value::Boolean(b) => Ok(b),
+        v => Err(format!("expected true or false, got {}", type_name(&v))),
+    })
+}
+
+/// A table read into `T` (`[seeds]`, `[measure]`, `[stop]`).
+fn section<'de, D: Deserializer<'de>, T: Deserialize<'de> + Default>(
+    d: D,
+) -> Result<Option<T>, D::Error> {
+    d.deserialize_any(Form::<T>::new("a table", false, false))
+}
+
+/// `true` (`T`'s defaults), `false` (`None`) or a table read into `T` (`[measure].decay`).
+pub(super) fn toggle<'de, D: Deserializer<'de>, T: Deserialize<'de> + Default>(
+    d: D,
+) -> Result<Option<T>, D::Error> {
+    d.deserialize_any(Form::<T>::new("true/false or a table", true, false))
+}
+
+/// `[[point]]` tables.
+fn points<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Tbl>, D::Error> {
+    let points = d.deserialize_any(Form::<Vec<Tbl>>::new("[[point]] tables", false, true))?;
+    Ok(points.unwrap_or_default())
+}
+
+/// `[seeds].values`: a list of seeds.
+fn seed_values<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Vec<Seed>>, D::Error> {
+    d.deserialize_any(Form::new("a list of integers", false, true))
+}
+
+/// The form of a table or list value (`flag`: `true`/`false` too, `list`: an array, not a
+/// table). Another form is refused with "expected {what}, got {type}"; a table or list is read
+/// on through serde, so errors inside keep their key path.
+struct Form<T> {
+    what: &'static str,
+    flag: bool,
+    list: bool,
+    read: PhantomData<T>,
+}
+
+impl<T> Form<T> {
+    fn new(what: &'static str, flag: bool, list: bool) -> Self {
+        Form {
+            what,
+            flag,
+            list,
+            read: PhantomData,
+        }
+    }
+
+    fn refuse<E: de::Error>(&self, got: &str) -> E {
+        E::custom(format!("expected {}, got {got}", self.what))
+    }
+}
+
+impl<'de, T: Deserialize<'de> + Default> Visitor<'de> for Form<T> {
+    type Value = Option<T>;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str(self.what)
+    }
+
+    fn visit_bool<E: de::Error>(self, b: bool) -> Result<Option<T>, E> {
+        match self.flag {
+            true => Ok(b.then(T::default)),
+            false => Err(self.refuse("a boolean")),
+        }
+    }
+
+    fn visit_i64<E: de::Error>(self, _: i64) -> Result<Option<T>, E> {
+        Err(self.refuse("an integer"))
+    }
+
+    fn visit_f64<E: de::Error>(self, _: f64) -> Result<Option<T>, E> {
+        Err(self.refuse("a number"))
+    }
+
+    fn visit_str<E: de::Error>(self, _: &str) -> Result<Option<T>, E> {
+        Err(self.refuse("a string"))
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Option<T>, A::Error> {
+        match self.list {
+            true => T::deserialize(SeqAccessDeserializer::new(seq)).map(Some),
+            false => Err(self.refuse("an array")),
+        }
+    }
+
+    /// A TOML date arrives as a table of one key, [`DATE`]: refused as a date.
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Option<T>, A::Error> {
+        if self.list {
+            let date = map.next_key::<String>()?.is_some_and(|k| k == DATE);
+            return Err(self.refuse(if date { "a date" } else { "a table" }));
+        }
+        T::deserialize(MapAccessDeserializer::new(map))
+            .map(Some)
+            .map_err(
+                |e| match e.to_string().contains(&format!("unknown field `{DATE}`")) {
+                    true => self.refuse("a date"),
+                    false => e,
+                },
+            )
+    }
 }
