@@ -75,6 +75,31 @@ fn bad_sweep_files_fail_naming_file_and_key() {
     }
 }
 
+/// Regression: errors under `[measure].decay` and `[measure].fragments` named the key
+/// `[measure].decay].from` (a stray bracket) before sweep files were read through serde structs.
+#[test]
+fn measure_sub_key_errors_name_the_key_without_a_stray_bracket() {
+    let cases: &[(&str, &str)] = &[
+        (
+            "[measure]\ndecay = { from = -1 }\n",
+            "test.toml: [measure].decay.from: expected a non-negative integer",
+        ),
+        (
+            "[measure]\ndecay = { foo = 1 }\n",
+            "test.toml: [measure].decay.foo: unknown key",
+        ),
+        (
+            "[measure]\nfragments = { gap_tol = \"x\" }\n",
+            "test.toml: [measure].fragments.gap_tol: expected",
+        ),
+    ];
+    for (table, want) in cases {
+        let text = format!("scene = \"striker\"\n{table}");
+        let e = spec(&text).err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(e.starts_with(want), "{text:?}: got {e:?}, want {want:?}");
+    }
+}
+
 #[test]
 fn scene_errors_fail_before_any_run() {
     let dir = tempfile::tempdir().unwrap();
