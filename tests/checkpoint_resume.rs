@@ -323,3 +323,36 @@ fn resume_keeps_soft_wall_crossings_not_yet_logged() {
         );
     }
 }
+
+#[test]
+fn a_resting_cluster_resumes_bit_identically() {
+    // a column at rest (not integrated, `integrate::rest`) and a bead falling onto it at t ≈ 1
+    let s = column_and_falling_bead(10, 0.5, 6.0);
+    let mut cfg = config(Engine::Hybrid, Method::Auto, 1e-8, 1e-10, 6.0);
+    cfg.every = Some(0.25);
+    let mut full = probe(u64::MAX, false);
+    let reference = engine::run(&s, &cfg, &mut full).expect("runs");
+    let mut first = probe(2, true);
+    engine::run(&s, &cfg, &mut first).expect_err("stopped");
+    let (state, n_frames) = first.saved.take().expect("checkpoint");
+    let EngineState::Hybrid(h) = &state else {
+        panic!("a hybrid state")
+    };
+    let resting = h
+        .clusters
+        .iter()
+        .flatten()
+        .filter(|c| matches!(c.integ.method, beadchain::integrate::MethodState::Rest(_)));
+    assert_eq!(
+        resting.count(),
+        1,
+        "the checkpoint holds the column at rest"
+    );
+    let mut second = probe(u64::MAX, false);
+    let out = engine::resume(&s, &cfg, &state, &mut second).expect("resumes");
+    let mut frames = first.frames[..n_frames].to_vec();
+    frames.extend(second.frames);
+    assert_eq!(bits(&frames), bits(&full.frames));
+    assert_eq!((out.u, out.v), (reference.u, reference.v));
+    assert!(reference.stats.steps > 0, "the column woke");
+}

@@ -48,6 +48,7 @@ pub mod auto;
 pub mod dop853;
 pub mod exact_pair;
 pub mod radau5;
+pub mod rest;
 mod state;
 pub mod verlet;
 
@@ -472,6 +473,11 @@ pub trait Integrator {
     /// [`Integrator::exact_pair`], mutable (an engine reusing a removed pair's allocation).
     fn exact_pair_mut(&mut self) -> Option<&mut exact_pair::ExactPair> {
         None
+    }
+    /// Whether this is the integrator of a cluster at rest ([`rest`]), which an engine does
+    /// not reuse for another cluster.
+    fn at_rest(&self) -> bool {
+        false
     }
     /// The state needed to continue exactly (see [`IntegratorState`]).
     fn save(&self) -> IntegratorState;

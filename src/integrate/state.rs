@@ -5,7 +5,7 @@
 //!
 //! [`Integrator::load`]: super::Integrator::load
 
-use super::{auto, dop853, exact_pair, radau5, verlet, Method, Stats};
+use super::{auto, dop853, exact_pair, radau5, rest, verlet, Method, Stats};
 use crate::names::Named;
 use serde::{Deserialize, Serialize};
 
@@ -41,6 +41,8 @@ pub enum MethodState {
     Verlet(verlet::VerletState),
     /// The trajectory of an [`exact_pair::ExactPair`].
     Exact(exact_pair::PairState),
+    /// The state of a cluster at rest ([`rest::Rest`]).
+    Rest(rest::RestState),
 }
 
 /// The name of the exact two-body contact ([`exact_pair::ExactPair`]) in messages.
@@ -54,6 +56,7 @@ impl MethodState {
             Self::Radau5(_) => Method::Radau5.name(),
             Self::Verlet(_) => Method::Verlet.name(),
             Self::Exact(_) => EXACT_NAME,
+            Self::Rest(_) => rest::REST_NAME,
         }
     }
 }

@@ -21,8 +21,9 @@ pub const CKPT_MAGIC: [u8; 8] = *b"BEADCKPT";
 /// snapshot it continues of format 4; 4: the hybrid state counts closings at tolerance-level
 /// speeds; 5: the hybrid state records which soft walls are logged closed, and its queue holds
 /// soft-wall crossings not yet logged; 6: an integrator state may be an exact two-body
-/// contact's trajectory; 7: an integrator state is typed per method, `MethodState`).
-pub const CKPT_VERSION: u32 = 7;
+/// contact's trajectory; 7: an integrator state is typed per method, `MethodState`; 8: it may be a cluster at
+/// rest's, `MethodState::Rest`).
+pub const CKPT_VERSION: u32 = 8;
 
 /// Everything a resumed run needs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -169,3 +169,26 @@ impl Observer for Grab {
         Ok(())
     }
 }
+
+/// A column of `n` beads (masses alternating 1 and 0.5) at rest on a left wall under gravity
+/// `g = 1` (`[initial] equilibrium = true`), and one more bead of mass 1 held `gap` above it,
+/// at rest: it falls onto the resting column (clusters at rest, `integrate::rest`).
+pub fn column_and_falling_bead(n: usize, gap: f64, until: f64) -> Scene {
+    let text = |beads: usize, eq: bool| {
+        format!(
+            "[chain]\nbeads = {beads}\nmass = {{ alternate = [1.0, 0.5] }}\n[field]\n\
+             gravity = 1.0\n[walls]\nleft = {{}}\n[initial]\nequilibrium = {eq}\n[run]\n\
+             until = {until:?}\n"
+        )
+    };
+    let parse = |t: String| {
+        beadchain::scene::parse_str(&t, std::path::Path::new("."), "column.toml")
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let column = parse(text(n, true));
+    let mut s = parse(text(n + 1, false));
+    assert_eq!(s.chain.mass[n], 1.0, "the falling bead's mass");
+    s.u0[..n].copy_from_slice(&column.u0);
+    s.u0[n] = column.u0[n - 1] + gap;
+    s
+}

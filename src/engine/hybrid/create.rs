@@ -4,14 +4,16 @@
 
 use super::cluster::{Cluster, ClusterSys, PIN_MASS_FACTOR};
 use super::{prio, Hybrid, Key};
-use crate::integrate::new_integrator;
+use crate::integrate::rest::Rest;
+use crate::integrate::{new_integrator, Integrator};
 
 impl Hybrid<'_> {
     /// Creates a cluster of beads `lo..hi` at time `t` from global states `u`, `v`. Its first
     /// step is `h` where given (the step size of the cluster it comes from, see
     /// [`Self::inherited_step`]), else the method's starting-step estimate. Two beads alone on
     /// a conservative contact, or one bead alone against a soft wall, take the exact path
-    /// ([`super::exact`]); `from_flight`: the state is the free flight of two free beads (a
+    /// ([`super::exact`]); a cluster at rest whose forces balance to round-off is not
+    /// integrated ([`super::rest`]); `from_flight`: the state is the free flight of two free beads (a
     /// free bead and its wall) that have just closed their contact.
     pub(super) fn make_cluster(
         &mut self,
@@ -35,11 +37,13 @@ impl Hybrid<'_> {
             (1, true) if !pinned[0] && !pinned[1] => self.exact_wall_law(lo),
             _ => None,
         };
-        let mut integ = match exact {
+        let rest = exact.is_none() && self.at_rest(lo, &mass, pinned, rigid);
+        let mut integ: Box<dyn Integrator> = match exact {
             Some(law) => {
                 self.st.exact_pairs[0] += 1;
                 self.exact_pair(law, from_flight)
             }
+            None if rest => Box::new(Rest::new(m)),
             None => (self.ws.spare.pop())
                 .and_then(|mut i| i.renew(m, tol).then_some(i))
                 .unwrap_or_else(|| {

@@ -64,6 +64,7 @@ mod hard;
 mod kinks;
 mod opening;
 mod process;
+mod rest;
 mod state;
 mod stepping;
 mod stick;

@@ -106,7 +106,7 @@ impl Hybrid<'_> {
             self.ws.spare_mass.push(cl.mass);
             return;
         }
-        if self.ws.spare.len() < SPARE_INTEGRATORS {
+        if self.ws.spare.len() < SPARE_INTEGRATORS && !cl.integ.at_rest() {
             self.ws.spare.push(cl.integ);
             self.ws.spare_mass.push(cl.mass);
         }

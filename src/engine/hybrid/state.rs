@@ -3,7 +3,8 @@
 use super::cluster::{Cluster, Clusters};
 use super::{prio, Hybrid, Key};
 use crate::engine::checkpoint::{ClusterState, HybridState, QueueEntry, StateError};
-use crate::integrate::{new_integrator, MethodState};
+use crate::integrate::rest::Rest;
+use crate::integrate::{new_integrator, Integrator, MethodState};
 use std::cmp::Reverse;
 
 impl Hybrid<'_> {
@@ -72,7 +73,9 @@ impl Hybrid<'_> {
                 let m = (c.hi - c.lo) as usize;
                 let tol = self.cluster_tol(c.lo as usize, c.hi as usize, c.frame.1, c.frame.2);
                 let exact = matches!(c.integ.method, MethodState::Exact(_));
-                let mut integ = match (exact, m) {
+                let rest = matches!(c.integ.method, MethodState::Rest(_));
+                let mut integ: Box<dyn Integrator> = match (exact, m) {
+                    _ if rest => Box::new(Rest::new(m)),
                     (true, 2) => {
                         let law =
                             (self.exact_law(c.lo as usize)).ok_or(StateError::IneligiblePair(k))?;
