@@ -15,10 +15,10 @@ fn scene(text: &str) -> Scene {
     parse_str(text, Path::new("."), "rest.toml").unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// Equilibrium scenes: a gravity column on a soft wall, a long random one, a chain squeezed by
-/// a wall force between two soft walls. (A column on a hard wall is not at rest in the hybrid
-/// engine: its bottom bead is pinned only by a first collision, which leaves the others moving
-/// at round-off speeds, so it is integrated.)
+/// Equilibrium scenes: gravity columns on a soft and on a hard wall (its bottom bead pinned at
+/// the start: before, a first collision at zero speed pinned it and left the other beads at
+/// round-off speeds, integrated for the whole run), a long random column, a chain squeezed by a
+/// wall force between two soft walls.
 fn equilibria() -> Vec<(&'static str, Scene)> {
     let column = |beads: usize| {
         format!(
@@ -29,8 +29,12 @@ fn equilibria() -> Vec<(&'static str, Scene)> {
     let squeezed = "[chain]\nbeads = 12\nexponent = 2.7\nprecompression = 0.01\n[walls]\n\
                     force = 0.37\nleft = { precompression = 0.02 }\nright = { exponent = 3.0 }\n\
                     [initial]\nequilibrium = true\n[run]\nuntil = 1.0\n";
+    let hard = "[chain]\nbeads = 9\nexponent = { alternate = [2.5, 3.0] }\nprefactor = 1.3\n\
+                [field]\ngravity = 0.7\n[walls]\nleft = { hard = true, restitution = 0.8 }\n\
+                [initial]\nequilibrium = true\n[run]\nuntil = 1.0\n";
     vec![
         ("column 12", scene(&column(12))),
+        ("column on a hard wall", scene(hard)),
         ("column 1000", scene(&column(1000))),
         ("squeezed 12", scene(squeezed)),
     ]

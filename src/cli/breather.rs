@@ -181,9 +181,10 @@ fn report_floquet(sh: &Shooter, b: &Breather, list: bool) -> Result<()> {
         f.max_modulus()
     );
     outln!(
-        "reciprocal pairs to {:.3e}; pair at 1: |mean - 1| {mean:.3e}, |product - 1| {prod:.3e}; |M xdot - xdot|/|xdot| {:.3e}",
+        "reciprocal pairs to {:.3e}; pair at 1: |mean - 1| {mean:.3e}, |product - 1| {prod:.3e}; |M xdot - xdot|/|xdot| {:.3e}, |gradH M - gradH|/|gradH| {:.3e}",
         f.reciprocity_error(),
-        f.flow_residual
+        f.flow_residual,
+        f.energy_residual
     );
     if list {
         outln!("re  im  modulus");

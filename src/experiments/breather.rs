@@ -131,6 +131,19 @@ impl Shooter {
         })
     }
 
+    /// Bead masses.
+    pub fn masses(&self) -> &[f64] {
+        &self.scene.chain.mass
+    }
+
+    /// The chain's accelerations at displacements `u` (paper eq. 7; fields and walls
+    /// included).
+    pub fn accel(&self, u: &[f64]) -> Vec<f64> {
+        let mut acc = vec![0.0; u.len()];
+        self.scene.chain.accel(0, u, &mut acc);
+        acc
+    }
+
     /// Number of beads.
     pub fn len(&self) -> usize {
         self.u_eq.len()

@@ -360,6 +360,7 @@ impl<'a> Hybrid<'a> {
                     g: self.ctx.g[lo],
                 };
             } else {
+                self.pin_resting_ends(lo, hi, &u0[lo..hi], &v0[lo..hi]);
                 self.make_cluster(lo, hi, t0, (&u0[lo..hi], &v0[lo..hi]), None, false);
             }
             lo = hi;

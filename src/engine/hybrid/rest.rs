@@ -10,6 +10,12 @@
 //! is an equilibrium as far as the chain's floating-point forces can tell; the exact motion
 //! from it is an oscillation at that round-off. Resting hard contacts (a rigid run) are
 //! excluded: their constraint forces are not in `a_i`.
+//!
+//! At the start of a run (and after `set_velocities`) an end bead of a new cluster that rests on
+//! its **hard** wall (touching it, at rest, pressed into it by its cluster) is pinned there at
+//! once ([`super::stick`]), as the collision at zero speed that would follow pins it; so a column
+//! on a hard wall is at rest from the start too, instead of being integrated until that
+//! collision and left with the other beads at round-off speeds.
 
 use super::cluster::ClusterSys;
 use super::Hybrid;
@@ -20,6 +26,35 @@ use crate::model::contact_force_stiffness;
 const REST_ULPS: f64 = 16.0;
 
 impl Hybrid<'_> {
+    /// Pins the end beads of the new cluster of beads `lo..hi` (initial state `u`, `v`) that
+    /// rest on their hard walls (module docs).
+    pub(super) fn pin_resting_ends(&mut self, lo: usize, hi: usize, u: &[f64], v: &[f64]) {
+        for side in [0u8, 1] {
+            let (k, s, held) = if side == 0 {
+                (0, -1.0, lo == 0)
+            } else {
+                (hi - 1 - lo, 1.0, hi == self.ctx.n)
+            };
+            let wall = if side == 0 {
+                &self.ctx.chain.left_wall
+            } else {
+                &self.ctx.chain.right_wall
+            };
+            let Some(w) = wall.as_ref().filter(|w| w.restitution.is_some()) else {
+                continue;
+            };
+            // touching (overlap `Δ_w + s·u`, zero at rest on the wall) and at rest
+            if !held || v[k] != 0.0 || w.precompression + s * u[k] < 0.0 {
+                continue;
+            }
+            let mut acc = vec![0.0; hi - lo];
+            self.ctx.chain.accel_v(lo, u, v, &mut acc);
+            if s * acc[k] > 0.0 {
+                self.st.pinned[side as usize] = true;
+            }
+        }
+    }
+
     /// Whether the new cluster of beads `lo..hi`, with frame state `(ws.bu, ws.bv)[..m]` and
     /// integrator masses `mass`, is at rest (module docs).
     pub(super) fn at_rest(&self, lo: usize, mass: &[f64], pinned: [bool; 2], rigid: bool) -> bool {
