@@ -212,7 +212,9 @@ def breather(scene: Scene, frequency: float, mode: Optional[int] = None,
     t = 0; the breather starts from rest), ``amplitude``, ``residual`` (period map, max-norm),
     ``half_residual``, ``steps``, ``runs``; with ``floquet``: ``multipliers`` (complex, by
     decreasing modulus), ``max_modulus`` (other than the pair at 1), ``stable``,
-    ``reciprocity_error``, ``unit_pair_error``; ``scene``: the scene with the breather as its
+    ``reciprocity_error``, ``unit_pair_error`` (|mean − 1|, |product − 1| of the pair at 1),
+    ``unit_pair_vectors`` (the residuals of its time-shift and energy vectors,
+    |M ẋ − ẋ|/|ẋ| and |∇Hᵀ M − ∇Hᵀ|/|∇H|); ``scene``: the scene with the breather as its
     initial state, ``periods`` periods with the dense engine (``scene_toml``: its TOML).
     """
     d = _beadchain.breather(scene._s, float(frequency), mode=mode,

@@ -14,7 +14,9 @@ use pyo3::types::PyDict;
 /// nearest the frequency): `frequency`, `period`, `u` (displacements at t = 0, from rest),
 /// `amplitude`, `residual` (period map, max-norm), `half_residual`, `steps`, `runs`, and unless
 /// `floquet=False`: `multipliers` (complex, by decreasing modulus), `max_modulus` (other than
-/// the pair at 1), `stable`, `reciprocity_error`, `unit_pair_error` (|mean − 1|, |product − 1|);
+/// the pair at 1), `stable`, `reciprocity_error`, `unit_pair_error` (|mean − 1|, |product − 1|),
+/// `unit_pair_vectors` (the residuals of its time-shift and energy vectors, |M ẋ − ẋ|/|ẋ| and
+/// |∇Hᵀ M − ∇Hᵀ|/|∇H|);
 /// `scene_toml`: the scene with the breather as its initial state (`periods` periods).
 #[pyfunction]
 #[pyo3(signature = (scene, frequency, mode=None, seed_amplitude=1e-3, step=0.02, tol=1e-11, rtol=1e-12, floquet=true, periods=100.0))]
@@ -72,6 +74,7 @@ pub fn breather<'py>(
         d.set_item("stable", f.stable(1e-6))?;
         d.set_item("reciprocity_error", f.reciprocity_error())?;
         d.set_item("unit_pair_error", f.unit_pair_error())?;
+        d.set_item("unit_pair_vectors", (f.flow_residual, f.energy_residual))?;
     }
     d.set_item("runs", sh.runs.get())?;
     let s = sh.scene_of(b, periods, 20);

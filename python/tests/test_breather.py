@@ -30,6 +30,8 @@ def test_gap_breather_is_periodic_and_stable():
     assert m.shape == (32,) and np.iscomplexobj(m)
     assert d["reciprocity_error"] <= 1e-8
     assert max(d["unit_pair_error"]) <= 1e-8
+    # the pair at 1's time-shift and energy vectors (a Jordan block: docs/studies.md)
+    assert len(d["unit_pair_vectors"]) == 2 and max(d["unit_pair_vectors"]) <= 1e-8
     assert d["stable"] and d["max_modulus"] <= 1 + 1e-6
     s = d["scene"]
     # the saved scene starts from the breather, at rest
