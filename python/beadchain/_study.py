@@ -20,7 +20,8 @@ def check(scene: Scene, method: Optional[str] = None, rtol: Optional[float] = No
 
     Defaults as :func:`run` (``method="auto"``, ``rtol=1e-8``, ``atol=rtol/1e4``, the scene's
     ``until``); ``tol`` defaults to ``1000 * rtol``. Returns ``passed`` (bool), ``sensitive``,
-    ``reference``, ``criteria`` (columns ``what``, ``value``, ``bound``, ``holds``:
+    ``at_rest`` (the chain is at rest at the end: deviations relative to the scene's scales
+    ``L``, ``V``, no leading-wave criterion), ``reference``, ``criteria`` (columns ``what``, ``value``, ``bound``, ``holds``:
     ``pandas.DataFrame(result["criteria"])``), ``deviation`` and ``sensitivity`` (largest
     ``du``, ``dv`` and where).
     """

@@ -53,6 +53,7 @@ pub fn check<'py>(
     let d = PyDict::new(py);
     d.set_item("passed", rep.passed())?;
     d.set_item("sensitive", rep.sensitive)?;
+    d.set_item("at_rest", rep.at_rest)?;
     d.set_item("reference", rep.reference.clone())?;
     d.set_item("rtol", rep.rtol)?;
     d.set_item("tol", tol)?;

@@ -43,21 +43,34 @@ fn print_report(scene: &Scene, cfg: &RunConfig, rep: &CheckReport) -> Result<()>
         cfg.atol,
         rep.reference
     );
+    let (of_u, of_v, rel) = if rep.at_rest {
+        (
+            "the length scale",
+            "the velocity scale",
+            "relative to L, V: the chain is at rest",
+        )
+    } else {
+        (
+            "the largest displacement",
+            "the largest velocity",
+            "relative u, v",
+        )
+    };
     outln!(
-        "max |u_hybrid - u_ref| = {:.3e} at bead {} ({:.3e} of the largest displacement {umax:.3e})",
+        "max |u_hybrid - u_ref| = {:.3e} at bead {} ({:.3e} of {of_u} {umax:.3e})",
         dev.du.0,
         dev.du.1,
         dev.rel_u
     );
     outln!(
-        "max |v_hybrid - v_ref| = {:.3e} at bead {} ({:.3e} of the largest velocity {vmax:.3e})",
+        "max |v_hybrid - v_ref| = {:.3e} at bead {} ({:.3e} of {of_v} {vmax:.3e})",
         dev.dv.0,
         dev.dv.1,
         dev.rel_v
     );
     let s = rep.sensitivity.rel_u.max(rep.sensitivity.rel_v);
     outln!(
-        "sensitivity: the reference at rtol and at rtol/100 differ by {s:.3e} (relative u, v), {:.1e} x rtol",
+        "sensitivity: the reference at rtol and at rtol/100 differ by {s:.3e} ({rel}), {:.1e} x rtol",
         s / rep.rtol
     );
     outln!(
