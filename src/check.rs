@@ -159,7 +159,7 @@ pub fn check_with_progress(
     let compare = |a: &RunOutcome, b: &RunOutcome| {
         let d = Deviation::between(scene, a, b);
         if at_rest {
-            against_scales(d, sc.length, sc.velocity)
+            d.against_scales(sc.length, sc.velocity)
         } else {
             d
         }
@@ -207,17 +207,6 @@ fn configs(scene: &Scene, base: &RunConfig) -> (RunConfig, RunConfig, RunConfig)
     tight.rtol = base.rtol / 100.0;
     tight.atol = base.atol / 100.0;
     (hyb, refc, tight)
-}
-
-/// `d` with its relative deviations taken against the scene's scales `L`, `V` (a chain at rest,
-/// whose own motion is round-off).
-fn against_scales(d: Deviation, length: f64, velocity: f64) -> Deviation {
-    Deviation {
-        rel_u: d.du.0 / length,
-        rel_v: d.dv.0 / velocity,
-        scale: (length, velocity),
-        ..d
-    }
 }
 
 /// The conserved-quantity criteria (module docs): energy where no contact or wall loses it,

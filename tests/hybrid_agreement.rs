@@ -15,12 +15,6 @@ fn both(scene: &Scene, rtol: f64) -> (RunOutcome, RunOutcome) {
     (run(scene, &h).0, run(scene, &d).0)
 }
 
-/// (max |Δu| / max |u − u0|, max |Δv| / max |v|) of `a` against the reference `b`.
-fn deviation(scene: &Scene, a: &RunOutcome, b: &RunOutcome) -> (f64, f64) {
-    let d = beadchain::engine::Deviation::between(scene, a, b);
-    (d.rel_u, d.rel_v)
-}
-
 /// Every preset, over the time the leading wave needs for its first 100 beads (whole run for
 /// chains of ≤ 100 beads), at rtol 1e-10: deviation below 1e-5 of the largest displacement /
 /// velocity (measured: ≤ 1e-9 for most presets; the periodic-decay and disorder scenes amplify
@@ -42,15 +36,15 @@ fn every_preset_hybrid_matches_dense() {
             s.run.until += 0.25 * 2.0 * std::f64::consts::PI / 2.25;
         }
         let (h, d) = both(&s, 1e-10);
-        let (mut du, mut dv) = deviation(&s, &h, &d);
+        let mut dev = beadchain::engine::Deviation::between(&s, &h, &d);
         let sc = s.chain.scales(&s.u0, &s.v0);
         if d.v.iter().all(|v| v.abs() <= 1e-10 * sc.velocity) {
             // At rest (gravity_column_at_rest): the hybrid engine holds it exactly, the dense
             // engine moves by round-off (1e-14), and the relative normalisers (max |u − u0|,
             // max |v|) are that round-off: compare against the scene's scales L, V instead.
-            let dev = beadchain::engine::Deviation::between(&s, &h, &d);
-            (du, dv) = (dev.du.0 / sc.length, dev.dv.0 / sc.velocity);
+            dev = dev.against_scales(sc.length, sc.velocity);
         }
+        let (du, dv) = (dev.rel_u, dev.rel_v);
         eprintln!(
             "{:<30} du {du:.1e} dv {dv:.1e} energy h {:.1e} d {:.1e} bead-steps h {} d {}",
             p.name,
@@ -113,15 +107,15 @@ proptest! {
     #[test]
     fn random_scenes_hybrid_matches_dense(s in random_scene()) {
         let (h, d) = both(&s, 1e-10);
-        let (mut du, mut dv) = deviation(&s, &h, &d);
+        let mut dev = beadchain::engine::Deviation::between(&s, &h, &d);
         let sc = s.chain.scales(&s.u0, &s.v0);
         if d.v.iter().all(|v| v.abs() <= 1e-10 * sc.velocity) {
             // At rest (gravity_column_at_rest): the hybrid engine holds it exactly, the dense
             // engine moves by round-off (1e-14), and the relative normalisers (max |u − u0|,
             // max |v|) are that round-off: compare against the scene's scales L, V instead.
-            let dev = beadchain::engine::Deviation::between(&s, &h, &d);
-            (du, dv) = (dev.du.0 / sc.length, dev.dv.0 / sc.velocity);
+            dev = dev.against_scales(sc.length, sc.velocity);
         }
+        let (du, dv) = (dev.rel_u, dev.rel_v);
         prop_assert!(du < 1e-5 && dv < 1e-5, "du {:e} dv {:e}", du, dv);
         let e0 = h.energy_initial.abs().max(1e-300);
         prop_assert!((h.energy_final - h.energy_initial).abs() / e0 < 1e-7);

@@ -160,6 +160,17 @@ impl Deviation {
             scale: (umax, vmax),
         }
     }
+
+    /// The same deviation relative to the scales `length`, `velocity` instead of the
+    /// reference's motion (a chain at rest, whose own motion is round-off).
+    pub fn against_scales(self, length: f64, velocity: f64) -> Self {
+        Self {
+            rel_u: self.du.0 / length,
+            rel_v: self.dv.0 / velocity,
+            scale: (length, velocity),
+            ..self
+        }
+    }
 }
 
 /// A run whose energy balance error exceeds this many `rtol` is reported as unresolved
