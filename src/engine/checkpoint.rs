@@ -5,8 +5,9 @@
 //! saving is read-only, so a checkpoint never perturbs the run.
 
 use crate::engine::events::EventRecord;
-use crate::engine::hybrid::cluster::Pending;
+use crate::engine::hybrid::cluster::ClusterData;
 use crate::engine::hybrid::free::Free;
+use crate::engine::hybrid::{Key, Prio};
 use crate::integrate::{IntegratorState, LoadError};
 use serde::{Deserialize, Serialize};
 
@@ -66,40 +67,13 @@ pub struct DenseState {
     pub dissipated: f64,
 }
 
-/// One cluster of the hybrid engine.
+/// One cluster of the hybrid engine: its state as the engine holds it, and its integrator's.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ClusterState {
-    /// First bead.
-    pub lo: u64,
-    /// One past the last bead.
-    pub hi: u64,
-    /// Frame displacement, velocity and reference time.
-    pub frame: (f64, f64, f64),
-    /// Current time.
-    pub t_now: f64,
-    /// Pending event.
-    pub pending: Option<Pending>,
-    /// Integrator masses.
-    pub mass: Vec<f64>,
-    /// Pinned ends.
-    pub pinned: [bool; 2],
+    /// Beads, frame, clock, pending event, masses and pinned ends, as the engine holds them.
+    pub data: ClusterData,
     /// Integrator.
     pub integ: IntegratorState,
-}
-
-/// A queue entry: key (kind, index) and priority (time, class, tie-break).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct QueueEntry {
-    /// 0 frame, 1 cluster, 2 free pair, 3 wall, 4 soft-wall crossing not yet logged.
-    pub kind: u8,
-    /// Slot / contact / side.
-    pub index: u64,
-    /// Time.
-    pub t: f64,
-    /// Class.
-    pub class: u8,
-    /// Tie-break.
-    pub tie: u64,
 }
 
 /// Hybrid engine state: the engine's plain data ([`HybridData`], which the engine works on
@@ -111,8 +85,9 @@ pub struct HybridState {
     pub data: HybridData,
     /// Cluster slots.
     pub clusters: Vec<Option<ClusterState>>,
-    /// Queue contents (order irrelevant: priorities are unique; stored in priority order).
-    pub queue: Vec<QueueEntry>,
+    /// Queue contents, keys and priorities as the queue holds them (its heap order is not
+    /// part of the state: priorities are unique; stored in priority order).
+    pub queue: Vec<(Key, Prio)>,
 }
 
 /// The hybrid engine's plain data: the engine reads and writes these fields in place, and a
@@ -190,11 +165,13 @@ impl HybridState {
             }
         }
         for (slot, c) in self.clusters.iter().enumerate() {
-            let Some(c) = c else { continue };
-            if c.lo >= c.hi || c.hi > n as u64 || c.mass.len() as u64 != c.hi - c.lo {
+            let Some(ClusterState { data: c, .. }) = c else {
+                continue;
+            };
+            if c.lo >= c.hi || c.hi > n || c.mass.len() != c.hi - c.lo {
                 return Err(StateError::Cluster {
                     slot,
-                    beads: (c.lo, c.hi),
+                    beads: (c.lo as u64, c.hi as u64),
                     masses: c.mass.len(),
                     n,
                 });

@@ -89,9 +89,9 @@ use std::cmp::Reverse;
 /// Owner value of a free bead.
 const FREE: u32 = u32::MAX;
 
-/// Queue keys.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Key {
+/// Queue keys (checkpoints store them as they are, [`HybridState`]'s queue).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Key {
     /// The next output frame.
     Frame,
     /// A cluster (slot index).
@@ -163,7 +163,7 @@ impl Key {
 /// Priority: earliest time first, then class (frames 0, events 1, steps 2), then bead index.
 /// The last component (the key itself) makes every priority unique, so the pop order never
 /// depends on the heap's insertion history (needed for bit-identical resumes).
-type Prio = Reverse<(OrderedFloat<f64>, u8, u64, u64)>;
+pub type Prio = Reverse<(OrderedFloat<f64>, u8, u64, u64)>;
 
 fn prio(t: f64, class: u8, index: usize, key: Key) -> Prio {
     Reverse((
@@ -308,7 +308,10 @@ impl<'a> Hybrid<'a> {
     fn known_until(&self, i: usize) -> f64 {
         match self.st.owner[i] {
             FREE => f64::INFINITY,
-            s => self.clusters.get(s).map_or(f64::NEG_INFINITY, |c| c.t_now),
+            s => self
+                .clusters
+                .get(s)
+                .map_or(f64::NEG_INFINITY, |c| c.data.t_now),
         }
     }
 
@@ -410,7 +413,7 @@ impl<'a> Hybrid<'a> {
     /// First closing of `cl`'s boundary gaps over its step `[t0, t1]`, as `(t, contact)`, over
     /// the part of the step where the neighbour's trajectory is known (module docs).
     fn first_boundary_closing(&self, cl: &Cluster, t0: f64, t1: f64) -> Option<(f64, usize)> {
-        let (lo, hi) = (cl.lo, cl.hi);
+        let (lo, hi) = (cl.data.lo, cl.data.hi);
         let mut earliest: Option<(f64, usize)> = None;
         if lo > 0 {
             let c = lo - 1;
@@ -451,18 +454,18 @@ impl<'a> Hybrid<'a> {
             let cl = &mut self.clusters[slot];
             let sys = cluster::ClusterSys {
                 chain: self.ctx.fall.1.as_ref().unwrap_or(chain),
-                lo: cl.lo,
-                mass: &cl.mass,
-                pinned: cl.pinned,
-                rigid: cl.rigid.then(|| &self.st.stuck[cl.lo..cl.hi - 1]),
+                lo: cl.data.lo,
+                mass: &cl.data.mass,
+                pinned: cl.data.pinned,
+                rigid: cl.rigid.then(|| &self.st.stuck[cl.data.lo..cl.data.hi - 1]),
             };
-            let t0 = cl.t_now;
+            let t0 = cl.data.t_now;
             cl.integ.set_rough(rough);
             let t1 = cl.integ.step(&sys, bound);
             cl.integ.set_rough(crate::integrate::Rough::Smooth);
             let t1 = t1?;
-            cl.t_now = t1;
-            (cl.lo, t0, t1)
+            cl.data.t_now = t1;
+            (cl.data.lo, t0, t1)
         };
         self.count_step()?;
         // Boundary closings over the known part of the step.
@@ -475,8 +478,8 @@ impl<'a> Hybrid<'a> {
                 self.update_peaks(slot, tw);
                 self.watch_walls(slot, tw);
                 let cl = &mut self.clusters[slot];
-                cl.pending = Some(cluster::Pending::HardWall { side, t: tw });
-                cl.t_now = tw;
+                cl.data.pending = Some(cluster::Pending::HardWall { side, t: tw });
+                cl.data.t_now = tw;
                 self.queue
                     .push(Key::Cluster(slot), prio(tw, 1, lo, Key::Cluster(slot)));
                 return Ok(());
@@ -494,16 +497,16 @@ impl<'a> Hybrid<'a> {
         self.watch_walls(slot, tb);
         let cl = &mut self.clusters[slot];
         if let Some((t, c)) = earliest {
-            cl.pending = Some(cluster::Pending::Close {
+            cl.data.pending = Some(cluster::Pending::Close {
                 contact: c,
                 t,
                 ver: (self.st.version[c], self.st.version[c + 1]),
             });
-            cl.t_now = t;
+            cl.data.t_now = t;
             self.queue
                 .push(Key::Cluster(slot), prio(t, 1, c, Key::Cluster(slot)));
         } else if split {
-            cl.pending = Some(cluster::Pending::Split);
+            cl.data.pending = Some(cluster::Pending::Split);
             self.queue
                 .push(Key::Cluster(slot), prio(t1, 1, lo, Key::Cluster(slot)));
         } else {
@@ -534,7 +537,7 @@ impl<'a> Hybrid<'a> {
         let z = cl.integ.state();
         let m = cl.m();
         for k in 0..m - 1 {
-            let c = cl.lo + k;
+            let c = cl.data.lo + k;
             let d = self.pre(c) + z[k] - z[k + 1];
             let dd = z[m + k] - z[m + k + 1];
             if d < self.ctx.theta && dd < 0.0 && !self.st.stuck[c] {
@@ -545,8 +548,11 @@ impl<'a> Hybrid<'a> {
             return true;
         }
         if m == 1 {
-            let (u, v) = (cl.frame_at(cl.t_now) + z[0], cl.frame_vel(cl.t_now) + z[1]);
-            return !self.wall_holds(cl.lo, u, v);
+            let (u, v) = (
+                cl.frame_at(cl.data.t_now) + z[0],
+                cl.frame_vel(cl.data.t_now) + z[1],
+            );
+            return !self.wall_holds(cl.data.lo, u, v);
         }
         self.release_pin(cl).is_some()
     }
