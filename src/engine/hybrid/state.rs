@@ -22,7 +22,7 @@ impl Hybrid<'_> {
         let mut queue: Vec<(Key, Prio)> = self.queue.iter().map(|(k, p)| (*k, *p)).collect();
         // the heap's internal order is not part of the state: store in priority order (every
         // priority is unique)
-        queue.sort_unstable_by(|a, b| b.1.cmp(&a.1));
+        queue.sort_unstable_by_key(|(_, p)| p.0);
         HybridState {
             data: self.st.clone(),
             clusters,
