@@ -7,7 +7,7 @@
 use crate::engine::events::EventRecord;
 use crate::engine::hybrid::cluster::ClusterData;
 use crate::engine::hybrid::free::Free;
-use crate::engine::hybrid::{Key, Prio};
+use crate::engine::hybrid::queue::{Key, Prio};
 use crate::integrate::{IntegratorState, LoadError};
 use serde::{Deserialize, Serialize};
 
