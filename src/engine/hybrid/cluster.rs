@@ -137,7 +137,7 @@ pub enum Pending {
 
 /// A cluster's state as data: its beads, frame, clock, pending event, integrator masses and
 /// pinned ends. A checkpoint stores it as it is, beside the integrator's own typed state
-/// ([`crate::engine::checkpoint::ClusterState`]).
+/// ([`super::saved::ClusterState`]).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ClusterData {
     /// First bead.

@@ -127,7 +127,7 @@ impl Hybrid<'_> {
     }
 
     /// Counts a closing at relative speed `rel` of the beads `beads` in
-    /// [`crate::engine::checkpoint::HybridData::slow_closings`] when it is below
+    /// [`crate::engine::hybrid::saved::HybridData::slow_closings`] when it is below
     /// [`crate::engine::SLOW_CLOSING_FACTOR`] times their absolute velocity tolerance `atol·V_i`
     /// (the larger of the beads').
     pub(super) fn count_slow_closing(&mut self, rel: f64, beads: &[usize]) {

@@ -66,6 +66,7 @@ mod opening;
 mod process;
 pub mod queue;
 mod rest;
+pub mod saved;
 mod state;
 mod stepping;
 mod stick;
@@ -76,7 +77,6 @@ pub use stepping::HybridEngine;
 pub use threshold::{contact_threshold, threshold};
 
 use super::{EngineError, RunConfig};
-use crate::engine::checkpoint::HybridData;
 use crate::engine::events::EventCounts;
 use crate::integrate::Stats;
 use crate::scene::Scene;
@@ -85,6 +85,7 @@ use context::{Context, Workspace};
 use free::Free;
 use queue::{prio, Queue};
 pub use queue::{Key, Prio};
+use saved::HybridData;
 
 /// Owner value of a free bead.
 const FREE: u32 = u32::MAX;

@@ -5,7 +5,7 @@ use ordered_float::OrderedFloat;
 use priority_queue::PriorityQueue;
 use std::cmp::Reverse;
 
-/// Queue keys (checkpoints store them as they are, [`crate::engine::checkpoint::HybridState`]'s queue).
+/// Queue keys (checkpoints store them as they are, [`super::saved::HybridState`]'s queue).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Key {
     /// The next output frame.

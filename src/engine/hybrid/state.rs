@@ -1,8 +1,9 @@
 //! Saving and restoring the hybrid engine's state (checkpoints).
 
 use super::cluster::{Cluster, Clusters};
+use super::saved::{ClusterState, HybridState};
 use super::{prio, Hybrid, Key, Prio};
-use crate::engine::checkpoint::{ClusterState, HybridState, StateError};
+use crate::engine::checkpoint::StateError;
 use crate::integrate::rest::Rest;
 use crate::integrate::{new_integrator, Integrator, MethodState};
 

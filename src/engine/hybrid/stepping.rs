@@ -12,11 +12,12 @@
 //! no byte. Returned events are read from the log's buffer, which is handed over only at a
 //! full block or a frame, i.e. after every event it holds was returned.
 
+use super::saved::HybridState;
 use super::{cluster, prio, Hybrid, Key, FREE};
-use crate::engine::checkpoint::{EngineState, HybridState};
 use crate::engine::stepper::{
     check_budget, check_velocities, drive, outcome_at, Drive, Engine, PauseAt, State, Stop,
 };
+use crate::engine::EngineState;
 use crate::engine::{EngineError, Observer, RunConfig, RunOutcome};
 use crate::scene::Scene;
 use std::cmp::Reverse;

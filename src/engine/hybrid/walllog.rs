@@ -24,7 +24,7 @@
 //! closing, where `δ_w = θ` to rounding) measures the crossing from its starting overlap, as
 //! hard contacts do ([`Hybrid::closing_offset`]).
 //!
-//! [`HybridData::wall_in`]: crate::engine::checkpoint::HybridData::wall_in
+//! [`HybridData::wall_in`]: crate::engine::hybrid::saved::HybridData::wall_in
 
 use super::cluster::Cluster;
 use super::{prio, Hybrid, Key, FREE};
