@@ -115,23 +115,17 @@ pub fn export_csv(
     let (hu, hv) = (s.fields.has_u(), s.fields.has_v());
     let comments = provenance::csv_comments(snap.header());
     let head = format!("{comments}frame,t,bead{}\n", long_columns(hu, hv));
-    write_frames(
-        out,
-        head.as_bytes(),
-        snap,
-        sel.range(snap)?,
-        units,
-        |w, k, f| {
-            for j in 0..f.u.len().max(f.v.len()) {
-                write!(w, "{k},{},{}", Num(f.t), s.bead(j))?;
-                for x in [f.u.get(j), f.v.get(j)].into_iter().flatten() {
-                    write!(w, ",{}", Num(*x))?;
-                }
-                writeln!(w)?;
+    let range = sel.range(snap)?;
+    write_frames(out, head.as_bytes(), snap, range, units, |w, k, f| {
+        for j in 0..f.u.len().max(f.v.len()) {
+            write!(w, "{k},{},{}", Num(f.t), s.bead(j))?;
+            for x in [f.u.get(j), f.v.get(j)].into_iter().flatten() {
+                write!(w, ",{}", Num(*x))?;
             }
-            Ok(())
-        },
-    )
+            writeln!(w)?;
+        }
+        Ok(())
+    })
 }
 
 /// Streams `head`, then `row(w, k, frame)` for each frame `k` of `range` (read in turn, in the

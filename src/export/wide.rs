@@ -96,20 +96,14 @@ pub fn export_csv_wide(
         }
     }
     head.push('\n');
-    write_frames(
-        out,
-        head.as_bytes(),
-        snap,
-        sel.range(snap)?,
-        units,
-        |w, _, f| {
-            write!(w, "{}", Num(f.t))?;
-            for x in f.u.iter().chain(&f.v) {
-                write!(w, ",{}", Num(*x))?;
-            }
-            writeln!(w)
-        },
-    )
+    let range = sel.range(snap)?;
+    write_frames(out, head.as_bytes(), snap, range, units, |w, _, f| {
+        write!(w, "{}", Num(f.t))?;
+        for x in f.u.iter().chain(&f.v) {
+            write!(w, ",{}", Num(*x))?;
+        }
+        writeln!(w)
+    })
 }
 
 /// Which per-frame array an `.npz` entry streams.
