@@ -220,6 +220,16 @@ impl Cluster {
         self.frame_vel(t) + self.integ.dense_at(t, self.m() + i - self.data.lo)
     }
 
+    /// The accelerations of the cluster's beads at its current state, with their real masses
+    /// (the force a pinned bead feels; not hot: hard collisions and resting contacts).
+    pub fn accel_now(&self, chain: &Chain) -> Vec<f64> {
+        let m = self.m();
+        let z = self.integ.state();
+        let mut acc = vec![0.0; m];
+        chain.accel_v(self.data.lo, &z[..m], &z[m..], &mut acc);
+        acc
+    }
+
     /// The system this cluster integrates (`stuck`: the engine's flags, one per contact).
     pub fn sys<'a>(&'a self, chain: &'a Chain, stuck: &'a [bool]) -> ClusterSys<'a> {
         ClusterSys {

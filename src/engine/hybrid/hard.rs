@@ -62,14 +62,7 @@ impl Hybrid<'_> {
             FREE => self.st.free[i].g,
             s => {
                 let cl = &self.clusters[s];
-                let m = cl.m();
-                let z = cl.integ.state();
-                let mut acc = vec![0.0; m];
-                // real masses: the force a pinned bead feels
-                self.ctx
-                    .chain
-                    .accel_v(cl.data.lo, &z[..m], &z[m..], &mut acc);
-                acc[i - cl.data.lo]
+                cl.accel_now(self.ctx.chain)[i - cl.data.lo]
             }
         }
     }

@@ -237,11 +237,7 @@ impl Hybrid<'_> {
     /// held by a wall has `A = 0` and is summed from its free end.
     pub(super) fn tension(&self, cl: &Cluster) -> Option<usize> {
         let m = cl.m();
-        let z = cl.integ.state();
-        let mut acc = vec![0.0; m];
-        self.ctx
-            .chain
-            .accel_v(cl.data.lo, &z[..m], &z[m..], &mut acc);
+        let acc = cl.accel_now(self.ctx.chain);
         let mass = &self.ctx.chain.mass[cl.data.lo..cl.data.hi];
         let stuck = &self.st.stuck[cl.data.lo..cl.data.hi - 1];
         let mut a = 0;
