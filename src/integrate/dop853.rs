@@ -136,6 +136,22 @@ fn rhs_of_combined(sys: &dyn System, stats: &mut Stats, z: &[f64], k: &mut [f64]
 }
 
 impl Dop853 {
+    /// Component `i` of the continuous output at `x = (t − t_prev)/(t_step − t_prev)` of the last
+    /// step (Horner's scheme in `x` and `1 − x`, SciPy's `Dop853DenseOutput`).
+    #[inline(always)]
+    fn dense_component(&self, x: f64, i: usize) -> f64 {
+        let n = 2 * self.m;
+        let x1 = 1.0 - x;
+        let f = &self.st.f;
+        let mut p = f[5 * n + i] + x * f[6 * n + i];
+        p = f[4 * n + i] + x1 * p;
+        p = f[3 * n + i] + x * p;
+        p = f[2 * n + i] + x1 * p;
+        p = f[n + i] + x * p;
+        p = f[i] + x1 * p;
+        self.st.z_old[i] + x * p
+    }
+
     /// An integrator for `m` beads (state length `2m`) with tolerances `tol`. Call
     /// [`Integrator::reset`] before stepping.
     pub fn new(m: usize, tol: Tolerances) -> Self {
@@ -388,8 +404,7 @@ impl Integrator for Dop853 {
     /// The 7th-order continuous output of the last accepted step (SciPy `Dop853DenseOutput`);
     /// exact copies of the endpoint states at `t_prev` and `t`.
     fn dense(&self, t: f64, z: &mut [f64]) {
-        let n = 2 * self.m;
-        debug_assert_eq!(z.len(), n);
+        debug_assert_eq!(z.len(), 2 * self.m);
         if t == self.t {
             z.copy_from_slice(&self.st.z);
             return;
@@ -399,21 +414,12 @@ impl Integrator for Dop853 {
             return;
         }
         let x = (t - self.t_prev) / (self.t - self.t_prev);
-        let x1 = 1.0 - x;
-        let f = &self.st.f;
         for (i, zi) in z.iter_mut().enumerate() {
-            let mut p = f[5 * n + i] + x * f[6 * n + i];
-            p = f[4 * n + i] + x1 * p;
-            p = f[3 * n + i] + x * p;
-            p = f[2 * n + i] + x1 * p;
-            p = f[n + i] + x * p;
-            p = f[i] + x1 * p;
-            *zi = self.st.z_old[i] + x * p;
+            *zi = self.dense_component(x, i);
         }
     }
 
     fn dense_at(&self, t: f64, j: usize) -> f64 {
-        let n = 2 * self.m;
         if t == self.t {
             return self.st.z[j];
         }
@@ -421,15 +427,7 @@ impl Integrator for Dop853 {
             return self.st.z_old[j];
         }
         let x = (t - self.t_prev) / (self.t - self.t_prev);
-        let x1 = 1.0 - x;
-        let f = &self.st.f;
-        let mut p = f[5 * n + j] + x * f[6 * n + j];
-        p = f[4 * n + j] + x1 * p;
-        p = f[3 * n + j] + x * p;
-        p = f[2 * n + j] + x1 * p;
-        p = f[n + j] + x * p;
-        p = f[j] + x1 * p;
-        self.st.z_old[j] + x * p
+        self.dense_component(x, j)
     }
 
     fn end_states(&self) -> Option<(&[f64], &[f64])> {

@@ -45,7 +45,7 @@
 //! continued here), and not across hard contacts (their collisions are located and resolved
 //! instantaneously, `super::hard`).
 
-use super::cluster::Cluster;
+use super::cluster::{Cluster, ClusterId};
 use super::{Hybrid, FREE};
 
 /// How far past the predicted closing a landing step ends, as a fraction of its lead time.
@@ -142,7 +142,7 @@ impl Hybrid<'_> {
     /// Does the continuous output of the cluster in `slot` give its state at the closing time
     /// `t` (a DOP853 step ending within [`NEAR_END`] of its length after `t`), so that no step
     /// needs to be redone to land there (module docs)?
-    pub(super) fn output_suffices(&self, slot: u32, t: f64) -> bool {
+    pub(super) fn output_suffices(&self, slot: ClusterId, t: f64) -> bool {
         let cl = &self.clusters[slot];
         let (t1, t0) = (cl.integ.t(), cl.integ.t_prev());
         cl.integ.rate().is_some() && t1 > t0 && t1 - t <= NEAR_END * (t1 - t0)
@@ -152,7 +152,7 @@ impl Hybrid<'_> {
     /// `w` of a contact with reduced mass `mu` and law `(n, a)`, at the onset of its force
     /// (module docs). A method whose proposal is already shorter, or that takes no steps (an
     /// exact pair), is not changed.
-    pub(super) fn cap_onset_step(&mut self, slot: u32, mu: f64, (n, a): (f64, f64), w: f64) {
+    pub(super) fn cap_onset_step(&mut self, slot: ClusterId, mu: f64, (n, a): (f64, f64), w: f64) {
         if !(w > 0.0 && a > 0.0 && n > 1.0) {
             return;
         }

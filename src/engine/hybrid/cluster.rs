@@ -242,6 +242,22 @@ impl Cluster {
     }
 }
 
+/// A cluster's slot in [`Clusters`]: what the beads' owners, the event queue and checkpoints
+/// name a cluster by (stored as its number, `serde(transparent)`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(transparent)]
+pub struct ClusterId(u32);
+
+impl ClusterId {
+    /// The owner of a free bead: no cluster.
+    pub const FREE: ClusterId = ClusterId(u32::MAX);
+
+    /// The slot number.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
 /// The live clusters, each in a slot (rapier's island set): the slot numbers are what the
 /// beads' owners, the event queue and checkpoints name a cluster by, and a removed cluster's
 /// slot is reused by the next one made ([`super::HybridData`]'s spare slots). Indexing a slot
@@ -257,38 +273,38 @@ impl Clusters {
         Self { slots }
     }
 
-    /// Number of slots (live or free).
-    pub fn slots(&self) -> usize {
-        self.slots.len()
+    /// Every slot's id, live or free.
+    pub fn ids(&self) -> impl Iterator<Item = ClusterId> {
+        (0..self.slots.len() as u32).map(ClusterId)
     }
 
     /// The cluster in `slot`, if it is live.
-    pub fn get(&self, slot: u32) -> Option<&Cluster> {
-        self.slots.get(slot as usize).and_then(Option::as_ref)
+    pub fn get(&self, slot: ClusterId) -> Option<&Cluster> {
+        self.slots.get(slot.index()).and_then(Option::as_ref)
     }
 
     /// The cluster in `slot`, if it is live.
-    pub fn get_mut(&mut self, slot: u32) -> Option<&mut Cluster> {
-        self.slots.get_mut(slot as usize).and_then(Option::as_mut)
+    pub fn get_mut(&mut self, slot: ClusterId) -> Option<&mut Cluster> {
+        self.slots.get_mut(slot.index()).and_then(Option::as_mut)
     }
 
     /// Puts `cl` in `slot` (a free one) or, without one, in a new slot; returns the slot.
-    pub fn insert(&mut self, slot: Option<u32>, cl: Cluster) -> u32 {
+    pub fn insert(&mut self, slot: Option<ClusterId>, cl: Cluster) -> ClusterId {
         match slot {
             Some(s) => {
-                self.slots[s as usize] = Some(cl);
+                self.slots[s.index()] = Some(cl);
                 s
             }
             None => {
                 self.slots.push(Some(cl));
-                (self.slots.len() - 1) as u32
+                ClusterId((self.slots.len() - 1) as u32)
             }
         }
     }
 
     /// Takes the cluster out of `slot`, leaving it free.
-    pub fn remove(&mut self, slot: u32) -> Cluster {
-        self.slots[slot as usize].take().expect("live cluster")
+    pub fn remove(&mut self, slot: ClusterId) -> Cluster {
+        self.slots[slot.index()].take().expect("live cluster")
     }
 
     /// Every slot, live (`Some`) or free.
@@ -307,15 +323,15 @@ impl Clusters {
     }
 }
 
-impl std::ops::Index<u32> for Clusters {
+impl std::ops::Index<ClusterId> for Clusters {
     type Output = Cluster;
-    fn index(&self, slot: u32) -> &Cluster {
+    fn index(&self, slot: ClusterId) -> &Cluster {
         self.get(slot).expect("live cluster")
     }
 }
 
-impl std::ops::IndexMut<u32> for Clusters {
-    fn index_mut(&mut self, slot: u32) -> &mut Cluster {
+impl std::ops::IndexMut<ClusterId> for Clusters {
+    fn index_mut(&mut self, slot: ClusterId) -> &mut Cluster {
         self.get_mut(slot).expect("live cluster")
     }
 }

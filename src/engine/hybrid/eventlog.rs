@@ -35,6 +35,7 @@
 //! peak is as accurate as the continuous output itself. For a two-body collision with the
 //! power law `a δⁿ` (paper eq. 6) it equals the energy bound `a δ_maxⁿ = ½ μ w²`.
 
+use super::cluster::ClusterId;
 use super::detect::{step_max, step_max_from};
 use super::Hybrid;
 use crate::engine::events::{EventKind, EventRecord};
@@ -54,7 +55,7 @@ impl Hybrid<'_> {
 
     /// Raises the peak overlaps of the cluster's contacts (and of a soft wall it holds) to their
     /// maxima over its last step, up to `tb` (the step end, or an earlier time it is parked at).
-    pub(super) fn update_peaks(&mut self, slot: u32, tb: f64) {
+    pub(super) fn update_peaks(&mut self, slot: ClusterId, tb: f64) {
         let chain = self.ctx.chain;
         let cl = &self.clusters[slot];
         let ta = cl.integ.t_prev();

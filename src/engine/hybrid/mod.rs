@@ -80,15 +80,15 @@ use super::{EngineError, RunConfig};
 use crate::engine::events::EventCounts;
 use crate::integrate::Stats;
 use crate::scene::Scene;
-use cluster::{Cluster, Clusters};
+use cluster::{Cluster, ClusterId, Clusters};
 use context::{Context, Workspace};
 use free::Free;
 use queue::{prio, Queue};
 pub use queue::{Key, Prio};
 use saved::HybridData;
 
-/// Owner value of a free bead.
-const FREE: u32 = u32::MAX;
+/// Owner of a free bead.
+const FREE: ClusterId = ClusterId::FREE;
 
 /// The hybrid engine: what it derives from the scene (rebuilt, never saved), its plain data
 /// ([`HybridData`], saved as it is), its live clusters and event queue (saved as data by
@@ -356,7 +356,7 @@ impl<'a> Hybrid<'a> {
         earliest
     }
 
-    fn step_cluster(&mut self, slot: u32) -> Result<(), EngineError> {
+    fn step_cluster(&mut self, slot: ClusterId) -> Result<(), EngineError> {
         let until = self.ctx.cfg.until;
         let chain = self.ctx.chain;
         let (bound, rough) = {

@@ -42,6 +42,7 @@
 //! simply continues from `t*` with its integrator as it is: it is not rebuilt, so no loop of
 //! fresh, short starting steps can form.
 
+use super::cluster::ClusterId;
 use super::cluster::{Cluster, Pending};
 use super::{prio, Hybrid, Key};
 use crate::engine::EngineError;
@@ -212,7 +213,7 @@ impl Hybrid<'_> {
     /// Records a located opening at `t` in the step just taken: the cluster waits in the queue
     /// until `t` ([`Self::open_at`]); until then its continuous output is the step's, valid
     /// over the whole of `[t0, t]`.
-    pub(super) fn defer_open(&mut self, slot: u32, t: f64) {
+    pub(super) fn defer_open(&mut self, slot: ClusterId, t: f64) {
         self.update_peaks(slot, t);
         self.watch_walls(slot, t);
         let cl = &mut self.clusters[slot];
@@ -225,7 +226,7 @@ impl Hybrid<'_> {
 
     /// Lands the cluster in `slot` on the located opening time `t` and splits it there if the
     /// split rule holds in the landed state (module docs), or continues it from `t` otherwise.
-    pub(super) fn open_at(&mut self, slot: u32, t: f64) -> Result<(), EngineError> {
+    pub(super) fn open_at(&mut self, slot: ClusterId, t: f64) -> Result<(), EngineError> {
         self.settle_at(slot, t)?;
         let cl = &self.clusters[slot];
         let (lo, split) = (cl.data.lo, self.needs_split(cl));

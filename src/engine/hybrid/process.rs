@@ -1,7 +1,7 @@
 //! Event processing of the hybrid engine: merging on gap closing, splitting on gap opening, and
 //! the free-flight predictions that follow.
 
-use super::cluster::{Cluster, ClusterSys};
+use super::cluster::{Cluster, ClusterId, ClusterSys};
 use super::free::{first_upward_crossing, Free};
 use super::{prio, Hybrid, Key, FREE};
 use crate::engine::events::EventKind;
@@ -27,7 +27,7 @@ impl Hybrid<'_> {
     ///   8979 instead of 7711 with Radau IIA (which first failed there, "step size too small",
     ///   from a controller defect since fixed: `radau_step_after_a_zero_error_step_is_not_zero`);
     /// - from Radau IIA: no measurable gain (interface, striker, periodic decay: < 1 % steps).
-    pub(super) fn inherited_step(&self, slot: u32) -> Option<f64> {
+    pub(super) fn inherited_step(&self, slot: ClusterId) -> Option<f64> {
         let cl = self.clusters.get(slot)?;
         let smooth = self.ctx.chain.exponent[cl.data.lo..cl.data.hi - 1]
             .iter()
@@ -72,7 +72,7 @@ impl Hybrid<'_> {
     /// dissipated up to `t`, not up to the end of its last step, to the run's books: a merge
     /// can read a cluster's state at `t` from the continuous output of a step that ends past
     /// `t`, and the merged cluster integrates the dissipation from `t` on).
-    pub(super) fn remove_cluster(&mut self, slot: u32, t: f64) -> Cluster {
+    pub(super) fn remove_cluster(&mut self, slot: ClusterId, t: f64) -> Cluster {
         let cl = self.clusters.remove(slot);
         if self.ctx.chain.is_dissipative() {
             let sys = cl.sys(
@@ -195,7 +195,7 @@ impl Hybrid<'_> {
     /// checked here over `[t, t_now]` (the cluster's output covers it), and a closing found
     /// there parks the cluster at it.
     pub(super) fn check_new_free(&mut self, i: usize, t: f64) {
-        let mut found: Option<(u32, usize, f64)> = None;
+        let mut found: Option<(ClusterId, usize, f64)> = None;
         if i > 0 && self.st.owner[i - 1] != FREE {
             let theta = self.closing_offset(i - 1, t);
             let s = self.st.owner[i - 1];
@@ -256,7 +256,7 @@ impl Hybrid<'_> {
     /// Brings a cluster's integrator exactly to `t ∈ [t_prev, t]` by redoing its last step to
     /// land on `t`, so that the state at an event is a full-accuracy step result rather than
     /// the (lower-order) continuous output.
-    pub(super) fn settle_at(&mut self, slot: u32, t: f64) -> Result<(), EngineError> {
+    pub(super) fn settle_at(&mut self, slot: ClusterId, t: f64) -> Result<(), EngineError> {
         let chain = self.ctx.chain;
         let cl = &mut self.clusters[slot];
         cl.data.t_now = t;
@@ -369,7 +369,7 @@ impl Hybrid<'_> {
     /// A cluster reached the closing it found at `t` with the bead across contact `c`.
     pub(super) fn process_close(
         &mut self,
-        slot: u32,
+        slot: ClusterId,
         c: usize,
         t: f64,
         ver: (u64, u64),
@@ -414,7 +414,7 @@ impl Hybrid<'_> {
     }
 
     /// Splits a cluster at every contact that opened (and frees a lone bead leaving a wall).
-    pub(super) fn process_split(&mut self, slot: u32) {
+    pub(super) fn process_split(&mut self, slot: ClusterId) {
         let (lo, hi, t) = {
             let cl = &self.clusters[slot];
             (cl.data.lo, cl.data.hi, cl.data.t_now)

@@ -1,6 +1,7 @@
 //! The hybrid engine's event queue: its keys, their unique priorities (time, class, bead,
 //! key) and the hasher of its index map. Checkpoints store keys and priorities as they are.
 
+use super::cluster::ClusterId;
 use ordered_float::OrderedFloat;
 use priority_queue::PriorityQueue;
 use std::cmp::Reverse;
@@ -10,8 +11,8 @@ use std::cmp::Reverse;
 pub enum Key {
     /// The next output frame.
     Frame,
-    /// A cluster (slot index).
-    Cluster(u32),
+    /// A cluster.
+    Cluster(ClusterId),
     /// Predicted closing of the gap between free beads `c` and `c + 1`.
     FreeFree(u32),
     /// Predicted closing of a free end bead onto a wall (0 = left, 1 = right).
@@ -58,7 +59,7 @@ impl Key {
     pub(super) fn id(self) -> u64 {
         let index = match self {
             Key::Frame => 0,
-            Key::Cluster(s) => s as u64,
+            Key::Cluster(s) => s.index() as u64,
             Key::FreeFree(c) => c as u64,
             Key::Wall(w) | Key::WallLog(w) => w as u64,
         };

@@ -3,7 +3,7 @@
 //! integrator's typed state ([`ClusterState`]) and the queue's keys and priorities. Saving and
 //! restoring are in `state.rs`.
 
-use super::cluster::ClusterData;
+use super::cluster::{ClusterData, ClusterId};
 use super::free::Free;
 use super::queue::{Key, Prio};
 use crate::engine::checkpoint::StateError;
@@ -40,14 +40,14 @@ pub struct HybridState {
 pub struct HybridData {
     /// Engine clock (time of the last processed queue entry).
     pub t: f64,
-    /// Owner slot per bead (`u32::MAX` = free).
-    pub owner: Vec<u32>,
+    /// Owner slot per bead ([`ClusterId::FREE`]: free, stored as `u32::MAX`).
+    pub owner: Vec<ClusterId>,
     /// Free-flight states.
     pub free: Vec<Free>,
     /// Bead versions.
     pub version: Vec<u64>,
     /// Unused cluster slots.
-    pub spare_slots: Vec<u32>,
+    pub spare_slots: Vec<ClusterId>,
     /// Largest overlap per contact since it closed (`N − 1` contacts, then the left and right
     /// walls at `N − 1 + side`).
     pub peak: Vec<f64>,

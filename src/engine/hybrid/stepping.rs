@@ -12,6 +12,7 @@
 //! no byte. Returned events are read from the log's buffer, which is handed over only at a
 //! full block or a frame, i.e. after every event it holds was returned.
 
+use super::cluster::ClusterId;
 use super::saved::HybridState;
 use super::{cluster, prio, Hybrid, Key, FREE};
 use crate::engine::stepper::{
@@ -93,7 +94,7 @@ impl Hybrid<'_> {
 
     /// A cluster's queue entry: its pending event (a closing, split, hard-wall contact or
     /// opening it landed on), else its next step.
-    fn process_cluster_entry(&mut self, slot: u32) -> Result<(), EngineError> {
+    fn process_cluster_entry(&mut self, slot: ClusterId) -> Result<(), EngineError> {
         let pending = self
             .clusters
             .get_mut(slot)
@@ -223,7 +224,8 @@ impl Engine for HybridEngine<'_> {
         check_velocities(h.ctx.n, v)?;
         let t = h.st.t;
         let u: Vec<f64> = (0..h.ctx.n).map(|i| h.pos(i, t).0).collect();
-        for slot in 0..h.clusters.slots() as u32 {
+        let ids: Vec<ClusterId> = h.clusters.ids().collect();
+        for slot in ids {
             if let Some(cl) = h.clusters.get_mut(slot) {
                 cl.data.t_now = t;
                 h.remove_cluster(slot, t);

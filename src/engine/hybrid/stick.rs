@@ -32,7 +32,7 @@
 //! cluster splits there. A piece of a split made only of rigid beads becomes a free group again.
 //! A cluster's boundary contacts are never stuck ([`Hybrid::unstick_around`]).
 
-use super::cluster::Cluster;
+use super::cluster::{Cluster, ClusterId};
 use super::free::Free;
 use super::Hybrid;
 use crate::engine::events::EventKind;
@@ -295,7 +295,7 @@ impl Hybrid<'_> {
 
     /// Before a split of cluster `slot` at `t`: releases a pin whose net force points away from
     /// its wall, and opens a resting contact that would carry tension.
-    pub(super) fn release_and_unstick(&mut self, slot: u32, t: f64) {
+    pub(super) fn release_and_unstick(&mut self, slot: ClusterId, t: f64) {
         let cl = &self.clusters[slot];
         let (side, tense) = (
             self.release_pin(cl),

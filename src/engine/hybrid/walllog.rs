@@ -26,7 +26,7 @@
 //!
 //! [`HybridData::wall_in`]: crate::engine::hybrid::saved::HybridData::wall_in
 
-use super::cluster::Cluster;
+use super::cluster::{Cluster, ClusterId};
 use super::{prio, Hybrid, Key, FREE};
 use crate::engine::events::EventKind;
 
@@ -64,7 +64,7 @@ impl Hybrid<'_> {
 
     /// After an accepted step of the cluster in `slot`, kept up to `tb` (its end, or where it is
     /// parked): schedules the first crossing of `θ` by each soft wall it holds (module docs).
-    pub(super) fn watch_walls(&mut self, slot: u32, tb: f64) {
+    pub(super) fn watch_walls(&mut self, slot: ClusterId, tb: f64) {
         let cl = &self.clusters[slot];
         let ta = cl.integ.t_prev();
         let tb = tb.min(cl.integ.t());
