@@ -146,7 +146,8 @@ pub(crate) use table_keys;
 /// Reads table `t` into `T` (a [`table_keys`] struct). An unknown key is `Err((key, keys))`:
 /// the key and the keys `T` has, comma-separated.
 pub(crate) fn read_keys<T: DeserializeOwned>(t: &Table) -> Result<T, (String, String)> {
-    serde_path_to_error::deserialize(Value::Table(t.clone())).map_err(|e| {
+    let t = Value::Table(t.iter().map(|(k, v)| (k.clone(), dates_kept(v))).collect());
+    serde_path_to_error::deserialize(t).map_err(|e| {
         let key = e
             .path()
             .iter()
@@ -157,6 +158,22 @@ pub(crate) fn read_keys<T: DeserializeOwned>(t: &Table) -> Result<T, (String, St
         let keys = keys.trim_start_matches("one of ").replace('`', "");
         (one_line(&key), keys.replace(" or ", ", "))
     })
+}
+
+/// `v` with every date written as the one-key table that serde reads back as a TOML date
+/// (the deserializer of a [`Value`] hands a date on as a string: messages say "got a date").
+fn dates_kept(v: &Value) -> Value {
+    match v {
+        Value::Datetime(d) => Value::Table(Table::from_iter([(
+            "$__toml_private_datetime".to_string(),
+            Value::String(d.to_string()),
+        )])),
+        Value::Array(a) => Value::Array(a.iter().map(dates_kept).collect()),
+        Value::Table(t) => {
+            Value::Table(t.iter().map(|(k, v)| (k.clone(), dates_kept(v))).collect())
+        }
+        v => v.clone(),
+    }
 }
 
 /// The keys of table `t` at key path `path` as `T` (a [`table_keys`] struct); an unknown key
