@@ -111,16 +111,12 @@ pub fn export_csv(
     units: &ExportUnits,
     out: &mut dyn Write,
 ) -> Result<(), SnapshotError> {
-    let range = sel.range(snap)?;
     let s = snap.selection();
     let (hu, hv) = (s.fields.has_u(), s.fields.has_v());
-    let mut w = BufWriter::with_capacity(1 << 16, out);
-    w.write_all(provenance::csv_comments(snap.header()).as_bytes())?;
-    writeln!(w, "frame,t,bead{}", long_columns(hu, hv))?;
-    let mut f = Frame::default();
-    for k in range {
-        snap.read_frame_into(k, &mut f)?;
-        units.frame(&mut f);
+    let comments = provenance::csv_comments(snap.header());
+    let head = format!("{comments}frame,t,bead{}\n", long_columns(hu, hv));
+    let range = sel.range(snap)?;
+    write_frames(out, head.as_bytes(), snap, range, units, |w, k, f| {
         for j in 0..f.u.len().max(f.v.len()) {
             write!(w, "{k},{},{}", Num(f.t), s.bead(j))?;
             for x in [f.u.get(j), f.v.get(j)].into_iter().flatten() {
@@ -128,6 +124,27 @@ pub fn export_csv(
             }
             writeln!(w)?;
         }
+        Ok(())
+    })
+}
+
+/// Streams `head`, then `row(w, k, frame)` for each frame `k` of `range` (read in turn, in the
+/// export's units), to `out` through a 64 KiB buffer.
+fn write_frames(
+    out: &mut dyn Write,
+    head: &[u8],
+    snap: &Snapshot,
+    range: Range<usize>,
+    units: &ExportUnits,
+    mut row: impl FnMut(&mut dyn Write, usize, &Frame) -> std::io::Result<()>,
+) -> Result<(), SnapshotError> {
+    let mut w = BufWriter::with_capacity(1 << 16, out);
+    w.write_all(head)?;
+    let mut f = Frame::default();
+    for k in range {
+        snap.read_frame_into(k, &mut f)?;
+        units.frame(&mut f);
+        row(&mut w, k, &f)?;
     }
     w.flush()?;
     Ok(())
@@ -154,12 +171,8 @@ pub fn export_npy(
     let range = sel.range(snap)?;
     let s = snap.selection();
     let rows = range.len() as u64 * s.bead_count(snap.header().n_beads);
-    let mut w = BufWriter::with_capacity(1 << 16, out);
-    w.write_all(&npy_header(npz::F8, &[rows, 3 + s.fields.count()]))?;
-    let mut f = Frame::default();
-    for k in range {
-        snap.read_frame_into(k, &mut f)?;
-        units.frame(&mut f);
+    let head = npy_header(npz::F8, &[rows, 3 + s.fields.count()]);
+    write_frames(out, &head, snap, range, units, |w, k, f| {
         for j in 0..f.u.len().max(f.v.len()) {
             for x in [k as f64, f.t, s.bead(j) as f64] {
                 w.write_all(&x.to_le_bytes())?;
@@ -168,9 +181,8 @@ pub fn export_npy(
                 w.write_all(&x.to_le_bytes())?;
             }
         }
-    }
-    w.flush()?;
-    Ok(())
+        Ok(())
+    })
 }
 
 /// Writes the event log as CSV: the [provenance comments](provenance::csv_comments), then

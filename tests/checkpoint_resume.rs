@@ -3,6 +3,7 @@
 //! methods), and a resumed run can be extended past the original end time.
 
 mod common;
+use beadchain::engine::hybrid::Key;
 use beadchain::engine::{self, Control, EngineError, EngineState, Observer, RunConfig};
 use beadchain::integrate::Method;
 use beadchain::names::Named;
@@ -265,7 +266,10 @@ impl Observer for WallScan {
     }
     fn checkpoint(&mut self, state: &EngineState) -> Result<(), EngineError> {
         if let EngineState::Hybrid(h) = state {
-            if h.queue.iter().any(|e| e.kind == 4) {
+            if h.queue
+                .iter()
+                .any(|(key, _)| matches!(key, Key::WallLog(_)))
+            {
                 self.pending_at.push(self.polls);
             }
         }

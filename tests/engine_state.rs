@@ -4,7 +4,7 @@
 
 mod common;
 
-use beadchain::engine::checkpoint::EngineState;
+use beadchain::engine::EngineState;
 use beadchain::engine::{self, EngineError, RunConfig};
 use beadchain::integrate::Method;
 use beadchain::scene::{Engine as Kind, Scene};

@@ -13,6 +13,7 @@
 use super::{AccuracyError, AccuracyReport};
 use crate::integrate::Method;
 use crate::names::Named;
+use crate::plot::layout::{draw_legend, label_and_draw_mesh};
 use crate::plot::lines::line_color;
 use crate::plot::{de, DrawError};
 use crate::scene::Engine;
@@ -112,30 +113,21 @@ where
     let mut chart = builder
         .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
         .map_err(err)?;
-    let mut mesh = chart.configure_mesh();
-    if text {
-        mesh.x_desc("wall time [s] (median)")
-            .y_desc("error vs reference, max(err_u, err_v)")
-            .x_label_formatter(&|x| format!("{x:.0e}"))
-            .y_label_formatter(&|y| format!("{y:.0e}"))
-            .label_style((FAMILY, 14))
-            .axis_desc_style((FAMILY, 16));
-    } else {
-        mesh.x_labels(0).y_labels(0);
-    }
-    mesh.draw().map_err(err)?;
+    let fmt = |x: &f64| format!("{x:.0e}");
+    label_and_draw_mesh(
+        &mut chart.configure_mesh(),
+        (
+            "wall time [s] (median)",
+            "error vs reference, max(err_u, err_v)",
+        ),
+        (&fmt, &fmt),
+        text,
+    )?;
     for l in &data {
         draw_line(&mut chart, l, text)?;
     }
     if text {
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .label_font((FAMILY, 14))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()
-            .map_err(err)?;
+        draw_legend(&mut chart)?;
     }
     root.present().map_err(err)?;
     Ok(())

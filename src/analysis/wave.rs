@@ -177,12 +177,7 @@ pub(crate) mod tests {
             mass: vec![1.0; n],
             exponent: vec![e; n - 1],
             prefactor: vec![1.0; n - 1],
-            precompression: None,
-            field: None,
-            left_wall: None,
-            right_wall: None,
-            hard: None,
-            damping: None,
+            ..Chain::default()
         }
     }
 

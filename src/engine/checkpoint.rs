@@ -4,9 +4,6 @@
 //! Engines ask their [`super::Observer`] between steps whether to checkpoint ([`Control`]);
 //! saving is read-only, so a checkpoint never perturbs the run.
 
-use crate::engine::events::EventRecord;
-use crate::engine::hybrid::cluster::Pending;
-use crate::engine::hybrid::free::Free;
 use crate::integrate::{IntegratorState, LoadError};
 use serde::{Deserialize, Serialize};
 
@@ -32,25 +29,6 @@ impl Control {
     }
 }
 
-/// The state of either engine.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum EngineState {
-    /// Dense engine.
-    Dense(Box<DenseState>),
-    /// Hybrid engine.
-    Hybrid(Box<HybridState>),
-}
-
-impl EngineState {
-    /// Simulation time the state is at (the engine's clock).
-    pub fn time(&self) -> f64 {
-        match self {
-            EngineState::Dense(d) => d.clock,
-            EngineState::Hybrid(h) => h.data.t,
-        }
-    }
-}
-
 /// Dense engine state.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DenseState {
@@ -64,144 +42,6 @@ pub struct DenseState {
     pub clock: f64,
     /// Energy dissipated before the integrator's last restart (a velocity change).
     pub dissipated: f64,
-}
-
-/// One cluster of the hybrid engine.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ClusterState {
-    /// First bead.
-    pub lo: u64,
-    /// One past the last bead.
-    pub hi: u64,
-    /// Frame displacement, velocity and reference time.
-    pub frame: (f64, f64, f64),
-    /// Current time.
-    pub t_now: f64,
-    /// Pending event.
-    pub pending: Option<Pending>,
-    /// Integrator masses.
-    pub mass: Vec<f64>,
-    /// Pinned ends.
-    pub pinned: [bool; 2],
-    /// Integrator.
-    pub integ: IntegratorState,
-}
-
-/// A queue entry: key (kind, index) and priority (time, class, tie-break).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct QueueEntry {
-    /// 0 frame, 1 cluster, 2 free pair, 3 wall, 4 soft-wall crossing not yet logged.
-    pub kind: u8,
-    /// Slot / contact / side.
-    pub index: u64,
-    /// Time.
-    pub t: f64,
-    /// Class.
-    pub class: u8,
-    /// Tie-break.
-    pub tie: u64,
-}
-
-/// Hybrid engine state: the engine's plain data ([`HybridData`], which the engine works on
-/// directly), plus its clusters and event queue as data (the engine holds those as live
-/// integrators and a heap, rebuilt from this on restore; rapier's islands/workspace split).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct HybridState {
-    /// Everything but the clusters and the queue, as the engine holds it.
-    pub data: HybridData,
-    /// Cluster slots.
-    pub clusters: Vec<Option<ClusterState>>,
-    /// Queue contents (order irrelevant: priorities are unique; stored in priority order).
-    pub queue: Vec<QueueEntry>,
-}
-
-/// The hybrid engine's plain data: the engine reads and writes these fields in place, and a
-/// checkpoint stores them as they are (no hand-kept copy).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct HybridData {
-    /// Engine clock (time of the last processed queue entry).
-    pub t: f64,
-    /// Owner slot per bead (`u32::MAX` = free).
-    pub owner: Vec<u32>,
-    /// Free-flight states.
-    pub free: Vec<Free>,
-    /// Bead versions.
-    pub version: Vec<u64>,
-    /// Unused cluster slots.
-    pub spare_slots: Vec<u32>,
-    /// Largest overlap per contact since it closed (`N − 1` contacts, then the left and right
-    /// walls at `N − 1 + side`).
-    pub peak: Vec<f64>,
-    /// Counters of removed clusters.
-    pub stats: crate::integrate::Stats,
-    /// Events logged but not yet handed to the observer (at most about one block: the rest
-    /// of the log is already in the output, up to the checkpoint's writer mark).
-    pub events: Vec<EventRecord>,
-    /// Event counts by kind.
-    pub counts: super::events::EventCounts,
-    /// Largest cluster so far (beads).
-    pub largest: u64,
-    /// Steps so far.
-    pub steps_total: u64,
-    /// Late merges so far.
-    pub late_merges: u64,
-    /// Closings so far at relative speeds within [`crate::engine::SLOW_CLOSING_FACTOR`] times
-    /// the velocity tolerance.
-    pub slow_closings: u64,
-    /// Implicit steps of the clusters removed so far.
-    pub implicit_steps: u64,
-    /// Exact two-body contacts started, and those of them handed over to the integrator when
-    /// a third body arrived (`engine::hybrid::exact`).
-    pub exact_pairs: [u64; 2],
-    /// Last hard collision per contact / wall.
-    pub last_hard: Vec<f64>,
-    /// Wall pins.
-    pub pinned: [bool; 2],
-    /// Per contact: a resting (sticking) hard contact joining two free beads.
-    pub stuck: Vec<bool>,
-    /// Next frame index.
-    pub next_frame: u64,
-    /// Energy dissipated by cluster integrations that have ended (removed clusters, and the
-    /// segments before an integrator restart), plus the losses of hard collisions.
-    pub dissipated: f64,
-    /// Per soft wall (left, right): its contact is logged as closed (the last `wall_close`
-    /// not yet followed by a `wall_open`; `crate::engine::hybrid` walllog module).
-    pub wall_in: [bool; 2],
-}
-
-impl HybridState {
-    /// The consistency check on load: every per-bead and per-contact array fits a chain of `n`
-    /// beads, and every cluster covers beads inside it (an inconsistent state is an error,
-    /// never a panic or a silently different run).
-    pub fn check(&self, n: usize) -> Result<(), StateError> {
-        let nc = n.saturating_sub(1);
-        let d = &self.data;
-        let lens = [
-            ("owner", d.owner.len(), n),
-            ("free", d.free.len(), n),
-            ("version", d.version.len(), n),
-            ("peak", d.peak.len(), n + 1),
-            ("last_hard", d.last_hard.len(), n + 1),
-            ("stuck", d.stuck.len(), nc),
-        ];
-        for (name, got, want) in lens {
-            if got != want {
-                return Err(StateError::Length { name, got, n, want });
-            }
-        }
-        for (slot, c) in self.clusters.iter().enumerate() {
-            let Some(c) = c else { continue };
-            if c.lo >= c.hi || c.hi > n as u64 || c.mass.len() as u64 != c.hi - c.lo {
-                return Err(StateError::Cluster {
-                    slot,
-                    beads: (c.lo, c.hi),
-                    masses: c.mass.len(),
-                    n,
-                });
-            }
-        }
-        Ok(())
-    }
 }
 
 /// Why a saved engine state does not fit the run that loads it (a checkpoint of another chain

@@ -14,10 +14,11 @@
 //! relative to the falling chain, not the common velocity `g t`; frames and states are given in
 //! the lab frame.
 
-use super::checkpoint::{DenseState, EngineState, StateError};
+use super::checkpoint::{DenseState, StateError};
 use super::stepper::{
     check_budget, check_velocities, drive, outcome_at, Drive, Engine, PauseAt, State, Stop,
 };
+use super::EngineState;
 use super::{EngineError, Observer, RunConfig, RunOutcome};
 use crate::integrate::{
     dissipated_at, new_integrator, ChainRange, DissipationWeight, Integrator, System,

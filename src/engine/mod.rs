@@ -19,7 +19,7 @@ mod observe;
 mod start;
 pub mod stepper;
 
-pub use checkpoint::{Control, EngineState};
+pub use checkpoint::Control;
 pub use config::{check_config, RunConfig, RunOverrides};
 pub(crate) use observe::poll_stop;
 pub use observe::{Observer, Observers, Recorder};
@@ -279,6 +279,25 @@ fn finish(
             Stop::Reached { .. } => return Ok(e.outcome()),
             Stop::Requested { t } => return Err(EngineError::Interrupted(t)),
             Stop::Frame { .. } | Stop::Event { .. } => {}
+        }
+    }
+}
+
+/// The state of either engine.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum EngineState {
+    /// Dense engine.
+    Dense(Box<checkpoint::DenseState>),
+    /// Hybrid engine.
+    Hybrid(Box<hybrid::saved::HybridState>),
+}
+
+impl EngineState {
+    /// Simulation time the state is at (the engine's clock).
+    pub fn time(&self) -> f64 {
+        match self {
+            EngineState::Dense(d) => d.clock,
+            EngineState::Hybrid(h) => h.data.t,
         }
     }
 }

@@ -3,7 +3,8 @@
 //! go on ([`Observer::control`]). Several observers watch one run as an [`Observers`] list,
 //! which is itself an observer (argmin's observer list); [`Recorder`] keeps everything in memory.
 
-use super::checkpoint::{Control, EngineState};
+use super::checkpoint::Control;
+use super::EngineState;
 use super::{events, EngineError};
 
 /// Watches a run.

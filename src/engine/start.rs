@@ -3,8 +3,8 @@
 //! state. Apart from the trait (`stepper.rs`), so the engines import the trait and this file
 //! imports the engines, without a cycle.
 
-use super::checkpoint::EngineState;
 use super::stepper::Engine;
+use super::EngineState;
 use super::{EngineError, RunConfig};
 use crate::scene::{Engine as EngineKind, Scene};
 

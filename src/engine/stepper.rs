@@ -32,8 +32,8 @@
 //! iterations of the engine's loop, where the next call picks up (`tests/engine_stops.rs`), until
 //! a state is changed ([`Engine::set_velocities`]).
 
-use super::checkpoint::EngineState;
 use super::events::EventRecord;
+use super::EngineState;
 use super::{EngineError, Observer, RunOutcome};
 use crate::scene::Scene;
 use serde::{Deserialize, Serialize};

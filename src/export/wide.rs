@@ -22,9 +22,9 @@
 //! stay whole (`(N,)`, `(N−1,)`).
 
 use super::npz::{self, npy_bytes, npy_header, write_f64s, NpzWriter, F8};
-use super::{provenance, ExportUnits, FrameSel, Num};
-use crate::snapshot::{Frame, Selection, Snapshot, SnapshotError};
-use std::io::{BufWriter, Write};
+use super::{provenance, write_frames, ExportUnits, FrameSel, Num};
+use crate::snapshot::{Selection, Snapshot, SnapshotError};
+use std::io::Write;
 
 /// Size in bytes of the whole `.npz` for `frames × beads` (entries, headers, directory; without
 /// the few hundred bytes of the `provenance` entry).
@@ -66,20 +66,12 @@ pub fn export_npy_wide(
     out: &mut dyn Write,
 ) -> Result<(), SnapshotError> {
     let range = sel.range(snap)?;
-    let cols = stored_values(snap);
-    let mut w = BufWriter::with_capacity(1 << 16, out);
-    w.write_all(&npy_header(F8, &[range.len() as u64, cols + 1]))?;
-    let mut f = Frame::default();
-    for k in range {
-        snap.read_frame_into(k, &mut f)?;
-        units.frame(&mut f);
+    let head = npy_header(F8, &[range.len() as u64, stored_values(snap) + 1]);
+    write_frames(out, &head, snap, range, units, |w, _, f| {
         w.write_all(&f.t.to_le_bytes())?;
-        for x in f.u.iter().chain(&f.v) {
-            w.write_all(&x.to_le_bytes())?;
-        }
-    }
-    w.flush()?;
-    Ok(())
+        write_f64s(w, &f.u)?;
+        write_f64s(w, &f.v)
+    })
 }
 
 /// Numbers per frame besides `t` (`2 N` unless the snapshot stores a selection).
@@ -95,30 +87,23 @@ pub fn export_csv_wide(
     units: &ExportUnits,
     out: &mut dyn Write,
 ) -> Result<(), SnapshotError> {
-    let range = sel.range(snap)?;
     let s = snap.selection();
     let m = s.bead_count(snap.header().n_beads) as usize;
-    let mut w = BufWriter::with_capacity(1 << 16, out);
-    w.write_all(provenance::csv_comments(snap.header()).as_bytes())?;
-    w.write_all(b"t")?;
+    let mut head = provenance::csv_comments(snap.header()) + "t";
     for (c, on) in [('u', s.fields.has_u()), ('v', s.fields.has_v())] {
         for j in (0..m).filter(|_| on) {
-            write!(w, ",{c}{}", s.bead(j))?;
+            head += &format!(",{c}{}", s.bead(j));
         }
     }
-    writeln!(w)?;
-    let mut f = Frame::default();
-    for k in range {
-        snap.read_frame_into(k, &mut f)?;
-        units.frame(&mut f);
+    head.push('\n');
+    let range = sel.range(snap)?;
+    write_frames(out, head.as_bytes(), snap, range, units, |w, _, f| {
         write!(w, "{}", Num(f.t))?;
         for x in f.u.iter().chain(&f.v) {
             write!(w, ",{}", Num(*x))?;
         }
-        writeln!(w)?;
-    }
-    w.flush()?;
-    Ok(())
+        writeln!(w)
+    })
 }
 
 /// Which per-frame array an `.npz` entry streams.
@@ -188,18 +173,12 @@ fn frame_entry(
         Field::U => ("u.npy", vec![frames, m]),
         Field::V => ("v.npy", vec![frames, m]),
     };
-    z.entry(name, |w| {
-        w.write_all(&npy_header(F8, &shape))?;
-        let mut f = Frame::default();
-        for k in range {
-            snap.read_frame_into(k, &mut f)?;
-            units.frame(&mut f);
-            match field {
-                Field::T => w.write_all(&f.t.to_le_bytes())?,
-                Field::U => write_f64s(w, &f.u)?,
-                Field::V => write_f64s(w, &f.v)?,
-            }
-        }
-        Ok(())
+    let head = npy_header(F8, &shape);
+    z.entry(name, |out| {
+        write_frames(out, &head, snap, range, units, |w, _, f| match field {
+            Field::T => w.write_all(&f.t.to_le_bytes()),
+            Field::U => write_f64s(w, &f.u),
+            Field::V => write_f64s(w, &f.v),
+        })
     })
 }

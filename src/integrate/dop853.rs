@@ -82,18 +82,14 @@ pub struct Dop853 {
     vs: Vec<f64>,
     t: f64,
     t_prev: f64,
-    /// Proposed size of the next step (> 0).
-    h: f64,
-    /// Current state `(u, v)`, length `2m`.
-    z: Vec<f64>,
-    /// State at `t_prev`.
-    z_old: Vec<f64>,
+    /// The method's state as data: the proposed step (> 0), the states at `t` and `t_prev`
+    /// (`2m` each), the stage derivatives (`N_STAGES × 2m`, stage 0 is `f(t, z)`) and the
+    /// continuous-output coefficients of the last accepted step (`N_DENSE × 2m`); saved as it
+    /// is, but for the stages a new integrator has not written and the power at `z`, which the
+    /// step keeps in `pw[0]` ([`Dop853::save_state`]).
+    st: Dop853State,
     /// Stage state / candidate new state.
     y: Vec<f64>,
-    /// Stage derivatives, `N_STAGES × 2m`; stage 0 is `f(t, z)`.
-    k: Vec<f64>,
-    /// Continuous-output coefficients of the last accepted step, `N_DENSE × 2m`.
-    f: Vec<f64>,
     /// Scratch: 5th and 3rd order error estimates.
     e5: Vec<f64>,
     e3: Vec<f64>,
@@ -150,13 +146,16 @@ impl Dop853 {
             vs: vec![0.0; m],
             t: 0.0,
             t_prev: 0.0,
-            h: 0.0,
-            z: vec![0.0; n],
-            z_old: vec![0.0; n],
+            st: Dop853State {
+                h: 0.0,
+                z: vec![0.0; n],
+                z_old: vec![0.0; n],
+                k: vec![0.0; N_STAGES * n],
+                f: vec![0.0; N_DENSE * n],
+                p0: 0.0,
+            },
             y: vec![0.0; n],
-            k: vec![0.0; N_STAGES * n],
             kp: vec![0.0; packed::packed_len(n)],
-            f: vec![0.0; N_DENSE * n],
             e5: vec![0.0; n],
             e3: vec![0.0; n],
             pw: [0.0; N_MAIN],
@@ -184,7 +183,7 @@ impl Dop853 {
 
     /// Size proposed for the next step.
     pub fn step_size(&self) -> f64 {
-        self.h
+        self.st.h
     }
 
     /// Weight of component `i` (u-part `i < m`, v-part otherwise) between two states.
@@ -207,12 +206,12 @@ impl Dop853 {
         super::assert_sizes(m, sys, u, v);
         self.t = t;
         self.t_prev = t;
-        self.z[..m].copy_from_slice(u);
-        self.z[m..].copy_from_slice(v);
-        self.z_old.copy_from_slice(&self.z);
-        self.f.fill(0.0);
-        let (k0, _) = self.k.split_at_mut(2 * m);
-        self.pw[0] = rhs(sys, &mut self.stats, &self.z, k0);
+        self.st.z[..m].copy_from_slice(u);
+        self.st.z[m..].copy_from_slice(v);
+        self.st.z_old.copy_from_slice(&self.st.z);
+        self.st.f.fill(0.0);
+        let (k0, _) = self.st.k.split_at_mut(2 * m);
+        self.pw[0] = rhs(sys, &mut self.stats, &self.st.z, k0);
         packed::pack(&mut self.kp, 0, k0);
         self.diss = (0.0, 0.0);
         self.tol.velocity_scales(sys.mass(), &mut self.vs);
@@ -256,15 +255,15 @@ impl Dop853 {
         self.tol.velocity_scales(sys.mass(), &mut self.vs);
         self.damped = sys.dissipative();
         let t = self.t;
-        if !t.is_finite() || !self.z.iter().all(|x| x.is_finite()) {
+        if !t.is_finite() || !self.st.z.iter().all(|x| x.is_finite()) {
             return Err(IntegrationError::NonFinite { t });
         }
         if t_bound.is_nan() || t_bound <= t {
             return Ok(t);
         }
         let min_step = 10.0 * ulp(t);
-        let mut h_abs = if self.h.is_finite() {
-            self.h.max(min_step)
+        let mut h_abs = if self.st.h.is_finite() {
+            self.st.h.max(min_step)
         } else {
             min_step
         };
@@ -272,7 +271,7 @@ impl Dop853 {
         let mut last_nonfinite = false;
         loop {
             if h_abs < min_step {
-                self.h = h_abs;
+                self.st.h = h_abs;
                 return Err(if last_nonfinite {
                     IntegrationError::NonFinite { t }
                 } else {
@@ -299,9 +298,9 @@ impl Dop853 {
                     // error of a much shorter step is rounding noise, a poor predictor).
                     h_next = h_next.max(h_abs);
                 }
-                self.h = h_next;
-                std::mem::swap(&mut self.z_old, &mut self.z);
-                std::mem::swap(&mut self.z, &mut self.y);
+                self.st.h = h_next;
+                std::mem::swap(&mut self.st.z_old, &mut self.st.z);
+                std::mem::swap(&mut self.st.z, &mut self.y);
                 self.t_prev = t;
                 self.t = t_new;
                 if sys.dissipative() {
@@ -337,14 +336,14 @@ impl Integrator for Dop853 {
     /// If `sys.len()`, `u.len()` or `v.len()` differs from the `m` given to [`Dop853::new`].
     fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]) {
         self.start(sys, t, u, v);
-        self.h = self.initial_step(sys);
+        self.st.h = self.initial_step(sys);
     }
 
     /// As `reset`, without the starting-step estimate (its stage-1 and `y` scratch is
     /// overwritten by the first step before it is read, so the step is the same).
     fn restart(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64], h: f64) {
         self.start(sys, t, u, v);
-        self.h = h;
+        self.st.h = h;
     }
 
     /// One accepted step of at most `t_bound − t` (landing exactly on `t_bound` when shortened).
@@ -363,11 +362,11 @@ impl Integrator for Dop853 {
     }
 
     fn step_size(&self) -> f64 {
-        self.h
+        self.st.h
     }
 
     fn set_step_size(&mut self, h: f64) {
-        self.h = h;
+        self.st.h = h;
     }
 
     fn set_rough(&mut self, rough: Rough) {
@@ -383,7 +382,7 @@ impl Integrator for Dop853 {
     }
 
     fn state(&self) -> &[f64] {
-        &self.z
+        &self.st.z
     }
 
     /// The 7th-order continuous output of the last accepted step (SciPy `Dop853DenseOutput`);
@@ -392,16 +391,16 @@ impl Integrator for Dop853 {
         let n = 2 * self.m;
         debug_assert_eq!(z.len(), n);
         if t == self.t {
-            z.copy_from_slice(&self.z);
+            z.copy_from_slice(&self.st.z);
             return;
         }
         if t == self.t_prev {
-            z.copy_from_slice(&self.z_old);
+            z.copy_from_slice(&self.st.z_old);
             return;
         }
         let x = (t - self.t_prev) / (self.t - self.t_prev);
         let x1 = 1.0 - x;
-        let f = &self.f;
+        let f = &self.st.f;
         for (i, zi) in z.iter_mut().enumerate() {
             let mut p = f[5 * n + i] + x * f[6 * n + i];
             p = f[4 * n + i] + x1 * p;
@@ -409,36 +408,36 @@ impl Integrator for Dop853 {
             p = f[2 * n + i] + x1 * p;
             p = f[n + i] + x * p;
             p = f[i] + x1 * p;
-            *zi = self.z_old[i] + x * p;
+            *zi = self.st.z_old[i] + x * p;
         }
     }
 
     fn dense_at(&self, t: f64, j: usize) -> f64 {
         let n = 2 * self.m;
         if t == self.t {
-            return self.z[j];
+            return self.st.z[j];
         }
         if t == self.t_prev {
-            return self.z_old[j];
+            return self.st.z_old[j];
         }
         let x = (t - self.t_prev) / (self.t - self.t_prev);
         let x1 = 1.0 - x;
-        let f = &self.f;
+        let f = &self.st.f;
         let mut p = f[5 * n + j] + x * f[6 * n + j];
         p = f[4 * n + j] + x1 * p;
         p = f[3 * n + j] + x * p;
         p = f[2 * n + j] + x1 * p;
         p = f[n + j] + x * p;
         p = f[j] + x1 * p;
-        self.z_old[j] + x * p
+        self.st.z_old[j] + x * p
     }
 
     fn end_states(&self) -> Option<(&[f64], &[f64])> {
-        Some((&self.z_old, &self.z))
+        Some((&self.st.z_old, &self.st.z))
     }
 
     fn rate(&self) -> Option<&[f64]> {
-        Some(&self.k[..2 * self.m])
+        Some(&self.st.k[..2 * self.m])
     }
 
     /// Resizes the arrays in place. Their old contents are never read: [`Integrator::reset`]

@@ -554,12 +554,7 @@ pub(crate) mod test_util {
             mass: vec![1.0; beads],
             exponent: vec![2.5; beads - 1],
             prefactor: vec![0.4; beads - 1],
-            precompression: None,
-            field: None,
-            left_wall: None,
-            right_wall: None,
-            hard: None,
-            damping: None,
+            ..Chain::default()
         }
     }
 

@@ -121,25 +121,15 @@ pub struct Radau5 {
     cplx: Box<dyn TridiagSolver<Complex64>>,
     t: f64,
     t_old: f64,
-    z: Vec<f64>,
-    z_old: Vec<f64>,
-    /// `F(z)` at the current point.
-    f: Vec<f64>,
-    /// Stiffnesses at the current point (`m + 1`: contacts, then left/right wall).
-    k: Vec<f64>,
-    /// Damping Jacobian `∂F/∂δ̇` at the current point (same layout; zero when conservative).
-    kv: Vec<f64>,
+    /// The method's state as data, saved as it is ([`Radau5State`]): the step size and the
+    /// controller's memory, the states at `t` and `t_old`, `F(z)`, the stiffnesses and damping
+    /// Jacobian at `z` (`m + 1`: contacts, then left/right wall), the dissipated power at `z`,
+    /// and the dense-output coefficients of the last accepted step (valid when `have_sol`).
+    st: Radau5State,
     /// Energy dissipated since the reset, at `t_old` and at `t`.
     diss: (f64, f64),
-    /// Dissipated power at `z`, and at the three stages of the step being tried.
-    p0: f64,
+    /// Dissipated power at the three stages of the step being tried.
     ps: [f64; 3],
-    h_abs: f64,
-    h_abs_old: Option<f64>,
-    err_old: Option<f64>,
-    /// Dense-output coefficients of the last accepted step (valid when `have_sol`).
-    q: [Vec<f64>; 3],
-    have_sol: bool,
     zs: [Vec<f64>; 3],
     w: [Vec<f64>; 3],
     fs: [Vec<f64>; 3],
@@ -175,19 +165,21 @@ impl Radau5 {
             cplx: new_solver::<Complex64>(kind, m),
             t: 0.0,
             t_old: 0.0,
-            z: v(),
-            z_old: v(),
-            f: v(),
-            k: vec![0.0; m + 1],
-            kv: vec![0.0; m + 1],
+            st: Radau5State {
+                h: 0.0,
+                h_old: None,
+                err_old: None,
+                have_sol: false,
+                z: v(),
+                z_old: v(),
+                f: v(),
+                k: vec![0.0; m + 1],
+                q: [v(), v(), v()],
+                kv: vec![0.0; m + 1],
+                p0: 0.0,
+            },
             diss: (0.0, 0.0),
-            p0: 0.0,
             ps: [0.0; 3],
-            h_abs: 0.0,
-            h_abs_old: None,
-            err_old: None,
-            q: [v(), v(), v()],
-            have_sol: false,
             zs: [v(), v(), v()],
             w: [v(), v(), v()],
             fs: [v(), v(), v()],
@@ -215,7 +207,7 @@ impl Radau5 {
 
     /// Current step-size proposal.
     pub fn step_size(&self) -> f64 {
-        self.h_abs
+        self.st.h
     }
 
     /// `F(y)` into `out` (u-part = v, v-part = f(u)); counts one RHS evaluation.
@@ -234,11 +226,11 @@ impl Radau5 {
     /// ([`linear::newton_matrix`]).
     fn factorize(&mut self, sys: &dyn System, h: f64) -> bool {
         let mass = sys.mass();
-        let kv = sys.dissipative().then_some(&self.kv[..]);
+        let kv = sys.dissipative().then_some(&self.st.kv[..]);
         let cr = MU_REAL / h;
         let cc = Complex64::new(MU_COMPLEX.0, MU_COMPLEX.1) / h;
-        linear::newton_matrix(mass, &self.k, kv, cr, &mut self.d_r, &mut self.e_r);
-        linear::newton_matrix(mass, &self.k, kv, cc, &mut self.d_c, &mut self.e_c);
+        linear::newton_matrix(mass, &self.st.k, kv, cr, &mut self.d_r, &mut self.e_r);
+        linear::newton_matrix(mass, &self.st.k, kv, cc, &mut self.d_c, &mut self.e_c);
         self.stats.factorizations += 1;
         self.real.factorize(&self.d_r, &self.e_r).is_ok()
             && self.cplx.factorize(&self.d_c, &self.e_c).is_ok()
@@ -253,22 +245,22 @@ impl Radau5 {
     /// characteristic time of the tolerances' scales.
     fn initial_step(&mut self, sys: &dyn System) -> f64 {
         let tau = self.tol.scales.time();
-        let d0 = self.weights_norm(&self.z, &self.z, &self.z);
-        let d1 = self.weights_norm(&self.f, &self.z, &self.z);
+        let d0 = self.weights_norm(&self.st.z, &self.st.z, &self.st.z);
+        let d1 = self.weights_norm(&self.st.f, &self.st.z, &self.st.z);
         let h0 = if d0 < 1e-5 || d1 < 1e-5 {
             1e-6 * tau
         } else {
             0.01 * d0 / d1
         };
         for j in 0..2 * self.m {
-            self.ytmp[j] = self.z[j] + h0 * self.f[j];
+            self.ytmp[j] = self.st.z[j] + h0 * self.st.f[j];
         }
         let mut f1 = std::mem::take(&mut self.err);
         Self::rhs(sys, self.m, &self.ytmp, &mut f1, &mut self.stats);
         for j in 0..2 * self.m {
-            f1[j] -= self.f[j];
+            f1[j] -= self.st.f[j];
         }
-        let d2 = self.weights_norm(&f1, &self.z, &self.z) / h0;
+        let d2 = self.weights_norm(&f1, &self.st.z, &self.st.z) / h0;
         self.err = f1;
         let h1 = if d1 <= 1e-15 && d2 <= 1e-15 {
             (1e-6 * tau).max(h0 * 1e-3)
@@ -283,21 +275,21 @@ impl Radau5 {
     fn micro_step(&mut self, sys: &dyn System, t_bound: f64) {
         let m = self.m;
         let dt = t_bound - self.t;
-        self.z_old.copy_from_slice(&self.z);
+        self.st.z_old.copy_from_slice(&self.st.z);
         for j in 0..2 * m {
-            self.q[0][j] = dt * self.f[j];
-            self.q[1][j] = 0.0;
-            self.q[2][j] = 0.0;
-            self.z[j] += self.q[0][j];
+            self.st.q[0][j] = dt * self.st.f[j];
+            self.st.q[1][j] = 0.0;
+            self.st.q[2][j] = 0.0;
+            self.st.z[j] += self.st.q[0][j];
         }
         self.t_old = self.t;
         self.t = t_bound;
-        self.have_sol = true;
-        self.f[..m].copy_from_slice(&self.z[m..]);
-        let (u, v) = self.z.split_at(m);
-        self.diss = (self.diss.1, self.diss.1 + dt * self.p0);
-        self.p0 = sys.accel_stiffness(u, v, &mut self.acc, &mut self.k, &mut self.kv);
-        self.f[m..].copy_from_slice(&self.acc);
+        self.st.have_sol = true;
+        self.st.f[..m].copy_from_slice(&self.st.z[m..]);
+        let (u, v) = self.st.z.split_at(m);
+        self.diss = (self.diss.1, self.diss.1 + dt * self.st.p0);
+        self.st.p0 = sys.accel_stiffness(u, v, &mut self.acc, &mut self.st.k, &mut self.st.kv);
+        self.st.f[m..].copy_from_slice(&self.acc);
         self.stats.rhs_evals += 1;
         self.stats.jac_evals += 1;
         self.stats.steps += 1;
@@ -319,14 +311,14 @@ impl Radau5 {
             self.diss = (self.diss.1, self.diss.1 + d_step);
         }
         self.advance(sys, t, t_new);
-        self.h_abs_old = Some(h_abs);
-        self.err_old = Some(err_norm);
-        self.h_abs = h_abs * factor;
+        self.st.h_old = Some(h_abs);
+        self.st.err_old = Some(err_norm);
+        self.st.h = h_abs * factor;
         if let Some(h_request) = keep {
             // A step clipped to land on t_bound says nothing against the proposal it replaced.
-            self.h_abs = self.h_abs.max(h_request);
+            self.st.h = self.st.h.max(h_request);
         }
-        if !self.z.iter().all(|x| x.is_finite()) {
+        if !self.st.z.iter().all(|x| x.is_finite()) {
             return Err(IntegrationError::NonFinite { t: self.t });
         }
         Ok(self.t)
@@ -358,32 +350,33 @@ impl Integrator for Radau5 {
         debug_assert_eq!(sys.len(), m);
         self.t = t;
         self.t_old = t;
-        self.z[..m].copy_from_slice(u);
-        self.z[m..].copy_from_slice(v);
-        self.z_old.copy_from_slice(&self.z);
-        self.f[..m].copy_from_slice(v);
-        self.p0 = sys.accel_stiffness(u, v, &mut self.f[m..], &mut self.k, &mut self.kv);
+        self.st.z[..m].copy_from_slice(u);
+        self.st.z[m..].copy_from_slice(v);
+        self.st.z_old.copy_from_slice(&self.st.z);
+        self.st.f[..m].copy_from_slice(v);
+        self.st.p0 =
+            sys.accel_stiffness(u, v, &mut self.st.f[m..], &mut self.st.k, &mut self.st.kv);
         self.diss = (0.0, 0.0);
         self.stats.rhs_evals += 1;
         self.stats.jac_evals += 1;
-        self.have_sol = false;
-        self.h_abs_old = None;
-        self.err_old = None;
+        self.st.have_sol = false;
+        self.st.h_old = None;
+        self.st.err_old = None;
         self.tol.velocity_scales(sys.mass(), &mut self.vs);
-        self.h_abs = self.initial_step(sys);
-        for qi in self.q.iter_mut() {
+        self.st.h = self.initial_step(sys);
+        for qi in self.st.q.iter_mut() {
             qi.fill(0.0);
         }
     }
 
     fn step_size(&self) -> f64 {
-        self.h_abs
+        self.st.h
     }
 
     fn set_step_size(&mut self, h: f64) {
-        self.h_abs = h;
-        self.h_abs_old = None;
-        self.err_old = None;
+        self.st.h = h;
+        self.st.h_old = None;
+        self.st.err_old = None;
     }
 
     fn step(&mut self, sys: &dyn System, t_bound: f64) -> Result<f64, IntegrationError> {
@@ -396,10 +389,10 @@ impl Integrator for Radau5 {
             self.micro_step(sys, t_bound);
             return Ok(self.t);
         }
-        let mut h_abs = self.h_abs.max(min_step);
+        let mut h_abs = self.st.h.max(min_step);
         let h_request = h_abs;
-        let mut h_abs_old = self.h_abs_old;
-        let mut err_old = self.err_old;
+        let mut h_abs_old = self.st.h_old;
+        let mut err_old = self.st.err_old;
         let mut rejected = false;
         loop {
             if h_abs < min_step || !h_abs.is_finite() {
@@ -473,31 +466,34 @@ impl Integrator for Radau5 {
     }
 
     fn state(&self) -> &[f64] {
-        &self.z
+        &self.st.z
     }
 
     fn dense(&self, t: f64, z: &mut [f64]) {
-        if !self.have_sol || self.t == self.t_old {
-            z.copy_from_slice(&self.z);
+        if !self.st.have_sol || self.t == self.t_old {
+            z.copy_from_slice(&self.st.z);
             return;
         }
         if t == self.t {
-            z.copy_from_slice(&self.z);
+            z.copy_from_slice(&self.st.z);
             return;
         }
         let x = (t - self.t_old) / (self.t - self.t_old);
         let (x1, x2, x3) = (x, x * x, x * x * x);
         for (j, zj) in z.iter_mut().enumerate() {
-            *zj = self.z_old[j] + self.q[0][j] * x1 + self.q[1][j] * x2 + self.q[2][j] * x3;
+            *zj = self.st.z_old[j]
+                + self.st.q[0][j] * x1
+                + self.st.q[1][j] * x2
+                + self.st.q[2][j] * x3;
         }
     }
 
     fn dense_at(&self, t: f64, j: usize) -> f64 {
-        if !self.have_sol || self.t == self.t_old || t == self.t {
-            return self.z[j];
+        if !self.st.have_sol || self.t == self.t_old || t == self.t {
+            return self.st.z[j];
         }
         let x = (t - self.t_old) / (self.t - self.t_old);
-        self.z_old[j] + x * (self.q[0][j] + x * (self.q[1][j] + x * self.q[2][j]))
+        self.st.z_old[j] + x * (self.st.q[0][j] + x * (self.st.q[1][j] + x * self.st.q[2][j]))
     }
 
     fn stats(&self) -> &Stats {

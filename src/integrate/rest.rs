@@ -28,7 +28,8 @@ pub struct RestState {
 /// The integrator of a cluster at rest (module docs).
 #[derive(Clone, Debug)]
 pub struct Rest {
-    z: Vec<f64>,
+    /// The resting state as data, saved as it is.
+    st: RestState,
     t: f64,
     t_prev: f64,
     stats: Stats,
@@ -38,7 +39,9 @@ impl Rest {
     /// A resting cluster of `m` beads (its state is set by [`Integrator::reset`]).
     pub fn new(m: usize) -> Self {
         Self {
-            z: vec![0.0; 2 * m],
+            st: RestState {
+                z: vec![0.0; 2 * m],
+            },
             t: 0.0,
             t_prev: 0.0,
             stats: Stats::default(),
@@ -49,8 +52,8 @@ impl Rest {
 impl Integrator for Rest {
     fn reset(&mut self, _sys: &dyn System, t: f64, u: &[f64], v: &[f64]) {
         let m = u.len();
-        self.z[..m].copy_from_slice(u);
-        self.z[m..].copy_from_slice(v);
+        self.st.z[..m].copy_from_slice(u);
+        self.st.z[m..].copy_from_slice(v);
         self.t = t;
         self.t_prev = t;
     }
@@ -77,19 +80,19 @@ impl Integrator for Rest {
     }
 
     fn state(&self) -> &[f64] {
-        &self.z
+        &self.st.z
     }
 
     fn dense(&self, _t: f64, z: &mut [f64]) {
-        z[..self.z.len()].copy_from_slice(&self.z);
+        z[..self.st.z.len()].copy_from_slice(&self.st.z);
     }
 
     fn dense_at(&self, _t: f64, j: usize) -> f64 {
-        self.z[j]
+        self.st.z[j]
     }
 
     fn end_states(&self) -> Option<(&[f64], &[f64])> {
-        Some((&self.z, &self.z))
+        Some((&self.st.z, &self.st.z))
     }
 
     fn stats(&self) -> &Stats {
@@ -107,7 +110,7 @@ impl Integrator for Rest {
             stats: self.stats.clone(),
             dissipated: (0.0, 0.0),
             auto: None,
-            method: MethodState::Rest(RestState { z: self.z.clone() }),
+            method: MethodState::Rest(self.st.clone()),
         }
     }
 
@@ -115,14 +118,14 @@ impl Integrator for Rest {
         let MethodState::Rest(r) = &s.method else {
             return Err(LoadError::wrong_method(&s.method, REST_NAME));
         };
-        if r.z.len() != self.z.len() {
+        if r.z.len() != self.st.z.len() {
             return Err(LoadError::Lengths {
                 method: REST_NAME,
                 got: vec![r.z.len()],
-                expected: vec![self.z.len()],
+                expected: vec![self.st.z.len()],
             });
         }
-        self.z.copy_from_slice(&r.z);
+        self.st.z.copy_from_slice(&r.z);
         (self.t, self.t_prev) = (s.t, s.t_prev);
         self.stats = s.stats.clone();
         Ok(())

@@ -32,23 +32,10 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Debug)]
 pub struct Verlet {
     m: usize,
-    /// Fixed step `rtol · L/V`.
-    dt: f64,
-    /// One-shot upper bound on the next step (from [`Integrator::set_step_size`]).
-    h_once: Option<f64>,
     t: f64,
     t_prev: f64,
-    /// Start of the current grid `t_grid + k·dt`.
-    t_grid: f64,
-    /// Steps taken on the current grid.
-    k: u64,
-    /// Current state `(u, v)`, length `2m`.
-    z: Vec<f64>,
-    /// State at `t_prev`.
-    z_old: Vec<f64>,
-    /// Accelerations at `t` and at `t_prev`.
-    acc: Vec<f64>,
-    acc_old: Vec<f64>,
+    /// The method's state as data (step, grid, states and accelerations), saved as it is.
+    st: VerletState,
     stats: Stats,
 }
 
@@ -58,16 +45,18 @@ impl Verlet {
     pub fn new(m: usize, tol: Tolerances) -> Self {
         Self {
             m,
-            dt: tol.rtol * tol.scales.time(),
-            h_once: None,
             t: 0.0,
             t_prev: 0.0,
-            t_grid: 0.0,
-            k: 0,
-            z: vec![0.0; 2 * m],
-            z_old: vec![0.0; 2 * m],
-            acc: vec![0.0; m],
-            acc_old: vec![0.0; m],
+            st: VerletState {
+                dt: tol.rtol * tol.scales.time(),
+                h_once: None,
+                t_grid: 0.0,
+                k: 0,
+                z: vec![0.0; 2 * m],
+                z_old: vec![0.0; 2 * m],
+                acc: vec![0.0; m],
+                acc_old: vec![0.0; m],
+            },
             stats: Stats::default(),
         }
     }
@@ -79,17 +68,27 @@ impl Verlet {
         let m = self.m;
         let h = self.t - self.t_prev;
         if t == self.t || h <= 0.0 {
-            return self.z[j];
+            return self.st.z[j];
         }
         if t == self.t_prev {
-            return self.z_old[j];
+            return self.st.z_old[j];
         }
         let s = (t - self.t_prev) / h;
         let (y0, y1, d0, d1) = if j < m {
-            (self.z_old[j], self.z[j], self.z_old[m + j], self.z[m + j])
+            (
+                self.st.z_old[j],
+                self.st.z[j],
+                self.st.z_old[m + j],
+                self.st.z[m + j],
+            )
         } else {
             let i = j - m;
-            (self.z_old[j], self.z[j], self.acc_old[i], self.acc[i])
+            (
+                self.st.z_old[j],
+                self.st.z[j],
+                self.st.acc_old[i],
+                self.st.acc[i],
+            )
         };
         let r = 1.0 - s;
         let h00 = (1.0 + 2.0 * s) * r * r;
@@ -104,65 +103,65 @@ impl Integrator for Verlet {
     fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]) {
         let m = self.m;
         super::assert_sizes(m, sys, u, v);
-        self.z[..m].copy_from_slice(u);
-        self.z[m..].copy_from_slice(v);
-        self.z_old.copy_from_slice(&self.z);
-        sys.accel(u, v, &mut self.acc);
+        self.st.z[..m].copy_from_slice(u);
+        self.st.z[m..].copy_from_slice(v);
+        self.st.z_old.copy_from_slice(&self.st.z);
+        sys.accel(u, v, &mut self.st.acc);
         self.stats.rhs_evals += 1;
-        self.acc_old.copy_from_slice(&self.acc);
+        self.st.acc_old.copy_from_slice(&self.st.acc);
         self.t = t;
         self.t_prev = t;
-        self.t_grid = t;
-        self.k = 0;
-        self.h_once = None;
+        self.st.t_grid = t;
+        self.st.k = 0;
+        self.st.h_once = None;
     }
 
     /// Fixed-step method: `h` only bounds the next step (see module docs).
     fn set_step_size(&mut self, h: f64) {
         if h > 0.0 && h.is_finite() {
-            self.h_once = Some(h);
+            self.st.h_once = Some(h);
         }
     }
 
     fn step(&mut self, sys: &dyn System, t_bound: f64) -> Result<f64, IntegrationError> {
         debug_assert_eq!(sys.len(), self.m);
         let t = self.t;
-        if !t.is_finite() || !self.z.iter().all(|x| x.is_finite()) {
+        if !t.is_finite() || !self.st.z.iter().all(|x| x.is_finite()) {
             return Err(IntegrationError::NonFinite { t });
         }
         if t_bound.is_nan() || t_bound <= t {
             return Ok(t);
         }
         // Next grid point; a last step that would pass (or nearly reach) t_bound lands on it.
-        let mut t_new = self.t_grid + (self.k + 1) as f64 * self.dt;
+        let mut t_new = self.st.t_grid + (self.st.k + 1) as f64 * self.st.dt;
         let mut on_grid = true;
-        if let Some(h) = self.h_once.take() {
+        if let Some(h) = self.st.h_once.take() {
             if t + h < t_new {
                 t_new = t + h;
                 on_grid = false;
             }
         }
-        if t_new >= t_bound - 1e-9 * self.dt {
+        if t_new >= t_bound - 1e-9 * self.st.dt {
             t_new = t_bound;
             on_grid = false;
         }
         let h = t_new - t;
-        if h.is_nan() || h <= 0.0 || self.dt.is_nan() || self.dt <= 0.0 {
+        if h.is_nan() || h <= 0.0 || self.st.dt.is_nan() || self.st.dt <= 0.0 {
             return Err(IntegrationError::StepTooSmall { t, h });
         }
         let m = self.m;
-        self.z_old.copy_from_slice(&self.z);
-        std::mem::swap(&mut self.acc, &mut self.acc_old);
-        let (u, v) = self.z.split_at_mut(m);
+        self.st.z_old.copy_from_slice(&self.st.z);
+        std::mem::swap(&mut self.st.acc, &mut self.st.acc_old);
+        let (u, v) = self.st.z.split_at_mut(m);
         for i in 0..m {
-            v[i] += 0.5 * h * self.acc_old[i];
+            v[i] += 0.5 * h * self.st.acc_old[i];
             u[i] += h * v[i];
         }
         // Conservative systems only (dissipative ones are refused: the half-step velocity
         // would make the damping force first-order).
-        sys.accel(u, v, &mut self.acc);
+        sys.accel(u, v, &mut self.st.acc);
         for i in 0..m {
-            v[i] += 0.5 * h * self.acc[i];
+            v[i] += 0.5 * h * self.st.acc[i];
         }
         self.stats.rhs_evals += 1;
         self.stats.steps += 1;
@@ -170,12 +169,12 @@ impl Integrator for Verlet {
         self.t_prev = t;
         self.t = t_new;
         if on_grid {
-            self.k += 1;
+            self.st.k += 1;
         } else {
-            self.t_grid = t_new;
-            self.k = 0;
+            self.st.t_grid = t_new;
+            self.st.k = 0;
         }
-        if !self.z.iter().all(|x| x.is_finite()) {
+        if !self.st.z.iter().all(|x| x.is_finite()) {
             return Err(IntegrationError::NonFinite { t: t_new });
         }
         Ok(t_new)
@@ -190,7 +189,7 @@ impl Integrator for Verlet {
     }
 
     fn state(&self) -> &[f64] {
-        &self.z
+        &self.st.z
     }
 
     /// Cubic Hermite output of the last step (exact copies of the step's end states).
@@ -210,7 +209,7 @@ impl Integrator for Verlet {
     }
 
     fn step_size(&self) -> f64 {
-        self.dt
+        self.st.dt
     }
 
     fn save(&self) -> IntegratorState {
@@ -220,16 +219,7 @@ impl Integrator for Verlet {
             stats: self.stats.clone(),
             dissipated: (0.0, 0.0),
             auto: None,
-            method: MethodState::Verlet(VerletState {
-                dt: self.dt,
-                h_once: self.h_once,
-                t_grid: self.t_grid,
-                k: self.k,
-                z: self.z.clone(),
-                z_old: self.z_old.clone(),
-                acc: self.acc.clone(),
-                acc_old: self.acc_old.clone(),
-            }),
+            method: MethodState::Verlet(self.st.clone()),
         }
     }
 
@@ -237,23 +227,11 @@ impl Integrator for Verlet {
         let MethodState::Verlet(w) = &s.method else {
             return Err(LoadError::wrong_method(&s.method, Method::Verlet.name()));
         };
-        let lens = [
-            self.z.len(),
-            self.z_old.len(),
-            self.acc.len(),
-            self.acc_old.len(),
-        ];
+        let st = &self.st;
+        let lens = [st.z.len(), st.z_old.len(), st.acc.len(), st.acc_old.len()];
         check_lengths(Method::Verlet, &[&w.z, &w.z_old, &w.acc, &w.acc_old], &lens)?;
-        self.t = s.t;
-        self.t_prev = s.t_prev;
-        self.dt = w.dt;
-        self.h_once = w.h_once;
-        self.t_grid = w.t_grid;
-        self.k = w.k;
-        self.z.copy_from_slice(&w.z);
-        self.z_old.copy_from_slice(&w.z_old);
-        self.acc.copy_from_slice(&w.acc);
-        self.acc_old.copy_from_slice(&w.acc_old);
+        (self.t, self.t_prev) = (s.t, s.t_prev);
+        self.st.clone_from(w);
         self.stats = s.stats.clone();
         Ok(())
     }

@@ -57,8 +57,9 @@ pub struct HardContacts {
     pub collapse_interval: f64,
 }
 
-/// Plain, serializable description of a chain (the resolved scene physics).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// Plain, serializable description of a chain (the resolved scene physics). The default is
+/// the empty chain, without walls, precompression, field, hard contacts or damping.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Chain {
     /// Bead masses `m_i`, length `N`.
     pub mass: Vec<f64>,

@@ -8,12 +8,7 @@ fn chain3() -> Chain {
         mass: vec![1.0, 2.0, 1.0],
         exponent: vec![2.5, 3.0],
         prefactor: vec![0.4, 0.7],
-        precompression: None,
-        field: None,
-        left_wall: None,
-        right_wall: None,
-        hard: None,
-        damping: None,
+        ..Chain::default()
     }
 }
 

@@ -12,10 +12,9 @@
 //! ([`super::render_rgb`]) and encoded by the `gif` crate with a palette of its own colours
 //! (exact up to 256 colours, else the most frequent; [`indexed`]). Only `.gif` is written ([`gif_path`]); the whole file is encoded in memory and then written atomically.
 
-use super::layout::{safe_range, Layout};
+use super::layout::{draw_axes, safe_range, Layout};
 use super::lines::line_color;
 use super::select::{require_frames, BeadRange, TimeRange};
-use super::ticks::{TickFmt, N_LABELS};
 use super::units::{scene_scales, AxisUnits, Units};
 use super::{de, decimate, render_rgb, DrawError, Figure, PlotError};
 use crate::snapshot::{Frame, Snapshot};
@@ -118,16 +117,7 @@ pub fn pick_frames(window: Range<usize>, every: usize, frames_max: usize) -> Vec
 /// The `--out` of `plot animate`: `X.gif` (any case) as is, a name without extension gets
 /// `.gif`; any other extension (`.mp4` included) is an error naming the option.
 pub fn gif_path(out: &Path) -> Result<PathBuf, PlotError> {
-    if out.file_name().is_none() {
-        return Err(PlotError::Input(format!(
-            "--out {}: not a file name",
-            out.display()
-        )));
-    }
-    match out
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase())
-    {
+    match super::out_extension(out)? {
         None => Ok(out.with_extension("gif")),
         Some(e) if e == "gif" => Ok(out.to_path_buf()),
         Some(e) => Err(PlotError::Input(format!(
@@ -358,21 +348,7 @@ impl Figure for FramePlot<'_> {
             .chart(root)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(de)?;
-        let mut mesh = chart.configure_mesh();
-        mesh.light_line_style(RGBColor(235, 235, 235));
-        let (xf, yf) = (
-            TickFmt::axis(x0, x1, N_LABELS),
-            TickFmt::axis(y0, y1, N_LABELS),
-        );
-        let xfmt = move |x: &f64| xf.label(*x);
-        let yfmt = move |y: &f64| yf.label(*y);
-        mesh.x_labels(N_LABELS).y_labels(N_LABELS);
-        super::layout::label_and_draw_mesh(
-            &mut mesh,
-            (a.x_desc.as_str(), a.y_desc.as_str()),
-            (&xfmt, &yfmt),
-            text,
-        )?;
+        draw_axes(&mut chart, (&a.x_desc, &a.y_desc), true, None, text)?;
         let pts = self
             .frame
             .points

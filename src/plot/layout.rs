@@ -2,10 +2,12 @@
 //! blitted there, and tests can find a data point's pixel), the title and the colour bar.
 
 use super::font::FAMILY;
+use super::ticks::{decade_label, TickFmt, N_LABELS};
 use super::{de, DrawError};
 use plotters::chart::MeshStyle;
 use plotters::coord::ranged1d::ValueFormatter;
-use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::{CoordTranslate, Shift};
 use plotters::element::BitMapElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -268,6 +270,61 @@ where
         mesh.x_labels(0).y_labels(0);
     }
     mesh.draw().map_err(de)
+}
+
+/// Draws the axes of a chart on `f64` ranges: [`N_LABELS`] ticks an axis, each axis's labels in
+/// one [`TickFmt`] (y in decades, [`decade_label`], where `y_decades` gives its tick count),
+/// light grey grid lines where `grid` (none otherwise), as [`label_and_draw_mesh`] with `desc`.
+pub fn draw_axes<DB>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    desc: (&str, &str),
+    grid: bool,
+    y_decades: Option<usize>,
+    text: bool,
+) -> Result<(), DrawError>
+where
+    DB: DrawingBackend,
+    DB::ErrorType: 'static,
+{
+    let (x, y, ny) = (
+        chart.x_range(),
+        chart.y_range(),
+        y_decades.unwrap_or(N_LABELS),
+    );
+    let (xf, yf) = (
+        TickFmt::axis(x.start, x.end, N_LABELS),
+        TickFmt::axis(y.start, y.end, ny),
+    );
+    let xfmt = move |x: &f64| xf.label(*x);
+    let yfmt = move |y: &f64| match y_decades {
+        Some(_) => decade_label(*y),
+        None => yf.label(*y),
+    };
+    let mut mesh = chart.configure_mesh();
+    if grid {
+        mesh.light_line_style(RGBColor(235, 235, 235));
+    } else {
+        mesh.disable_mesh();
+    }
+    mesh.x_labels(N_LABELS).y_labels(ny);
+    label_and_draw_mesh(&mut mesh, desc, (&xfmt, &yfmt), text)
+}
+
+/// Draws the legend of a chart's labelled series in its upper right corner.
+pub fn draw_legend<'a, DB, CT>(chart: &mut ChartContext<'a, DB, CT>) -> Result<(), DrawError>
+where
+    DB: DrawingBackend + 'a,
+    DB::ErrorType: 'static,
+    CT: CoordTranslate,
+{
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font((FAMILY, 14))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(de)
 }
 
 #[cfg(test)]

@@ -5,9 +5,9 @@
 //! [`super::ticks::TickFmt`]. A constant series gets a padded range (never zero-width).
 //! Series are coloured from [`LINE_COLORS`], every one of which stands out on white.
 
-use super::layout::{safe_range, Layout};
-use super::ticks::{decade_label, log_decades, TickFmt, N_LABELS};
-use super::{de, font::FAMILY, DrawError, Figure};
+use super::layout::{draw_axes, draw_legend, safe_range, Layout};
+use super::ticks::{log_decades, N_LABELS};
+use super::{de, DrawError, Figure};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -165,25 +165,8 @@ impl Figure for LineChart {
             .chart(root)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(de)?;
-        let log = self.log_y;
-        let mut mesh = chart.configure_mesh();
-        mesh.light_line_style(RGBColor(235, 235, 235));
-        let (xf, yf) = (TickFmt::axis(x0, x1, N_LABELS), TickFmt::axis(y0, y1, ny));
-        let yfmt = move |y: &f64| {
-            if log {
-                decade_label(*y)
-            } else {
-                yf.label(*y)
-            }
-        };
-        let xfmt = move |x: &f64| xf.label(*x);
-        mesh.x_labels(N_LABELS).y_labels(ny);
-        super::layout::label_and_draw_mesh(
-            &mut mesh,
-            (self.x_desc.as_str(), self.y_desc.as_str()),
-            (&xfmt, &yfmt),
-            text,
-        )?;
+        let desc = (self.x_desc.as_str(), self.y_desc.as_str());
+        draw_axes(&mut chart, desc, true, self.log_y.then_some(ny), text)?;
         for (k, s) in self.series.iter().enumerate() {
             let pts = self.plotted(s);
             let color = match s.style {
@@ -207,14 +190,7 @@ impl Figure for LineChart {
             }
         }
         if text && !self.series.is_empty() {
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .label_font((FAMILY, 14))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .draw()
-                .map_err(de)?;
+            draw_legend(&mut chart)?;
         }
         lay.title(root, &self.title, text)
     }

@@ -14,9 +14,9 @@ use super::cmap::Cmap;
 use super::contour::{marching_squares, Segment};
 use super::csvtable::Table;
 use super::keys::readable;
-use super::layout::{num_label, Layout};
-use super::ticks::{colorbar_ticks, TickFmt, N_LABELS};
-use super::{de, font::FAMILY, DrawError, Figure, PlotError};
+use super::layout::{draw_axes, draw_legend, num_label, Layout};
+use super::ticks::{colorbar_ticks, TickFmt};
+use super::{de, DrawError, Figure, PlotError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -311,19 +311,8 @@ impl Figure for Map {
             Rectangle::new([(ex[i], ey[j]), (ex[i + 1], ey[j + 1])], c.filled())
         });
         chart.draw_series(cells).map_err(de)?;
-        let (xf, yf) = (
-            TickFmt::axis(x0, x1, N_LABELS),
-            TickFmt::axis(y0, y1, N_LABELS),
-        );
-        let (xfmt, yfmt) = (move |x: &f64| xf.label(*x), move |y: &f64| yf.label(*y));
-        let mut mesh = chart.configure_mesh();
-        mesh.disable_mesh().x_labels(N_LABELS).y_labels(N_LABELS);
-        super::layout::label_and_draw_mesh(
-            &mut mesh,
-            (self.x_desc.as_str(), self.y_desc.as_str()),
-            (&xfmt, &yfmt),
-            text,
-        )?;
+        let desc = (self.x_desc.as_str(), self.y_desc.as_str());
+        draw_axes(&mut chart, desc, false, None, text)?;
         if let Some((level, segs)) = &self.contour {
             let s = chart
                 .draw_series(
@@ -337,14 +326,7 @@ impl Figure for Map {
                     .legend(|(x, y)| {
                         PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(3))
                     });
-                chart
-                    .configure_series_labels()
-                    .position(SeriesLabelPosition::UpperRight)
-                    .label_font((FAMILY, 14))
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(BLACK)
-                    .draw()
-                    .map_err(de)?;
+                draw_legend(&mut chart)?;
             }
         }
         lay.title(root, &self.title, text)?;

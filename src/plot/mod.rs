@@ -128,16 +128,7 @@ pub enum Format {
 /// The files `--out` names: `X.png` or `X.svg` (case-insensitive) give one file; a path
 /// without extension gives `X.png` and `X.svg`; any other extension is an error.
 pub fn output_paths(out: &Path) -> Result<Vec<(PathBuf, Format)>, PlotError> {
-    if out.file_name().is_none() {
-        return Err(PlotError::Input(format!(
-            "--out {}: not a file name",
-            out.display()
-        )));
-    }
-    match out
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase())
-    {
+    match out_extension(out)? {
         None => Ok(vec![
             (out.with_extension("png"), Format::Png),
             (out.with_extension("svg"), Format::Svg),
@@ -149,6 +140,19 @@ pub fn output_paths(out: &Path) -> Result<Vec<(PathBuf, Format)>, PlotError> {
             out.display()
         ))),
     }
+}
+
+/// The extension of the file `--out` names, in lower case (an error where it names no file).
+pub(crate) fn out_extension(out: &Path) -> Result<Option<String>, PlotError> {
+    if out.file_name().is_none() {
+        return Err(PlotError::Input(format!(
+            "--out {}: not a file name",
+            out.display()
+        )));
+    }
+    Ok(out
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase()))
 }
 
 /// A figure that can be drawn on any plotters backend.

@@ -19,9 +19,9 @@
 
 use super::cmap::Cmap;
 use super::colormap::NO_DATA;
-use super::layout::{num_label, Layout};
+use super::layout::{draw_axes, num_label, Layout};
 use super::select::{require_frames, BeadRange, TimeRange};
-use super::ticks::{colorbar_ticks, TickFmt, N_LABELS};
+use super::ticks::{colorbar_ticks, TickFmt};
 use super::units::{AxisUnits, Units};
 use super::{de, DrawError, Figure, PlotError};
 use crate::snapshot::{Frame, Snapshot};
@@ -373,19 +373,8 @@ impl Figure for Spacetime {
         {
             root.draw(&el).map_err(de)?;
         }
-        let (xf, yf) = (
-            TickFmt::axis(ex0, ex1, N_LABELS),
-            TickFmt::axis(ey0, ey1, N_LABELS),
-        );
-        let (xfmt, yfmt) = (move |x: &f64| xf.label(*x), move |y: &f64| yf.label(*y));
-        let mut mesh = chart.configure_mesh();
-        mesh.disable_mesh().x_labels(N_LABELS).y_labels(N_LABELS);
-        super::layout::label_and_draw_mesh(
-            &mut mesh,
-            (self.x_desc.as_str(), self.y_desc.as_str()),
-            (&xfmt, &yfmt),
-            text,
-        )?;
+        let desc = (self.x_desc.as_str(), self.y_desc.as_str());
+        draw_axes(&mut chart, desc, false, None, text)?;
         lay.title(root, &self.title, text)?;
         if !self.colorbar {
             return Ok(());

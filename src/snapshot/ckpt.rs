@@ -22,8 +22,9 @@ pub const CKPT_MAGIC: [u8; 8] = *b"BEADCKPT";
 /// speeds; 5: the hybrid state records which soft walls are logged closed, and its queue holds
 /// soft-wall crossings not yet logged; 6: an integrator state may be an exact two-body
 /// contact's trajectory; 7: an integrator state is typed per method, `MethodState`; 8: it may be a cluster at
-/// rest's, `MethodState::Rest`).
-pub const CKPT_VERSION: u32 = 8;
+/// rest's, `MethodState::Rest`; 9: the hybrid queue's keys and priorities as the queue holds
+/// them).
+pub const CKPT_VERSION: u32 = 9;
 
 /// Everything a resumed run needs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -9,6 +9,7 @@ isolated equal-mass exchange), the final velocities' largest deviation from the 
 (all beads at rest but the last, which leaves at the striker's speed).
 
     python3 validation/peers/event_cost.py --old OLD_BINARY [--new target/release/beadchain]
+        [--rtol R] [--new-rtol R_NEW] [--scenes A,B]
 
 Scenes: validation/peers/scenes/*.toml (the issue's workloads) and the presets gapped_chain and
 granular_gas. No third-party packages.
@@ -71,11 +72,15 @@ def main():
     ap.add_argument("--new", default=os.path.join(HERE, "..", "..", "target", "release", "beadchain"))
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--rtol", default=None, help="passed to every run (default: the scene's)")
+    ap.add_argument("--new-rtol", default=None,
+                    help="the new binary's rtol instead of --rtol (a comparison at equal or better "
+                         "error, where the new binary is more accurate at the same rtol)")
     ap.add_argument("--scenes", default=None, help="comma-separated subset (paths or presets)")
     ap.add_argument("--csv", default=None)
     a = ap.parse_args()
     scenes = a.scenes.split(",") if a.scenes else SCENES
     bins = [("old", a.old), ("new", a.new)]
+    rtols = {"old": a.rtol, "new": a.new_rtol or a.rtol}
     rows = []
     with tempfile.TemporaryDirectory() as d:
         for sc in scenes:
@@ -89,24 +94,25 @@ def main():
             res = {k: [] for k, _ in bins}
             for _ in range(a.repeat):
                 for k, b in bins:
-                    res[k].append(run_once(b, sc, a.rtol, os.path.join(d, f"{k}.bin")))
+                    res[k].append(run_once(b, sc, rtols[k], os.path.join(d, f"{k}.bin")))
             for k, b in bins:
                 r = dict(res[k][-1])
                 r["time"] = statistics.median(x["time"] for x in res[k])
                 r["scene"] = os.path.basename(sc).removesuffix(".toml")
                 r["binary"] = k
+                r["rtol"] = rtols[k] or "scene's"
                 r["exact_v_error"] = "-"
                 if r["scene"] == "gapped_10k_1.0" or r["scene"] == "gapped_chain":
                     v = final_velocities(b, os.path.join(d, f"{k}.bin"))
                     exact = [0.0] * (len(v) - 1) + [1.0]
                     r["exact_v_error"] = f"{max(abs(x - y) for x, y in zip(v, exact)):.1e}"
                 rows.append(r)
-    print(f"| scene | binary | time (s) | µs per collision | collisions | steps | rejected | "
+    print(f"| scene | binary | rtol | time (s) | µs per collision | collisions | steps | rejected | "
           f"exact pairs (handed over) | energy error | final-v error vs exact |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         per = 1e6 * r["time"] / r["collisions"] if r["collisions"] else float("nan")
-        print(f"| {r['scene']} | {r['binary']} | {r['time']:.4f} | {per:.2f} | {r['collisions']} | "
+        print(f"| {r['scene']} | {r['binary']} | {r['rtol']} | {r['time']:.4f} | {per:.2f} | {r['collisions']} | "
               f"{r['steps']} | {r['rejected']} | {r['exact']} | {r['energy_error']:.1e} | "
               f"{r['exact_v_error']} |")
     if a.csv:

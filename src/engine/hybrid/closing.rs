@@ -72,7 +72,7 @@ impl Hybrid<'_> {
     /// way there. A bound shorter than `MIN_FRACTION` of `h` is not imposed.
     pub(super) fn closing_bound(&self, cl: &Cluster, until: f64) -> f64 {
         let h = cl.integ.step_size();
-        self.landing_end(cl, cl.lo, cl.hi, h, until)
+        self.landing_end(cl, cl.data.lo, cl.data.hi, h, until)
             .map_or(until, |end| until.min(end))
     }
 

@@ -135,8 +135,11 @@ pub enum Pending {
     },
 }
 
-/// One cluster of beads `lo..hi` with its integrator.
-pub struct Cluster {
+/// A cluster's state as data: its beads, frame, clock, pending event, integrator masses and
+/// pinned ends. A checkpoint stores it as it is, beside the integrator's own typed state
+/// ([`super::saved::ClusterState`]).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ClusterData {
     /// First bead.
     pub lo: usize,
     /// One past the last bead.
@@ -147,10 +150,6 @@ pub struct Cluster {
     pub frame_v: f64,
     /// Frame reference time `t_f`.
     pub frame_t: f64,
-    /// Frame acceleration `g` (the chain's free fall, [`Chain::free_fall`]; 0 in general).
-    pub frame_g: f64,
-    /// The cluster's integrator (state `w`, `ẇ`).
-    pub integ: Box<dyn Integrator>,
     /// The cluster's current time: `integ.t()`, or the earlier time it is parked at.
     pub t_now: f64,
     /// What to do when the queue reaches the cluster.
@@ -159,6 +158,18 @@ pub struct Cluster {
     pub mass: Vec<f64>,
     /// First / last bead pinned against its hard wall.
     pub pinned: [bool; 2],
+}
+
+/// One cluster of beads `lo..hi` with its integrator: its state as data ([`ClusterData`]), the
+/// integrator holding the state `w`, `ẇ` (saved as its typed state), and what the run derives
+/// (the frame's fall, whether it holds a resting contact).
+pub struct Cluster {
+    /// The cluster's state.
+    pub data: ClusterData,
+    /// The cluster's integrator (state `w`, `ẇ`).
+    pub integ: Box<dyn Integrator>,
+    /// Frame acceleration `g` (the chain's free fall, [`Chain::free_fall`]; 0 in general).
+    pub frame_g: f64,
     /// Holds a resting hard contact (derived from the engine's `stuck` flags).
     pub rigid: bool,
 }
@@ -166,14 +177,14 @@ pub struct Cluster {
 impl Cluster {
     /// Number of beads.
     pub fn m(&self) -> usize {
-        self.hi - self.lo
+        self.data.hi - self.data.lo
     }
 
     /// Frame displacement at `t`.
     #[inline]
     pub fn frame_at(&self, t: f64) -> f64 {
-        let tau = t - self.frame_t;
-        let u = self.frame_u + self.frame_v * tau;
+        let tau = t - self.data.frame_t;
+        let u = self.data.frame_u + self.data.frame_v * tau;
         if self.frame_g == 0.0 {
             u
         } else {
@@ -185,16 +196,16 @@ impl Cluster {
     #[inline]
     pub fn frame_vel(&self, t: f64) -> f64 {
         if self.frame_g == 0.0 {
-            self.frame_v
+            self.data.frame_v
         } else {
-            self.frame_v + self.frame_g * (t - self.frame_t)
+            self.data.frame_v + self.frame_g * (t - self.data.frame_t)
         }
     }
 
     /// Local displacement `w` of global bead `i` at `t` (continuous output).
     #[inline]
     pub fn w_at(&self, t: f64, i: usize) -> f64 {
-        self.integ.dense_at(t, i - self.lo)
+        self.integ.dense_at(t, i - self.data.lo)
     }
 
     /// Global displacement of bead `i` at `t ∈ [t_prev, t_now]`.
@@ -206,17 +217,27 @@ impl Cluster {
     /// Global velocity of bead `i` at `t`.
     #[inline]
     pub fn v_at(&self, t: f64, i: usize) -> f64 {
-        self.frame_vel(t) + self.integ.dense_at(t, self.m() + i - self.lo)
+        self.frame_vel(t) + self.integ.dense_at(t, self.m() + i - self.data.lo)
+    }
+
+    /// The accelerations of the cluster's beads at its current state, with their real masses
+    /// (the force a pinned bead feels; not hot: hard collisions and resting contacts).
+    pub fn accel_now(&self, chain: &Chain) -> Vec<f64> {
+        let m = self.m();
+        let z = self.integ.state();
+        let mut acc = vec![0.0; m];
+        chain.accel_v(self.data.lo, &z[..m], &z[m..], &mut acc);
+        acc
     }
 
     /// The system this cluster integrates (`stuck`: the engine's flags, one per contact).
     pub fn sys<'a>(&'a self, chain: &'a Chain, stuck: &'a [bool]) -> ClusterSys<'a> {
         ClusterSys {
             chain,
-            lo: self.lo,
-            mass: &self.mass,
-            pinned: self.pinned,
-            rigid: self.rigid.then(|| &stuck[self.lo..self.hi - 1]),
+            lo: self.data.lo,
+            mass: &self.data.mass,
+            pinned: self.data.pinned,
+            rigid: self.rigid.then(|| &stuck[self.data.lo..self.data.hi - 1]),
         }
     }
 }

@@ -2,7 +2,7 @@
 //! [`super::cluster`]), its integrator masses (pinned beads held at rest), its integrator (an
 //! exact pair, [`super::exact`], or the configured method, reusing removed ones), and its slot.
 
-use super::cluster::{Cluster, ClusterSys, PIN_MASS_FACTOR};
+use super::cluster::{Cluster, ClusterData, ClusterSys, PIN_MASS_FACTOR};
 use super::{prio, Hybrid, Key};
 use crate::integrate::rest::Rest;
 use crate::integrate::{new_integrator, Integrator};
@@ -61,19 +61,22 @@ impl Hybrid<'_> {
             Some(h) => integ.restart(&sys, t, &self.ws.bu[..m], &self.ws.bv[..m], h),
             None => integ.reset(&sys, t, &self.ws.bu[..m], &self.ws.bv[..m]),
         }
-        let cl = Cluster {
+        let data = ClusterData {
             lo,
             hi,
             frame_u: fu,
             frame_v: fv,
             frame_t: t,
-            // 0 with walls (the only clusters in the lab frame)
-            frame_g: self.ctx.fall.0,
-            integ,
             t_now: t,
             pending: None,
             mass,
             pinned,
+        };
+        let cl = Cluster {
+            data,
+            integ,
+            // 0 with walls (the only clusters in the lab frame)
+            frame_g: self.ctx.fall.0,
             rigid,
         };
         self.insert_cluster(cl, t);
@@ -138,7 +141,7 @@ impl Hybrid<'_> {
 
     /// Puts a new cluster in a free slot, gives it its beads and queues its first step at `t`.
     fn insert_cluster(&mut self, cl: Cluster, t: f64) {
-        let (lo, hi) = (cl.lo, cl.hi);
+        let (lo, hi) = (cl.data.lo, cl.data.hi);
         let slot = self.clusters.insert(self.st.spare_slots.pop(), cl);
         for i in lo..hi {
             self.st.owner[i] = slot;

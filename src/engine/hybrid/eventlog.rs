@@ -69,7 +69,7 @@ impl Hybrid<'_> {
             None
         };
         for k in 0..m - 1 {
-            let c = cl.lo + k;
+            let c = cl.data.lo + k;
             let pre = chain.precompression.as_ref().map_or(0.0, |p| p[c]);
             let d = |t: f64| pre + cl.w_at(t, c) - cl.w_at(t, c + 1);
             let dd = |t: f64| cl.integ.dense_at(t, m + k) - cl.integ.dense_at(t, m + k + 1);
@@ -88,7 +88,7 @@ impl Hybrid<'_> {
         }
         for side in [0u8, 1] {
             let i = if side == 0 { 0 } else { self.ctx.n - 1 };
-            if i < cl.lo || i >= cl.hi {
+            if i < cl.data.lo || i >= cl.data.hi {
                 continue;
             }
             let w = if side == 0 {
@@ -127,7 +127,7 @@ impl Hybrid<'_> {
     }
 
     /// Counts a closing at relative speed `rel` of the beads `beads` in
-    /// [`crate::engine::checkpoint::HybridData::slow_closings`] when it is below
+    /// [`crate::engine::hybrid::saved::HybridData::slow_closings`] when it is below
     /// [`crate::engine::SLOW_CLOSING_FACTOR`] times their absolute velocity tolerance `atol·V_i`
     /// (the larger of the beads').
     pub(super) fn count_slow_closing(&mut self, rel: f64, beads: &[usize]) {

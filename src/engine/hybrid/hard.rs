@@ -62,12 +62,7 @@ impl Hybrid<'_> {
             FREE => self.st.free[i].g,
             s => {
                 let cl = &self.clusters[s];
-                let m = cl.m();
-                let z = cl.integ.state();
-                let mut acc = vec![0.0; m];
-                // real masses: the force a pinned bead feels
-                self.ctx.chain.accel_v(cl.lo, &z[..m], &z[m..], &mut acc);
-                acc[i - cl.lo]
+                cl.accel_now(self.ctx.chain)[i - cl.data.lo]
             }
         }
     }
@@ -76,7 +71,7 @@ impl Hybrid<'_> {
     /// the cluster restarts from its state with the new velocities.
     fn replace_velocity(&mut self, a: usize, b: usize, t: f64, v: f64) {
         let cl = self.remove_cluster(self.st.owner[a], t);
-        let (lo, hi) = (cl.lo, cl.hi);
+        let (lo, hi) = (cl.data.lo, cl.data.hi);
         let us: Vec<f64> = (lo..hi).map(|k| cl.u_at(t, k)).collect();
         let mut vs: Vec<f64> = (lo..hi).map(|k| cl.v_at(t, k)).collect();
         vs[a - lo..b - lo].fill(v);
@@ -294,7 +289,7 @@ impl Hybrid<'_> {
         t0: f64,
         t1: f64,
     ) -> Option<(f64, u8)> {
-        let (lo, hi) = (cl.lo, cl.hi);
+        let (lo, hi) = (cl.data.lo, cl.data.hi);
         let mut wall_hit: Option<(f64, u8)> = None;
         if lo == 0 && self.hard_wall(0).is_some() && !self.st.pinned[0] {
             let pre = self

@@ -134,14 +134,14 @@ impl Hybrid<'_> {
         for (kink, law, beads) in self.soft_kinks(cl) {
             let (d, dd, ddd) = match kink {
                 Kink::Contact(c) => {
-                    let k = c - cl.lo;
+                    let k = c - cl.data.lo;
                     let ddd = f.map(|f| f[m + k] - f[m + k + 1]);
                     (self.pre(c) + z[k] - z[k + 1], z[m + k] - z[m + k + 1], ddd)
                 }
                 Kink::Wall(side) => {
                     let (pre, s) = self.wall_frame(side).expect("a soft wall");
                     let i = beads[0];
-                    let ddd = f.map(|f| s * f[m + i - cl.lo]);
+                    let ddd = f.map(|f| s * f[m + i - cl.data.lo]);
                     (pre + s * cl.u_at(t, i), s * cl.v_at(t, i), ddd)
                 }
             };
@@ -178,7 +178,7 @@ impl Hybrid<'_> {
                 Kink::Contact(c) => {
                     // cheap filter: the overlap at neither end of the step near the kink, and
                     // not changing sign (a graze inside the step is not sought)
-                    let (k, pre) = (c - cl.lo, self.pre(c));
+                    let (k, pre) = (c - cl.data.lo, self.pre(c));
                     let (d0, d1) = (pre + z0[k] - z0[k + 1], pre + z1[k] - z1[k + 1]);
                     let r = (z0[m + k] - z0[m + k + 1])
                         .abs()
@@ -208,7 +208,7 @@ impl Hybrid<'_> {
         &'s self,
         cl: &'s Cluster,
     ) -> impl Iterator<Item = (Kink, (f64, f64), [usize; 2])> + 's {
-        let contacts = (cl.lo..cl.hi - 1)
+        let contacts = (cl.data.lo..cl.data.hi - 1)
             .filter(|&c| !self.st.stuck[c] && self.ctx.chain.hard_restitution(c).is_none())
             .map(|c| {
                 let law = (self.ctx.chain.exponent[c], self.ctx.chain.prefactor[c]);

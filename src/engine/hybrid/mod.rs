@@ -64,7 +64,9 @@ mod hard;
 mod kinks;
 mod opening;
 mod process;
+pub mod queue;
 mod rest;
+pub mod saved;
 mod state;
 mod stepping;
 mod stick;
@@ -75,104 +77,18 @@ pub use stepping::HybridEngine;
 pub use threshold::{contact_threshold, threshold};
 
 use super::{EngineError, RunConfig};
-use crate::engine::checkpoint::HybridData;
 use crate::engine::events::EventCounts;
 use crate::integrate::Stats;
 use crate::scene::Scene;
 use cluster::{Cluster, Clusters};
 use context::{Context, Workspace};
 use free::Free;
-use ordered_float::OrderedFloat;
-use priority_queue::PriorityQueue;
-use std::cmp::Reverse;
+use queue::{prio, Queue};
+pub use queue::{Key, Prio};
+use saved::HybridData;
 
 /// Owner value of a free bead.
 const FREE: u32 = u32::MAX;
-
-/// Queue keys.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Key {
-    /// The next output frame.
-    Frame,
-    /// A cluster (slot index).
-    Cluster(u32),
-    /// Predicted closing of the gap between free beads `c` and `c + 1`.
-    FreeFree(u32),
-    /// Predicted closing of a free end bead onto a wall (0 = left, 1 = right).
-    Wall(u8),
-    /// A crossing of `θ` by a soft wall's overlap with the end bead of a cluster, logged when
-    /// the queue reaches it ([`walllog`]).
-    WallLog(u8),
-}
-
-/// A key hashes as its unique [`Key::id`] alone (one `u64` through [`KeyHasher`]).
-impl std::hash::Hash for Key {
-    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
-        state.write_u64(self.id());
-    }
-}
-
-/// The queue's hasher: a multiplicative (Fibonacci) hash of the key's id. The queue's index map
-/// hashed every push, pop and removal with SipHash, ~2 % of a 1000-bead striker run's
-/// instructions (`valgrind --tool=callgrind`); keys are small distinct integers, so one
-/// multiplication spreads them over the table. Iteration order is never used (checkpoints sort
-/// the entries, pops follow the unique priorities), so the choice of hash changes no output.
-#[derive(Default)]
-struct KeyHasher(u64);
-
-impl std::hash::Hasher for KeyHasher {
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.write_u64(u64::from(b));
-        }
-    }
-    fn write_u64(&mut self, x: u64) {
-        self.0 = (self.0 ^ x).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    }
-    fn finish(&self) -> u64 {
-        self.0 ^ (self.0 >> 29)
-    }
-}
-
-/// The event queue: keys by priority, hashed with [`KeyHasher`].
-type Queue = PriorityQueue<Key, Prio, std::hash::BuildHasherDefault<KeyHasher>>;
-
-impl Key {
-    /// Unique number of the key.
-    fn id(self) -> u64 {
-        let index = match self {
-            Key::Frame => 0,
-            Key::Cluster(s) => s as u64,
-            Key::FreeFree(c) => c as u64,
-            Key::Wall(w) | Key::WallLog(w) => w as u64,
-        };
-        index << 3 | self.tag()
-    }
-
-    fn tag(self) -> u64 {
-        match self {
-            Key::Frame => 0,
-            Key::Cluster(_) => 1,
-            Key::FreeFree(_) => 2,
-            Key::Wall(_) => 3,
-            Key::WallLog(_) => 4,
-        }
-    }
-}
-
-/// Priority: earliest time first, then class (frames 0, events 1, steps 2), then bead index.
-/// The last component (the key itself) makes every priority unique, so the pop order never
-/// depends on the heap's insertion history (needed for bit-identical resumes).
-type Prio = Reverse<(OrderedFloat<f64>, u8, u64, u64)>;
-
-fn prio(t: f64, class: u8, index: usize, key: Key) -> Prio {
-    Reverse((
-        OrderedFloat(t),
-        class,
-        (index as u64) << 3 | key.tag(),
-        key.id(),
-    ))
-}
 
 /// The hybrid engine: what it derives from the scene (rebuilt, never saved), its plain data
 /// ([`HybridData`], saved as it is), its live clusters and event queue (saved as data by
@@ -308,7 +224,10 @@ impl<'a> Hybrid<'a> {
     fn known_until(&self, i: usize) -> f64 {
         match self.st.owner[i] {
             FREE => f64::INFINITY,
-            s => self.clusters.get(s).map_or(f64::NEG_INFINITY, |c| c.t_now),
+            s => self
+                .clusters
+                .get(s)
+                .map_or(f64::NEG_INFINITY, |c| c.data.t_now),
         }
     }
 
@@ -410,7 +329,7 @@ impl<'a> Hybrid<'a> {
     /// First closing of `cl`'s boundary gaps over its step `[t0, t1]`, as `(t, contact)`, over
     /// the part of the step where the neighbour's trajectory is known (module docs).
     fn first_boundary_closing(&self, cl: &Cluster, t0: f64, t1: f64) -> Option<(f64, usize)> {
-        let (lo, hi) = (cl.lo, cl.hi);
+        let (lo, hi) = (cl.data.lo, cl.data.hi);
         let mut earliest: Option<(f64, usize)> = None;
         if lo > 0 {
             let c = lo - 1;
@@ -451,18 +370,18 @@ impl<'a> Hybrid<'a> {
             let cl = &mut self.clusters[slot];
             let sys = cluster::ClusterSys {
                 chain: self.ctx.fall.1.as_ref().unwrap_or(chain),
-                lo: cl.lo,
-                mass: &cl.mass,
-                pinned: cl.pinned,
-                rigid: cl.rigid.then(|| &self.st.stuck[cl.lo..cl.hi - 1]),
+                lo: cl.data.lo,
+                mass: &cl.data.mass,
+                pinned: cl.data.pinned,
+                rigid: cl.rigid.then(|| &self.st.stuck[cl.data.lo..cl.data.hi - 1]),
             };
-            let t0 = cl.t_now;
+            let t0 = cl.data.t_now;
             cl.integ.set_rough(rough);
             let t1 = cl.integ.step(&sys, bound);
             cl.integ.set_rough(crate::integrate::Rough::Smooth);
             let t1 = t1?;
-            cl.t_now = t1;
-            (cl.lo, t0, t1)
+            cl.data.t_now = t1;
+            (cl.data.lo, t0, t1)
         };
         self.count_step()?;
         // Boundary closings over the known part of the step.
@@ -475,8 +394,8 @@ impl<'a> Hybrid<'a> {
                 self.update_peaks(slot, tw);
                 self.watch_walls(slot, tw);
                 let cl = &mut self.clusters[slot];
-                cl.pending = Some(cluster::Pending::HardWall { side, t: tw });
-                cl.t_now = tw;
+                cl.data.pending = Some(cluster::Pending::HardWall { side, t: tw });
+                cl.data.t_now = tw;
                 self.queue
                     .push(Key::Cluster(slot), prio(tw, 1, lo, Key::Cluster(slot)));
                 return Ok(());
@@ -494,16 +413,16 @@ impl<'a> Hybrid<'a> {
         self.watch_walls(slot, tb);
         let cl = &mut self.clusters[slot];
         if let Some((t, c)) = earliest {
-            cl.pending = Some(cluster::Pending::Close {
+            cl.data.pending = Some(cluster::Pending::Close {
                 contact: c,
                 t,
                 ver: (self.st.version[c], self.st.version[c + 1]),
             });
-            cl.t_now = t;
+            cl.data.t_now = t;
             self.queue
                 .push(Key::Cluster(slot), prio(t, 1, c, Key::Cluster(slot)));
         } else if split {
-            cl.pending = Some(cluster::Pending::Split);
+            cl.data.pending = Some(cluster::Pending::Split);
             self.queue
                 .push(Key::Cluster(slot), prio(t1, 1, lo, Key::Cluster(slot)));
         } else {
@@ -534,7 +453,7 @@ impl<'a> Hybrid<'a> {
         let z = cl.integ.state();
         let m = cl.m();
         for k in 0..m - 1 {
-            let c = cl.lo + k;
+            let c = cl.data.lo + k;
             let d = self.pre(c) + z[k] - z[k + 1];
             let dd = z[m + k] - z[m + k + 1];
             if d < self.ctx.theta && dd < 0.0 && !self.st.stuck[c] {
@@ -545,8 +464,11 @@ impl<'a> Hybrid<'a> {
             return true;
         }
         if m == 1 {
-            let (u, v) = (cl.frame_at(cl.t_now) + z[0], cl.frame_vel(cl.t_now) + z[1]);
-            return !self.wall_holds(cl.lo, u, v);
+            let (u, v) = (
+                cl.frame_at(cl.data.t_now) + z[0],
+                cl.frame_vel(cl.data.t_now) + z[1],
+            );
+            return !self.wall_holds(cl.data.lo, u, v);
         }
         self.release_pin(cl).is_some()
     }

@@ -58,7 +58,7 @@ impl Hybrid<'_> {
     /// Earliest located opening time `t* ∈ (t0, t1)` of a contact of `cl` over its last step
     /// `[t0, t1]` (see module docs), or `None` when no contact opens strictly inside the step.
     pub(super) fn first_opening(&self, cl: &Cluster, t0: f64, t1: f64) -> Option<f64> {
-        if cl.pinned[0] || cl.pinned[1] || t1 <= t0 {
+        if cl.data.pinned[0] || cl.data.pinned[1] || t1 <= t0 {
             return None;
         }
         if cl.m() == 1 {
@@ -69,7 +69,7 @@ impl Hybrid<'_> {
         let theta = self.ctx.theta;
         let mut first: Option<f64> = None;
         for k in 0..m - 1 {
-            let c = cl.lo + k;
+            let c = cl.data.lo + k;
             let pre = self.pre(c);
             let d1 = pre + z[k] - z[k + 1];
             if d1 >= theta || z[m + k] - z[m + k + 1] >= 0.0 {
@@ -110,7 +110,7 @@ impl Hybrid<'_> {
     /// [`rate`]: crate::integrate::Integrator::rate
     pub(super) fn opening_bound(&self, cl: &Cluster, until: f64) -> f64 {
         let m = cl.m();
-        if cl.pinned[0] || cl.pinned[1] {
+        if cl.data.pinned[0] || cl.data.pinned[1] {
             return until;
         }
         let Some(f) = cl.integ.rate() else {
@@ -128,7 +128,7 @@ impl Hybrid<'_> {
             }
         }
         for k in 0..m - 1 {
-            let c = cl.lo + k;
+            let c = cl.data.lo + k;
             let d = self.pre(c) + z[k] - z[k + 1];
             let dd = z[m + k] - z[m + k + 1];
             // not separating, or (a cheap filter) not reaching θ within 2h on its own speed
@@ -166,7 +166,7 @@ impl Hybrid<'_> {
     /// [`rate`]: crate::integrate::Integrator::rate
     fn wall_overlap(&self, cl: &Cluster, side: u8, f: &[f64]) -> Option<(f64, f64, f64)> {
         let end = if side == 0 { 0 } else { self.ctx.n - 1 };
-        if cl.m() != 1 || cl.lo != end {
+        if cl.m() != 1 || cl.data.lo != end {
             return None;
         }
         let w = self.soft_wall(side)?;
@@ -188,7 +188,7 @@ impl Hybrid<'_> {
         let mut first: Option<f64> = None;
         for side in [0u8, 1] {
             let end = if side == 0 { 0 } else { self.ctx.n - 1 };
-            let Some(w) = self.soft_wall(side).filter(|_| cl.lo == end) else {
+            let Some(w) = self.soft_wall(side).filter(|_| cl.data.lo == end) else {
                 continue;
             };
             let s = if side == 0 { -1.0 } else { 1.0 };
@@ -216,9 +216,9 @@ impl Hybrid<'_> {
         self.update_peaks(slot, t);
         self.watch_walls(slot, t);
         let cl = &mut self.clusters[slot];
-        cl.pending = Some(Pending::Open { t });
-        cl.t_now = t;
-        let lo = cl.lo;
+        cl.data.pending = Some(Pending::Open { t });
+        cl.data.t_now = t;
+        let lo = cl.data.lo;
         self.queue
             .push(Key::Cluster(slot), prio(t, 1, lo, Key::Cluster(slot)));
     }
@@ -228,10 +228,10 @@ impl Hybrid<'_> {
     pub(super) fn open_at(&mut self, slot: u32, t: f64) -> Result<(), EngineError> {
         self.settle_at(slot, t)?;
         let cl = &self.clusters[slot];
-        let (lo, split) = (cl.lo, self.needs_split(cl));
+        let (lo, split) = (cl.data.lo, self.needs_split(cl));
         let cl = &mut self.clusters[slot];
         let class = if split {
-            cl.pending = Some(Pending::Split);
+            cl.data.pending = Some(Pending::Split);
             1
         } else {
             2

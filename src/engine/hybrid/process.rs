@@ -29,7 +29,7 @@ impl Hybrid<'_> {
     /// - from Radau IIA: no measurable gain (interface, striker, periodic decay: < 1 % steps).
     pub(super) fn inherited_step(&self, slot: u32) -> Option<f64> {
         let cl = self.clusters.get(slot)?;
-        let smooth = self.ctx.chain.exponent[cl.lo..cl.hi - 1]
+        let smooth = self.ctx.chain.exponent[cl.data.lo..cl.data.hi - 1]
             .iter()
             .all(|&n| n >= 2.0);
         let h = cl.integ.step_size();
@@ -84,10 +84,10 @@ impl Hybrid<'_> {
         }
         self.queue.remove(&Key::Cluster(slot));
         // a wall crossing its step found goes with it (the next owner searches again)
-        if cl.lo == 0 {
+        if cl.data.lo == 0 {
             self.queue.remove(&Key::WallLog(0));
         }
-        if cl.hi == self.ctx.n {
+        if cl.data.hi == self.ctx.n {
             self.queue.remove(&Key::WallLog(1));
         }
         self.st.stats.add(cl.integ.stats());
@@ -103,12 +103,12 @@ impl Hybrid<'_> {
             if self.ws.spare_pairs.len() < SPARE_INTEGRATORS {
                 self.ws.spare_pairs.push(cl.integ);
             }
-            self.ws.spare_mass.push(cl.mass);
+            self.ws.spare_mass.push(cl.data.mass);
             return;
         }
         if self.ws.spare.len() < SPARE_INTEGRATORS && !cl.integ.at_rest() {
             self.ws.spare.push(cl.integ);
-            self.ws.spare_mass.push(cl.mass);
+            self.ws.spare_mass.push(cl.data.mass);
         }
     }
 
@@ -200,12 +200,12 @@ impl Hybrid<'_> {
             let theta = self.closing_offset(i - 1, t);
             let s = self.st.owner[i - 1];
             let a = &self.clusters[s];
-            if a.t_now > t {
+            if a.data.t_now > t {
                 let c = i - 1;
                 let pre = self.pre(c);
                 let f = self.st.free[i];
                 let g = |x: f64| pre + a.u_at(x, c) - f.at(x).0 - theta;
-                if let Some(tc) = self.boundary_crossing(g, t, a.t_now) {
+                if let Some(tc) = self.boundary_crossing(g, t, a.data.t_now) {
                     found = Some((s, c, tc));
                 }
             }
@@ -214,12 +214,12 @@ impl Hybrid<'_> {
             let theta = self.closing_offset(i, t);
             let s = self.st.owner[i + 1];
             let a = &self.clusters[s];
-            if a.t_now > t {
+            if a.data.t_now > t {
                 let c = i;
                 let pre = self.pre(c);
                 let f = self.st.free[i];
                 let g = |x: f64| pre + f.at(x).0 - a.u_at(x, i + 1) - theta;
-                if let Some(tc) = self.boundary_crossing(g, t, a.t_now) {
+                if let Some(tc) = self.boundary_crossing(g, t, a.data.t_now) {
                     if found.is_none_or(|(_, _, te)| tc < te) {
                         found = Some((s, c, tc));
                     }
@@ -229,12 +229,12 @@ impl Hybrid<'_> {
         if let Some((s, c, tc)) = found {
             let ver = (self.st.version[c], self.st.version[c + 1]);
             let a = &mut self.clusters[s];
-            a.pending = Some(super::cluster::Pending::Close {
+            a.data.pending = Some(super::cluster::Pending::Close {
                 contact: c,
                 t: tc,
                 ver,
             });
-            a.t_now = tc;
+            a.data.t_now = tc;
             self.queue
                 .push(Key::Cluster(s), prio(tc, 1, c, Key::Cluster(s)));
         }
@@ -259,7 +259,7 @@ impl Hybrid<'_> {
     pub(super) fn settle_at(&mut self, slot: u32, t: f64) -> Result<(), EngineError> {
         let chain = self.ctx.chain;
         let cl = &mut self.clusters[slot];
-        cl.t_now = t;
+        cl.data.t_now = t;
         if cl.integ.t() <= t {
             return Ok(());
         }
@@ -279,10 +279,10 @@ impl Hybrid<'_> {
         let z = &mut self.ws.bz[..2 * m];
         let sys = ClusterSys {
             chain: self.ctx.fall.1.as_ref().unwrap_or(chain),
-            lo: cl.lo,
-            mass: &cl.mass,
-            pinned: cl.pinned,
-            rigid: cl.rigid.then(|| &self.st.stuck[cl.lo..cl.hi - 1]),
+            lo: cl.data.lo,
+            mass: &cl.data.mass,
+            pinned: cl.data.pinned,
+            rigid: cl.rigid.then(|| &self.st.stuck[cl.data.lo..cl.data.hi - 1]),
         };
         if t - t0 <= 64.0 * f64::EPSILON * t.abs().max(f64::MIN_POSITIVE) {
             // A few ulps after the step start: too short to integrate (the stage times would
@@ -318,11 +318,11 @@ impl Hybrid<'_> {
         // a free bead joins with its whole rigid group
         let lo = match self.st.owner[c] {
             FREE => self.group_of(c).lo,
-            s => self.clusters[s].lo,
+            s => self.clusters[s].data.lo,
         };
         let hi = match self.st.owner[c + 1] {
             FREE => self.group_of(c + 1).hi,
-            s => self.clusters[s].hi,
+            s => self.clusters[s].data.hi,
         };
         // the merged beads' states, in scratch taken out for the call (no allocation)
         let (mut u, mut v) = (
@@ -382,7 +382,7 @@ impl Hybrid<'_> {
         }
         // Stale (the neighbour changed since): continue the cluster from t.
         self.settle_at(slot, t)?;
-        let lo = self.clusters[slot].lo;
+        let lo = self.clusters[slot].data.lo;
         self.queue
             .push(Key::Cluster(slot), prio(t, 2, lo, Key::Cluster(slot)));
         Ok(())
@@ -417,7 +417,7 @@ impl Hybrid<'_> {
     pub(super) fn process_split(&mut self, slot: u32) {
         let (lo, hi, t) = {
             let cl = &self.clusters[slot];
-            (cl.lo, cl.hi, cl.t_now)
+            (cl.data.lo, cl.data.hi, cl.data.t_now)
         };
         self.release_and_unstick(slot, t);
         let h = self.inherited_step(slot);

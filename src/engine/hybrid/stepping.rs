@@ -12,11 +12,12 @@
 //! no byte. Returned events are read from the log's buffer, which is handed over only at a
 //! full block or a frame, i.e. after every event it holds was returned.
 
+use super::saved::HybridState;
 use super::{cluster, prio, Hybrid, Key, FREE};
-use crate::engine::checkpoint::{EngineState, HybridState};
 use crate::engine::stepper::{
     check_budget, check_velocities, drive, outcome_at, Drive, Engine, PauseAt, State, Stop,
 };
+use crate::engine::EngineState;
 use crate::engine::{EngineError, Observer, RunConfig, RunOutcome};
 use crate::scene::Scene;
 use std::cmp::Reverse;
@@ -93,7 +94,10 @@ impl Hybrid<'_> {
     /// A cluster's queue entry: its pending event (a closing, split, hard-wall contact or
     /// opening it landed on), else its next step.
     fn process_cluster_entry(&mut self, slot: u32) -> Result<(), EngineError> {
-        let pending = self.clusters.get_mut(slot).and_then(|c| c.pending.take());
+        let pending = self
+            .clusters
+            .get_mut(slot)
+            .and_then(|c| c.data.pending.take());
         match pending {
             Some(cluster::Pending::Close { contact, t, ver }) => {
                 self.process_close(slot, contact, t, ver)
@@ -221,7 +225,7 @@ impl Engine for HybridEngine<'_> {
         let u: Vec<f64> = (0..h.ctx.n).map(|i| h.pos(i, t).0).collect();
         for slot in 0..h.clusters.slots() as u32 {
             if let Some(cl) = h.clusters.get_mut(slot) {
-                cl.t_now = t;
+                cl.data.t_now = t;
                 h.remove_cluster(slot, t);
             }
         }

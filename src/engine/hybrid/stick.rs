@@ -237,11 +237,9 @@ impl Hybrid<'_> {
     /// held by a wall has `A = 0` and is summed from its free end.
     pub(super) fn tension(&self, cl: &Cluster) -> Option<usize> {
         let m = cl.m();
-        let z = cl.integ.state();
-        let mut acc = vec![0.0; m];
-        self.ctx.chain.accel_v(cl.lo, &z[..m], &z[m..], &mut acc);
-        let mass = &self.ctx.chain.mass[cl.lo..cl.hi];
-        let stuck = &self.st.stuck[cl.lo..cl.hi - 1];
+        let acc = cl.accel_now(self.ctx.chain);
+        let mass = &self.ctx.chain.mass[cl.data.lo..cl.data.hi];
+        let stuck = &self.st.stuck[cl.data.lo..cl.data.hi - 1];
         let mut a = 0;
         while a < m {
             let mut b = a;
@@ -251,16 +249,16 @@ impl Hybrid<'_> {
             let scale: f64 = (a..=b).map(|i| (mass[i] * acc[i]).abs()).sum();
             let tol = 1e-12 * scale;
             let f = |i: usize| mass[i] * acc[i];
-            if a == 0 && cl.pinned[0] {
+            if a == 0 && cl.data.pinned[0] {
                 let mut s = 0.0;
                 for c in (a..b).rev() {
                     s += f(c + 1);
                     if s > tol {
-                        return Some(cl.lo + c);
+                        return Some(cl.data.lo + c);
                     }
                 }
             } else {
-                let held_right = b == m - 1 && cl.pinned[1];
+                let held_right = b == m - 1 && cl.data.pinned[1];
                 let mean = if held_right {
                     0.0
                 } else {
@@ -270,7 +268,7 @@ impl Hybrid<'_> {
                 for c in a..b {
                     p += f(c) - mass[c] * mean;
                     if p < -tol {
-                        return Some(cl.lo + c);
+                        return Some(cl.data.lo + c);
                     }
                 }
             }
@@ -316,24 +314,26 @@ impl Hybrid<'_> {
     /// A pinned end bead whose net force (contacts + field, real mass) points away from its
     /// wall is released: returns the side.
     pub(super) fn release_pin(&self, cl: &Cluster) -> Option<u8> {
-        if !cl.pinned[0] && !cl.pinned[1] {
+        if !cl.data.pinned[0] && !cl.data.pinned[1] {
             return None;
         }
         let z = cl.integ.state();
         let m = cl.m();
         let mut acc = vec![0.0; m];
-        self.ctx.chain.accel_v(cl.lo, &z[..m], &z[m..], &mut acc);
+        self.ctx
+            .chain
+            .accel_v(cl.data.lo, &z[..m], &z[m..], &mut acc);
         if cl.rigid {
             let (mass, stuck) = (
-                &self.ctx.chain.mass[cl.lo..],
-                &self.st.stuck[cl.lo..cl.hi - 1],
+                &self.ctx.chain.mass[cl.data.lo..],
+                &self.st.stuck[cl.data.lo..cl.data.hi - 1],
             );
             super::cluster::rigid_accel(mass, stuck, [false; 2], &mut acc);
         }
-        if cl.pinned[0] && acc[0] > 0.0 {
+        if cl.data.pinned[0] && acc[0] > 0.0 {
             return Some(0);
         }
-        if cl.pinned[1] && acc[m - 1] < 0.0 {
+        if cl.data.pinned[1] && acc[m - 1] < 0.0 {
             return Some(1);
         }
         None

@@ -24,7 +24,7 @@
 //! closing, where `δ_w = θ` to rounding) measures the crossing from its starting overlap, as
 //! hard contacts do ([`Hybrid::closing_offset`]).
 //!
-//! [`HybridData::wall_in`]: crate::engine::checkpoint::HybridData::wall_in
+//! [`HybridData::wall_in`]: crate::engine::hybrid::saved::HybridData::wall_in
 
 use super::cluster::Cluster;
 use super::{prio, Hybrid, Key, FREE};
@@ -42,7 +42,7 @@ impl Hybrid<'_> {
 
     /// Sides of the soft walls whose end bead `cl` holds.
     pub(super) fn soft_walls_of(&self, cl: &Cluster) -> impl Iterator<Item = u8> + '_ {
-        let (lo, hi) = (cl.lo, cl.hi);
+        let (lo, hi) = (cl.data.lo, cl.data.hi);
         [0u8, 1].into_iter().filter(move |&side| {
             let held = if side == 0 { lo == 0 } else { hi == self.ctx.n };
             held && self.soft_wall(side).is_some()
@@ -148,7 +148,7 @@ impl Hybrid<'_> {
         }
         let cl = &self.clusters[slot];
         let rel = cl.v_at(t, i);
-        let tb = cl.t_now.min(cl.integ.t());
+        let tb = cl.data.t_now.min(cl.integ.t());
         let k = self.ctx.n - 1 + side as usize;
         if self.st.wall_in[side as usize] {
             self.log(t, i, EventKind::WallOpen, rel, self.st.peak[k]);

@@ -20,9 +20,9 @@ impl Dop853 {
         let n = 2 * self.m;
         if !P {
             for (s, a) in A.iter().enumerate().take(N_MAIN).skip(1) {
-                let (done, rest) = self.k.split_at_mut(s * n);
+                let (done, rest) = self.st.k.split_at_mut(s * n);
                 let ks = &mut rest[..n];
-                packed::combine_plain(&mut self.y, &mut ks[..n / 2], &self.z, h, a, done);
+                packed::combine_plain(&mut self.y, &mut ks[..n / 2], &self.st.z, h, a, done);
                 self.pw[s] = rhs_of_combined(sys, &mut self.stats, &self.y, ks);
             }
             return;
@@ -53,8 +53,8 @@ impl Dop853 {
     #[inline(always)]
     fn stage<R: Row>(&mut self, sys: &dyn System, h: f64, s: usize, old: bool) -> f64 {
         let n = 2 * self.m;
-        let ks = &mut self.k[s * n..(s + 1) * n];
-        let z = if old { &self.z_old } else { &self.z };
+        let ks = &mut self.st.k[s * n..(s + 1) * n];
+        let z = if old { &self.st.z_old } else { &self.st.z };
         packed::combine::<R>(&mut self.y, &mut ks[..n / 2], z, h, &self.kp);
         let p = rhs_of_combined(sys, &mut self.stats, &self.y, ks);
         packed::pack(&mut self.kp, s, ks);
@@ -81,7 +81,7 @@ impl Dop853 {
             // started as `0.0 + c·K` at the first stage used (the bits of zero-filling first)
             let mut first = true;
             for j in 0..E5.len() {
-                let kj = &self.k[j * n..(j + 1) * n];
+                let kj = &self.st.k[j * n..(j + 1) * n];
                 let (c5, c3) = (E5[j], E3[j]);
                 if c5 != 0.0 || c3 != 0.0 {
                     let pairs = self.e5.iter_mut().zip(self.e3.iter_mut()).zip(kj);
@@ -103,7 +103,7 @@ impl Dop853 {
         let (mut n5, mut n3) = (0.0_f64, 0.0_f64);
         let mut finite = true;
         for i in 0..n {
-            let sc = self.weight(i, self.z[i], self.y[i]);
+            let sc = self.weight(i, self.st.z[i], self.y[i]);
             let (r5, r3) = ((self.e5[i] / sc).abs(), (self.e3[i] / sc).abs());
             finite &= r5.is_finite() && r3.is_finite() && self.y[i].is_finite();
             n5 = n5.max(r5);
@@ -126,7 +126,7 @@ impl Dop853 {
             n3 = n3.max(r3);
         }
         // The FSAL stage becomes the next step's first stage: it must be finite too.
-        finite &= self.k[12 * n..13 * n].iter().all(|x| x.is_finite());
+        finite &= self.st.k[12 * n..13 * n].iter().all(|x| x.is_finite());
         if !finite {
             return f64::INFINITY;
         }
@@ -153,16 +153,16 @@ impl Dop853 {
             self.packed_dense_stages(sys, h);
         } else {
             for (s, a) in A.iter().enumerate().skip(N_MAIN) {
-                let (done, rest) = self.k.split_at_mut(s * n);
+                let (done, rest) = self.st.k.split_at_mut(s * n);
                 let ks = &mut rest[..n];
-                packed::combine_plain(&mut self.y, &mut ks[..n / 2], &self.z_old, h, a, done);
+                packed::combine_plain(&mut self.y, &mut ks[..n / 2], &self.st.z_old, h, a, done);
                 rhs_of_combined(sys, &mut self.stats, &self.y, ks);
             }
         }
-        let (f012, f3) = self.f.split_at_mut(3 * n);
+        let (f012, f3) = self.st.f.split_at_mut(3 * n);
         for i in 0..n {
-            let dz = self.z[i] - self.z_old[i];
-            let (k0, k12) = (self.k[i], self.k[12 * n + i]);
+            let dz = self.st.z[i] - self.st.z_old[i];
+            let (k0, k12) = (self.st.k[i], self.st.k[12 * n + i]);
             f012[i] = dz;
             f012[n + i] = h * k0 - dz;
             f012[2 * n + i] = 2.0 * dz - h * (k12 + k0);
@@ -172,14 +172,14 @@ impl Dop853 {
         } else {
             for (r, drow) in D.iter().enumerate() {
                 let fr = &mut f3[r * n..(r + 1) * n];
-                packed::stage_sum(fr, drow, &self.k);
+                packed::stage_sum(fr, drow, &self.st.k);
                 for x in fr.iter_mut() {
                     *x *= h;
                 }
             }
         }
-        self.k.copy_within(12 * n..13 * n, 0);
-        packed::pack(&mut self.kp, 0, &self.k[..n]);
+        self.st.k.copy_within(12 * n..13 * n, 0);
+        packed::pack(&mut self.kp, 0, &self.st.k[..n]);
     }
 
     /// The 3 extra stages of [`Self::dense_coefficients`] on the packed stages.

@@ -21,9 +21,9 @@ impl Dop853 {
         let ts = self.time_scale();
         let (mut d0, mut d1) = (0.0_f64, 0.0_f64);
         for i in 0..n {
-            let sc = self.weight(i, self.z[i], self.z[i]);
-            d0 = d0.max((self.z[i] / sc).abs());
-            d1 = d1.max((self.k[i] / sc).abs());
+            let sc = self.weight(i, self.st.z[i], self.st.z[i]);
+            d0 = d0.max((self.st.z[i] / sc).abs());
+            d1 = d1.max((self.st.k[i] / sc).abs());
         }
         d1 *= ts;
         let h0 = if d0 < 1e-5 || d1 < 1e-5 || !(d0 / d1).is_finite() {
@@ -32,13 +32,13 @@ impl Dop853 {
             0.01 * d0 / d1
         };
         for i in 0..n {
-            self.y[i] = self.z[i] + h0 * ts * self.k[i];
+            self.y[i] = self.st.z[i] + h0 * ts * self.st.k[i];
         }
-        rhs(sys, &mut self.stats, &self.y, &mut self.k[n..2 * n]);
+        rhs(sys, &mut self.stats, &self.y, &mut self.st.k[n..2 * n]);
         let mut d2 = 0.0_f64;
         for i in 0..n {
-            let sc = self.weight(i, self.z[i], self.z[i]);
-            d2 = d2.max(((self.k[n + i] - self.k[i]) / sc).abs());
+            let sc = self.weight(i, self.st.z[i], self.st.z[i]);
+            d2 = d2.max(((self.st.k[n + i] - self.st.k[i]) / sc).abs());
         }
         d2 *= ts / h0;
         let h1 = if d1 <= 1e-15 && d2 <= 1e-15 {

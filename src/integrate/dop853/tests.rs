@@ -125,7 +125,7 @@ fn dense_output_reproduces_step_endpoints() {
         // stage 0): z(t − δ) ≈ z(t) − δ·f, abs 1e-13 (the δ² term is ~1e-20).
         let dt = 1e-9 * (t - ig.t_prev());
         ig.dense(t - dt, &mut z);
-        for ((a, b), f) in z.iter().zip(ig.state()).zip(&ig.k) {
+        for ((a, b), f) in z.iter().zip(ig.state()).zip(&ig.st.k) {
             assert!((a - (b - dt * f)).abs() <= 1e-13, "{a} vs {b} − {dt:e}·{f}");
         }
     }

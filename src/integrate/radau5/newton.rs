@@ -24,7 +24,7 @@ impl Radau5 {
             if !self.transformed_residual(sys, cr, cc) {
                 return (false, it + 1, rate);
             }
-            let kv = Self::kv_of(sys, &self.kv);
+            let kv = Self::kv_of(sys, &self.st.kv);
             let [d0s, d1s, d2s] = &mut self.dw;
             linear::solve_real(&mut *self.real, mass, kv, cr, d0s);
             linear::solve_complex(&mut *self.cplx, mass, kv, cc, d1s, d2s, &mut self.rhs_c);
@@ -79,10 +79,13 @@ impl Radau5 {
             }
         }
         for j in 0..m {
-            self.inv_w[j] = 1.0 / self.tol.weight_u(self.z[j], self.z[j]);
+            self.inv_w[j] = 1.0 / self.tol.weight_u(self.st.z[j], self.st.z[j]);
         }
         for j in m..n {
-            self.inv_w[j] = 1.0 / self.tol.weight_v(self.vs[j - m], self.z[j], self.z[j]);
+            self.inv_w[j] = 1.0
+                / self
+                    .tol
+                    .weight_v(self.vs[j - m], self.st.z[j], self.st.z[j]);
         }
     }
 
@@ -92,7 +95,7 @@ impl Radau5 {
         let n = 2 * self.m;
         let m = self.m;
         for i in 0..3 {
-            for ((y, z), d) in self.ytmp.iter_mut().zip(&self.z).zip(&self.zs[i]) {
+            for ((y, z), d) in self.ytmp.iter_mut().zip(&self.st.z).zip(&self.zs[i]) {
                 *y = z + d;
             }
             Self::rhs(sys, m, &self.ytmp, &mut self.fs[i], &mut self.stats);
@@ -142,7 +145,7 @@ impl Radau5 {
         let bound = NEGLIGIBLE_NEWTON * self.newton_tol;
         self.dw.iter().all(|d| {
             (0..n).all(|j| {
-                d[j].abs() <= ROUNDING_NEWTON * f64::EPSILON * self.z[j].abs()
+                d[j].abs() <= ROUNDING_NEWTON * f64::EPSILON * self.st.z[j].abs()
                     || (d[j] * self.inv_w[j]).abs() <= bound
             })
         })
@@ -177,7 +180,7 @@ impl Radau5 {
     pub(super) fn dissipation_error(&mut self, sys: &dyn System, h: f64, cr: f64) -> (f64, f64) {
         let m = self.m;
         for i in 0..3 {
-            for ((y, z), d) in self.ytmp_d.iter_mut().zip(&self.z).zip(&self.zs[i]) {
+            for ((y, z), d) in self.ytmp_d.iter_mut().zip(&self.st.z).zip(&self.zs[i]) {
                 *y = z + d;
             }
             let (u, v) = self.ytmp_d.split_at(m);
@@ -185,7 +188,7 @@ impl Radau5 {
         }
         let d: [f64; 3] =
             std::array::from_fn(|i| h * (0..3).map(|j| RADAU_A[i][j] * self.ps[j]).sum::<f64>());
-        let err = (self.p0 + (E[0] * d[0] + E[1] * d[1] + E[2] * d[2]) / h) / cr;
+        let err = (self.st.p0 + (E[0] * d[0] + E[1] * d[1] + E[2] * d[2]) / h) / cr;
         // relative to E_d since the reset whatever the run asks of DOP853: this estimate keeps
         // the balance within 1.2·rtol of E_0 in the dense engine too (40 damped beads, rtol
         // 1e-6 … 1e-12), and the step's increment would cost 40 % more steps there
@@ -200,7 +203,7 @@ impl Radau5 {
     /// Initial guess of the stages from the previous step's collocation polynomial.
     pub(super) fn predict_stages(&mut self, h: f64) {
         let n = 2 * self.m;
-        if !self.have_sol {
+        if !self.st.have_sol {
             for zi in self.zs.iter_mut() {
                 zi.fill(0.0);
             }
@@ -211,8 +214,11 @@ impl Radau5 {
             let x = (self.t + h * C[i] - self.t_old) / h_prev;
             let (x1, x2, x3) = (x, x * x, x * x * x);
             for j in 0..n {
-                let y = self.z_old[j] + self.q[0][j] * x1 + self.q[1][j] * x2 + self.q[2][j] * x3;
-                self.zs[i][j] = y - self.z[j];
+                let y = self.st.z_old[j]
+                    + self.st.q[0][j] * x1
+                    + self.st.q[1][j] * x2
+                    + self.st.q[2][j] * x3;
+                self.zs[i][j] = y - self.st.z[j];
             }
         }
     }

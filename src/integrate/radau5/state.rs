@@ -1,6 +1,7 @@
 //! Radau IIA state as plain data: the step's solution, the previous one, `F`, the stiffnesses,
-//! the collocation polynomial (dense output) and the step-control history, saved into and loaded
-//! from a typed [`Radau5State`] (checked: method and array lengths).
+//! the collocation polynomial (dense output) and the step-control history, which the integrator
+//! holds as a typed [`Radau5State`] and a checkpoint stores as it is (loading checks the method
+//! and the array lengths).
 
 use super::Radau5;
 use crate::integrate::{check_lengths, IntegratorState, LoadError, Method, MethodState};
@@ -43,19 +44,7 @@ impl Radau5 {
             stats: self.stats.clone(),
             dissipated: self.diss,
             auto: None,
-            method: MethodState::Radau5(Radau5State {
-                h: self.h_abs,
-                h_old: self.h_abs_old,
-                err_old: self.err_old,
-                have_sol: self.have_sol,
-                z: self.z.clone(),
-                z_old: self.z_old.clone(),
-                f: self.f.clone(),
-                k: self.k.clone(),
-                q: self.q.clone(),
-                kv: self.kv.clone(),
-                p0: self.p0,
-            }),
+            method: MethodState::Radau5(self.st.clone()),
         }
     }
 
@@ -64,25 +53,13 @@ impl Radau5 {
         let MethodState::Radau5(r) = &s.method else {
             return Err(LoadError::wrong_method(&s.method, Method::Radau5.name()));
         };
-        let (z, q, kv) = (self.z.len(), self.q[0].len(), self.kv.len());
-        let lens = [z, self.z_old.len(), self.f.len(), self.k.len(), q, q, q, kv];
+        let st = &self.st;
+        let (z, q, kv) = (st.z.len(), st.q[0].len(), st.kv.len());
+        let lens = [z, st.z_old.len(), st.f.len(), st.k.len(), q, q, q, kv];
         let got = [&r.z, &r.z_old, &r.f, &r.k, &r.q[0], &r.q[1], &r.q[2], &r.kv];
         check_lengths(Method::Radau5, &got, &lens)?;
-        self.t = s.t;
-        self.t_old = s.t_prev;
-        self.h_abs = r.h;
-        self.h_abs_old = r.h_old;
-        self.err_old = r.err_old;
-        self.have_sol = r.have_sol;
-        self.z.copy_from_slice(&r.z);
-        self.z_old.copy_from_slice(&r.z_old);
-        self.f.copy_from_slice(&r.f);
-        self.k.copy_from_slice(&r.k);
-        for (d, v) in self.q.iter_mut().zip(&r.q) {
-            d.copy_from_slice(v);
-        }
-        self.kv.copy_from_slice(&r.kv);
-        self.p0 = r.p0;
+        (self.t, self.t_old) = (s.t, s.t_prev);
+        self.st.clone_from(r);
         self.stats = s.stats.clone();
         self.diss = s.dissipated;
         Ok(())

@@ -20,25 +20,25 @@ impl Radau5 {
         let m = self.m;
         // y_new = y + Z_3; error estimate (I·μ_r/h − J)⁻¹ (f + ZE)
         for j in 0..n {
-            self.ytmp[j] = self.z[j] + self.zs[2][j];
+            self.ytmp[j] = self.st.z[j] + self.zs[2][j];
             let ze = (E[0] * self.zs[0][j] + E[1] * self.zs[1][j] + E[2] * self.zs[2][j]) / h;
-            self.err[j] = self.f[j] + ze;
+            self.err[j] = self.st.f[j] + ze;
         }
         let mass = sys.mass();
         let cr = MU_REAL / h;
         linear::solve_real(
             &mut *self.real,
             mass,
-            Self::kv_of(sys, &self.kv),
+            Self::kv_of(sys, &self.st.kv),
             cr,
             &mut self.err,
         );
-        let mut err_norm = self.weights_norm(&self.err, &self.z, &self.ytmp);
+        let mut err_norm = self.weights_norm(&self.err, &self.st.z, &self.ytmp);
         if rejected && err_norm > 1.0 {
             // Hairer's second error estimate after a rejection: err = (..)⁻¹(F(y+err) + ZE).
             let mut tmp = std::mem::take(&mut self.dw[0]);
             for j in 0..n {
-                tmp[j] = self.z[j] + self.err[j];
+                tmp[j] = self.st.z[j] + self.err[j];
             }
             let mut fe = std::mem::take(&mut self.dw[1]);
             Self::rhs(sys, m, &tmp, &mut fe, &mut self.stats);
@@ -46,9 +46,9 @@ impl Radau5 {
                 let ze = (E[0] * self.zs[0][j] + E[1] * self.zs[1][j] + E[2] * self.zs[2][j]) / h;
                 self.err[j] = fe[j] + ze;
             }
-            let kv = Self::kv_of(sys, &self.kv);
+            let kv = Self::kv_of(sys, &self.st.kv);
             linear::solve_real(&mut *self.real, mass, kv, cr, &mut self.err);
-            err_norm = self.weights_norm(&self.err, &self.z, &self.ytmp);
+            err_norm = self.weights_norm(&self.err, &self.st.z, &self.ytmp);
             self.dw[0] = tmp;
             self.dw[1] = fe;
         }
@@ -70,21 +70,21 @@ impl Radau5 {
         for j in 0..n {
             let (z0, z1, z2) = (self.zs[0][j], self.zs[1][j], self.zs[2][j]);
             for c in 0..3 {
-                self.q[c][j] = z0 * P[0][c] + z1 * P[1][c] + z2 * P[2][c];
+                self.st.q[c][j] = z0 * P[0][c] + z1 * P[1][c] + z2 * P[2][c];
             }
         }
-        self.z_old.copy_from_slice(&self.z);
-        self.z.copy_from_slice(&self.ytmp);
+        self.st.z_old.copy_from_slice(&self.st.z);
+        self.st.z.copy_from_slice(&self.ytmp);
         self.t_old = t;
         self.t = t_new;
-        self.have_sol = true;
+        self.st.have_sol = true;
         // F and stiffness at the new point (one evaluation gives both)
-        self.f[..m].copy_from_slice(&self.z[m..]);
-        let (u, v) = self.z.split_at(m);
-        self.p0 = sys.accel_stiffness(u, v, &mut self.acc, &mut self.ktmp, &mut self.kvtmp);
-        self.f[m..].copy_from_slice(&self.acc);
-        std::mem::swap(&mut self.k, &mut self.ktmp);
-        std::mem::swap(&mut self.kv, &mut self.kvtmp);
+        self.st.f[..m].copy_from_slice(&self.st.z[m..]);
+        let (u, v) = self.st.z.split_at(m);
+        self.st.p0 = sys.accel_stiffness(u, v, &mut self.acc, &mut self.ktmp, &mut self.kvtmp);
+        self.st.f[m..].copy_from_slice(&self.acc);
+        std::mem::swap(&mut self.st.k, &mut self.ktmp);
+        std::mem::swap(&mut self.st.kv, &mut self.kvtmp);
         self.stats.rhs_evals += 1;
         self.stats.jac_evals += 1;
         self.stats.steps += 1;
