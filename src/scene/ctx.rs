@@ -151,7 +151,7 @@ pub(crate) fn read_keys<T: DeserializeOwned>(t: &Table) -> Result<T, (String, St
         let key = e
             .path()
             .iter()
-            .last()
+            .next_back()
             .map_or(String::new(), |s| s.to_string());
         let m = e.inner().message();
         let keys = m.split_once(", expected ").map_or("", |(_, k)| k);

@@ -306,10 +306,7 @@ fn to_computer(
     scales: Option<UnitScales>,
 ) -> Result<f64, SceneError> {
     let Some(sc) = scales else {
-        return Err(ctx.err(
-            key,
-            "only allowed in a physical scene ([units] system = \"physical\")",
-        ));
+        return Err(ctx.err(key, PHYSICAL_ONLY));
     };
     Ok(match law {
         DampingLaw::Viscoelastic => sc.time(g),
