@@ -260,3 +260,55 @@ fn mutated_presets_never_panic() {
         "mutations should mostly break scenes, got {errors} errors"
     );
 }
+
+/// Every table of a scene file is a struct of its keys (`deny_unknown_fields`): an unknown key
+/// in any of them, top-level or nested, is refused with one line naming the file, the full key
+/// path and the keys the table has.
+#[test]
+fn every_scene_table_refuses_an_unknown_key_naming_file_key_path_and_its_keys() {
+    let chain = "[chain]\nbeads = 10\n";
+    let units = "[units]\nsystem = \"physical\"\nradius = 4e-3\nyoung = 2.26e11\npoisson = 0.3\ndensity = 7650.0\n";
+    // (the document's tables before [run], the key path named, the keys listed)
+    let cases: &[(String, &str, &str)] = &[
+        (format!("bogus = 1\n{chain}"), "[bogus]", "scene, chain, initial, run, field, walls, units, hard, output"),
+        (format!("[scene]\nbogus = 1\n{chain}"), "[scene].bogus", "name, description, seed"),
+        (format!("{chain}bogus = 1\n"), "[chain].bogus", "beads, mass, exponent, prefactor, precompression, precompression_force, precompression_force_si, radius, law, damping, damping_si, restitution, impact_speed, impact_speed_si"),
+        (format!("{chain}{units}bogus = 1\n"), "[units].bogus", "system, time_scale, radius, young, poisson, density, m0, n0, mu, wall_young, wall_poisson, viscosity_shear, viscosity_bulk, time_unit"),
+        (format!("{chain}[initial]\nbogus = 1\n"), "[initial].bogus", "velocity, displacement, striker, striker_right, pulse, velocity_si, striker_si, striker_right_si, solitary, equilibrium, mode"),
+        (format!("{chain}[field]\nbogus = 1\n"), "[field].bogus", "force, gravity, force_si, gravity_si"),
+        (format!("{chain}[walls]\nbogus = 1\n"), "[walls].bogus", "left, right, force, force_si"),
+        (format!("{chain}[walls]\nright = {{ bogus = 1 }}\n"), "[walls].right.bogus", "exponent, prefactor, prefactor_si, precompression, hard, restitution, damping, damping_si"),
+        (format!("{chain}[initial]\npulse = {{ bogus = 1 }}\n"), "[initial].pulse.bogus", "beads, velocity, velocity_si"),
+        (format!("{chain}[initial]\nmode = {{ bogus = 1 }}\n"), "[initial].mode.bogus", "index, amplitude"),
+        ("[chain]\nbeads = 40\n[initial]\nsolitary = [{ at = 20, velocity = 0.1 }, { bogus = 1 }]\n".to_string(), "[initial].solitary[1].bogus", "at, velocity, velocity_si, energy, energy_si, direction"),
+        (format!("{chain}[hard]\nbogus = 1\n"), "[hard].bogus", "contacts, restitution, collapse_interval"),
+        (format!("{chain}[hard]\ncontacts = {{ bogus = 1 }}\n"), "[hard].contacts.bogus", "from, to"),
+        (format!("{chain}[output]\nbogus = 1\n"), "[output].bogus", "beads, fields, frames_max"),
+        (format!("{chain}mass = {{ bogus = 1 }}\n"), "[chain].mass.bogus", "base, start, alternate, random, taper, segments, impurity, gaussian"),
+        (format!("{chain}mass = {{ file = \"m.csv\", bogus = 1 }}\n"), "[chain].mass.bogus", "file"),
+        (format!("{chain}exponent = {{ random = {{ bogus = 1 }} }}\n"), "[chain].exponent.random.bogus", "mean, eps"),
+        (format!("{chain}mass = {{ taper = {{ bogus = 1 }} }}\n"), "[chain].mass.taper.bogus", "q, from"),
+        (format!("{chain}mass = {{ segments = [{{ bogus = 1 }}] }}\n"), "[chain].mass.segments[0].bogus", "from, to, value"),
+        (format!("{chain}mass = {{ impurity = {{ bogus = 1 }} }}\n"), "[chain].mass.impurity.bogus", "at, s, value"),
+        (format!(
+            "{chain}{}young = {{ base = 2.26e11, gaussian = {{ bogus = 1 }} }}\n",
+            units.replace("young = 2.26e11\n", "")
+        ), "[units].young.gaussian.bogus", "sigma, min"),
+    ];
+    for (tables, key, keys) in cases {
+        let text = format!("{tables}{RUN}");
+        let what = if *key == "[bogus]" {
+            "table or key"
+        } else {
+            "key"
+        };
+        let want = format!("t.toml: {key}: unknown {what} (expected one of: {keys})");
+        assert_eq!(err(&text), want, "{text}");
+    }
+    // [run] last: the text above ends with it, so its own unknown key is checked apart.
+    let m = err(&format!("{chain}[run]\nuntil = 10.0\nbogus = 1\n"));
+    assert_eq!(m, "t.toml: [run].bogus: unknown key (expected one of: until, every, until_si, every_si, rtol, atol, method, engine)");
+    // A date stays a date through the read (its message says so).
+    let m = err(&format!("[scene]\nname = 1979-05-27\n{chain}{RUN}"));
+    assert_eq!(m, "t.toml: [scene].name: expected a string, got a date");
+}

@@ -4,7 +4,7 @@
 //! `L` gives `L + 1` beads).
 
 use super::error::SceneError;
-use super::keys::{exclusive, get, opt_spec};
+use super::keys::{exclusive, opt_spec};
 use super::tables::Tables;
 use super::values::{index, Ctx, Per, Spec};
 
@@ -37,24 +37,27 @@ pub(super) struct Specs {
 /// Parses every array spec (reads CSVs) before N is known; also refuses `[initial]` keys given
 /// both plainly and with `_si`.
 pub(super) fn read_specs(ctx: &Ctx, t: &Tables) -> Result<Specs, SceneError> {
-    let mass = opt_spec(ctx, t.chain, "chain", "mass")?;
-    let exponent = opt_spec(ctx, t.chain, "chain", "exponent")?;
-    let prefactor = opt_spec(ctx, t.chain, "chain", "prefactor")?;
-    let precompression = opt_spec(ctx, t.chain, "chain", "precompression")?;
-    let radius = opt_spec(ctx, t.chain, "chain", "radius")?;
-    let units_radius = opt_spec(ctx, t.units, "units", "radius")?;
-    let young = opt_spec(ctx, t.units, "units", "young")?;
-    let poisson = opt_spec(ctx, t.units, "units", "poisson")?;
-    let density = opt_spec(ctx, t.units, "units", "density")?;
-    exclusive(ctx, t.initial, "initial", "velocity", "velocity_si")?;
-    exclusive(ctx, t.initial, "initial", "striker", "striker_si")?;
-    exclusive(
-        ctx,
-        t.initial,
-        "initial",
-        "striker_right",
-        "striker_right_si",
-    )?;
+    let (c, u, i, f) = (&t.chain, &t.units, &t.initial, &t.field);
+    let mass = opt_spec(ctx, "[chain].mass", &c.mass)?;
+    let exponent = opt_spec(ctx, "[chain].exponent", &c.exponent)?;
+    let prefactor = opt_spec(ctx, "[chain].prefactor", &c.prefactor)?;
+    let precompression = opt_spec(ctx, "[chain].precompression", &c.precompression)?;
+    let radius = opt_spec(ctx, "[chain].radius", &c.radius)?;
+    let units_radius = opt_spec(ctx, "[units].radius", &u.radius)?;
+    let young = opt_spec(ctx, "[units].young", &u.young)?;
+    let poisson = opt_spec(ctx, "[units].poisson", &u.poisson)?;
+    let density = opt_spec(ctx, "[units].density", &u.density)?;
+    let plain_si = [
+        (("velocity", &i.velocity), ("velocity_si", &i.velocity_si)),
+        (("striker", &i.striker), ("striker_si", &i.striker_si)),
+        (
+            ("striker_right", &i.striker_right),
+            ("striker_right_si", &i.striker_right_si),
+        ),
+    ];
+    for (plain, si) in plain_si {
+        exclusive(ctx, "initial", plain, si)?;
+    }
     Ok(Specs {
         mass,
         exponent,
@@ -65,13 +68,13 @@ pub(super) fn read_specs(ctx: &Ctx, t: &Tables) -> Result<Specs, SceneError> {
         young,
         poisson,
         density,
-        viscosity_shear: opt_spec(ctx, t.units, "units", "viscosity_shear")?,
-        viscosity_bulk: opt_spec(ctx, t.units, "units", "viscosity_bulk")?,
-        velocity: opt_spec(ctx, t.initial, "initial", "velocity")?,
-        velocity_si: opt_spec(ctx, t.initial, "initial", "velocity_si")?,
-        displacement: opt_spec(ctx, t.initial, "initial", "displacement")?,
-        force: opt_spec(ctx, t.field, "field", "force")?,
-        force_si: opt_spec(ctx, t.field, "field", "force_si")?,
+        viscosity_shear: opt_spec(ctx, "[units].viscosity_shear", &u.viscosity_shear)?,
+        viscosity_bulk: opt_spec(ctx, "[units].viscosity_bulk", &u.viscosity_bulk)?,
+        velocity: opt_spec(ctx, "[initial].velocity", &i.velocity)?,
+        velocity_si: opt_spec(ctx, "[initial].velocity_si", &i.velocity_si)?,
+        displacement: opt_spec(ctx, "[initial].displacement", &i.displacement)?,
+        force: opt_spec(ctx, "[field].force", &f.force)?,
+        force_si: opt_spec(ctx, "[field].force_si", &f.force_si)?,
     })
 }
 
@@ -104,7 +107,7 @@ impl Len {
 /// Number of beads: `[chain].beads`, else the first explicit array; at least 2, at most
 /// [`MAX_BEADS`].
 pub(super) fn chain_length(ctx: &Ctx, t: &Tables, s: &Specs) -> Result<Len, SceneError> {
-    let (nb, nkey) = match get(t.chain, "beads") {
+    let (nb, nkey) = match &t.chain.beads {
         Some(v) => (index(ctx, "[chain].beads", v)?, "[chain].beads".to_string()),
         None => {
             let cands: [(&str, &Option<Spec>, usize); 12] = [

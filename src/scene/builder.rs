@@ -2,10 +2,11 @@
 //! (`alternate`, `random`, `taper`, `segments`, `impurity`, `gaussian`) and applying the taper,
 //! the segments and the Gaussian noise (eq. B.1; Box–Muller, cosine branch) to resolved values.
 
-use super::ctx::{check_keys, index, number, type_name, Ctx, Per};
+use super::ctx::{index, number, table_keys, table_of, type_name, Ctx, Per};
 use super::error::SceneError;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
+use serde::de::DeserializeOwned;
 use toml::Value;
 
 /// How many times a Gaussian draw is retried to satisfy `> min` before giving up.
@@ -20,33 +21,35 @@ pub(crate) struct Segment {
     pub value: f64,
 }
 
-/// The keys of a builder table.
-pub(crate) const BUILDER_KEYS: &[&str] = &[
-    "base",
-    "start",
-    "alternate",
-    "random",
-    "taper",
-    "segments",
-    "impurity",
-    "gaussian",
-];
+table_keys! {
+    /// A builder table.
+    BuilderKeys { base, start, alternate, random, taper, segments, impurity, gaussian }
+    /// `{ file = "x.csv" }`.
+    FileKeys { file }
+    /// `random = { mean, eps }`.
+    RandomKeys { mean, eps }
+    /// `taper = { q, from }`.
+    TaperKeys { q, from }
+    /// One of `segments = [{ from, to, value }, ...]`.
+    SegmentKeys { from, to, value }
+    /// `impurity = { at, s, value }`.
+    ImpurityKeys { at, s, value }
+    /// `gaussian = { sigma, min }`.
+    GaussianKeys { sigma, min }
+}
 
-/// A sub-table of a builder key.
-fn sub_table<'v>(ctx: &Ctx, key: &str, v: &'v Value) -> Result<&'v toml::Table, SceneError> {
-    v.as_table()
-        .ok_or_else(|| ctx.err(key, format!("expected a table, got {}", type_name(v))))
+/// A sub-table of a builder key, as `T`.
+fn sub_table<T: DeserializeOwned + Default>(
+    ctx: &Ctx,
+    key: &str,
+    v: &Value,
+) -> Result<T, SceneError> {
+    table_of(ctx, key, Some(v), "a table").map(Option::unwrap_or_default)
 }
 
 /// A required key of a sub-table.
-fn required<'v>(
-    ctx: &Ctx,
-    path: &str,
-    t: &'v toml::Table,
-    k: &str,
-) -> Result<&'v Value, SceneError> {
-    t.get(k)
-        .ok_or_else(|| ctx.err(&format!("{path}.{k}"), "missing"))
+fn required<'v>(ctx: &Ctx, key: &str, v: &'v Option<Value>) -> Result<&'v Value, SceneError> {
+    v.as_ref().ok_or_else(|| ctx.err(key, "missing"))
 }
 
 /// `alternate = [x, y, ...]`: at least one number.
@@ -65,10 +68,10 @@ pub(crate) fn alternate(ctx: &Ctx, k: &str, v: &Value) -> Result<Vec<f64>, Scene
 
 /// `random = { mean, eps }` with `eps >= 0`.
 pub(crate) fn random(ctx: &Ctx, k: &str, v: &Value) -> Result<(f64, f64), SceneError> {
-    let rt = sub_table(ctx, k, v)?;
-    check_keys(ctx, k, rt, &["mean", "eps"])?;
-    let mean = number(ctx, &format!("{k}.mean"), required(ctx, k, rt, "mean")?)?;
-    let eps = number(ctx, &format!("{k}.eps"), required(ctx, k, rt, "eps")?)?;
+    let r: RandomKeys = sub_table(ctx, k, v)?;
+    let (mk, ek) = (format!("{k}.mean"), format!("{k}.eps"));
+    let mean = number(ctx, &mk, required(ctx, &mk, &r.mean)?)?;
+    let eps = number(ctx, &ek, required(ctx, &ek, &r.eps)?)?;
     if eps < 0.0 {
         return Err(ctx.err(&format!("{k}.eps"), format!("must be >= 0, got {eps}")));
     }
@@ -77,13 +80,13 @@ pub(crate) fn random(ctx: &Ctx, k: &str, v: &Value) -> Result<(f64, f64), SceneE
 
 /// `taper = { q, from }` with `q` in `[0, 1)`.
 pub(crate) fn taper(ctx: &Ctx, k: &str, v: &Value) -> Result<(f64, usize), SceneError> {
-    let tt = sub_table(ctx, k, v)?;
-    check_keys(ctx, k, tt, &["q", "from"])?;
-    let q = number(ctx, &format!("{k}.q"), required(ctx, k, tt, "q")?)?;
+    let t: TaperKeys = sub_table(ctx, k, v)?;
+    let qk = format!("{k}.q");
+    let q = number(ctx, &qk, required(ctx, &qk, &t.q)?)?;
     if !(0.0..1.0).contains(&q) {
         return Err(ctx.err(&format!("{k}.q"), format!("must be in [0, 1), got {q}")));
     }
-    let from = match tt.get("from") {
+    let from = match &t.from {
         Some(f) => index(ctx, &format!("{k}.from"), f)?,
         None => 0,
     };
@@ -105,21 +108,16 @@ pub(crate) fn segments(
     })?;
     for (i, s) in arr.iter().enumerate() {
         let sk = format!("{k}[{i}]");
-        let st = sub_table(ctx, &sk, s)?;
-        check_keys(ctx, &sk, st, &["from", "to", "value"])?;
-        let from = match st.get("from") {
+        let st: SegmentKeys = sub_table(ctx, &sk, s)?;
+        let from = match &st.from {
             Some(f) => index(ctx, &format!("{sk}.from"), f)?,
             None => 0,
         };
-        let to = st
-            .get("to")
+        let to = (st.to.as_ref())
             .map(|x| index(ctx, &format!("{sk}.to"), x))
             .transpose()?;
-        let value = number(
-            ctx,
-            &format!("{sk}.value"),
-            required(ctx, &sk, st, "value")?,
-        )?;
+        let vk = format!("{sk}.value");
+        let value = number(ctx, &vk, required(ctx, &vk, &st.value)?)?;
         out.push(Segment {
             key: sk,
             from,
@@ -146,21 +144,18 @@ pub(crate) fn impurities(
         _ => vec![(k.to_string(), v)],
     };
     for (ik, iv) in list {
-        let it = sub_table(ctx, &ik, iv)?;
-        check_keys(ctx, &ik, it, &["at", "s", "value"])?;
-        let at = index(ctx, &format!("{ik}.at"), required(ctx, &ik, it, "at")?)?;
-        let s = match it.get("s") {
+        let it: ImpurityKeys = sub_table(ctx, &ik, iv)?;
+        let ak = format!("{ik}.at");
+        let at = index(ctx, &ak, required(ctx, &ak, &it.at)?)?;
+        let s = match &it.s {
             Some(x) => index(ctx, &format!("{ik}.s"), x)?,
             None => 1,
         };
         if s == 0 {
             return Err(ctx.err(&format!("{ik}.s"), "must be >= 1"));
         }
-        let value = number(
-            ctx,
-            &format!("{ik}.value"),
-            required(ctx, &ik, it, "value")?,
-        )?;
+        let vk = format!("{ik}.value");
+        let value = number(ctx, &vk, required(ctx, &vk, &it.value)?)?;
         out.push(Segment {
             key: ik,
             from: at,
@@ -173,13 +168,13 @@ pub(crate) fn impurities(
 
 /// `gaussian = { sigma, min }` with `sigma >= 0` (`min` default 2.0).
 pub(crate) fn gaussian_noise(ctx: &Ctx, k: &str, v: &Value) -> Result<(f64, f64), SceneError> {
-    let gt = sub_table(ctx, k, v)?;
-    check_keys(ctx, k, gt, &["sigma", "min"])?;
-    let sigma = number(ctx, &format!("{k}.sigma"), required(ctx, k, gt, "sigma")?)?;
+    let g: GaussianKeys = sub_table(ctx, k, v)?;
+    let sk = format!("{k}.sigma");
+    let sigma = number(ctx, &sk, required(ctx, &sk, &g.sigma)?)?;
     if sigma < 0.0 {
         return Err(ctx.err(&format!("{k}.sigma"), format!("must be >= 0, got {sigma}")));
     }
-    let min = match gt.get("min") {
+    let min = match &g.min {
         Some(m) => number(ctx, &format!("{k}.min"), m)?,
         None => 2.0,
     };

@@ -1,6 +1,7 @@
 //! The parsing context of scene keys (file label, CSV directory, seed of the random builders)
-//! and the typed accessors every scene table uses: numbers, indices, unknown-key checks. Every
-//! failure is a [`SceneError`] naming the file and key path.
+//! and the typed accessors every scene table uses: numbers, indices, and the tables themselves,
+//! read through serde into structs of their keys ([`table_keys`], [`fields`]: unknown keys are
+//! refused). Every failure is a [`SceneError`] naming the file and key path.
 //!
 //! Random draws come from `ChaCha8Rng::seed_from_u64(seed)` with the stream set to a 64-bit
 //! FNV-1a hash of the key path ([`Ctx::rng`]).
@@ -8,8 +9,9 @@
 use super::error::{one_line, SceneError};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use serde::de::DeserializeOwned;
 use std::path::Path;
-use toml::Value;
+use toml::{Table, Value};
 
 /// Whether an array is indexed by bead (`N` entries) or by contact (`N−1` entries).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -128,20 +130,78 @@ pub(crate) fn index(ctx: &Ctx, key: &str, v: &Value) -> Result<usize, SceneError
     }
 }
 
-/// Reject keys of `table` not in `allowed`, naming the first unknown one.
-pub(crate) fn check_keys(
+/// Declares the structs of scene tables: each field is a key of the table, its value kept as
+/// TOML for the reader of its forms (numbers, arrays, builders, CSVs). serde refuses any other
+/// key ([`fields`]), so a struct is the list of its table's keys.
+macro_rules! table_keys {
+    ($($(#[$m:meta])* $name:ident { $($key:ident),* $(,)? })*) => {$(
+        $(#[$m])*
+        #[derive(Default, serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub(crate) struct $name { $(pub $key: Option<toml::Value>,)* }
+    )*};
+}
+pub(crate) use table_keys;
+
+/// Reads table `t` into `T` (a [`table_keys`] struct). An unknown key is `Err((key, keys))`:
+/// the key and the keys `T` has, comma-separated.
+pub(crate) fn read_keys<T: DeserializeOwned>(t: &Table) -> Result<T, (String, String)> {
+    let t = Value::Table(t.iter().map(|(k, v)| (k.clone(), dates_kept(v))).collect());
+    serde_path_to_error::deserialize(t).map_err(|e| {
+        let key = e
+            .path()
+            .iter()
+            .next_back()
+            .map_or(String::new(), |s| s.to_string());
+        let m = e.inner().message();
+        let keys = m.split_once(", expected ").map_or("", |(_, k)| k);
+        let keys = keys.trim_start_matches("one of ").replace('`', "");
+        (one_line(&key), keys.replace(" or ", ", "))
+    })
+}
+
+/// `v` with every date written as the one-key table that serde reads back as a TOML date
+/// (the deserializer of a [`Value`] hands a date on as a string: messages say "got a date").
+fn dates_kept(v: &Value) -> Value {
+    match v {
+        Value::Datetime(d) => Value::Table(Table::from_iter([(
+            "$__toml_private_datetime".to_string(),
+            Value::String(d.to_string()),
+        )])),
+        Value::Array(a) => Value::Array(a.iter().map(dates_kept).collect()),
+        Value::Table(t) => {
+            Value::Table(t.iter().map(|(k, v)| (k.clone(), dates_kept(v))).collect())
+        }
+        v => v.clone(),
+    }
+}
+
+/// The keys of table `t` at key path `path` as `T` (a [`table_keys`] struct); an unknown key
+/// is refused, naming it and the keys the table has.
+pub(crate) fn fields<T: DeserializeOwned>(
     ctx: &Ctx,
     path: &str,
-    table: &toml::Table,
-    allowed: &[&str],
-) -> Result<(), SceneError> {
-    for k in table.keys() {
-        if !allowed.contains(&k.as_str()) {
-            return Err(ctx.err(
-                &format!("{path}.{}", one_line(k)),
-                format!("unknown key (expected one of: {})", allowed.join(", ")),
-            ));
-        }
+    t: &Table,
+) -> Result<T, SceneError> {
+    read_keys(t).map_err(|(k, keys)| {
+        ctx.err(
+            &format!("{path}.{k}"),
+            format!("unknown key (expected one of: {keys})"),
+        )
+    })
+}
+
+/// [`fields`] of the table `v` (`None` when absent); another value is refused as not
+/// `expected` (`"a table"`, `"a table { beads, velocity }"`).
+pub(crate) fn table_of<T: DeserializeOwned>(
+    ctx: &Ctx,
+    key: &str,
+    v: Option<&Value>,
+    expected: &str,
+) -> Result<Option<T>, SceneError> {
+    match v {
+        None => Ok(None),
+        Some(Value::Table(t)) => fields(ctx, key, t).map(Some),
+        Some(v) => Err(ctx.err(key, format!("expected {expected}, got {}", type_name(v)))),
     }
-    Ok(())
 }

@@ -21,12 +21,12 @@
 //! the conservative kernel (bit-identical results).
 
 use super::error::SceneError;
-use super::keys::{exclusive, get, kp, opt_num, opt_spec, opt_str};
+use super::keys::{exclusive, forbid, opt_num, opt_spec, opt_str, Opt, PHYSICAL_ONLY};
+use super::tables::{ChainKeys, WallKeys};
 use super::units::UnitScales;
-use super::values::{number, Ctx, Per};
+use super::values::{Ctx, Per};
 use crate::model::restitution;
 use crate::model::{Damping, DampingLaw, Wall};
-use toml::Table;
 
 /// The resolved chain arrays the damping keys depend on.
 pub(crate) struct ChainArrays<'a> {
@@ -41,13 +41,12 @@ pub(crate) struct ChainArrays<'a> {
 /// Parses the damping keys of `[chain]` and the wall tables; `None` for a conservative scene.
 pub(crate) fn parse(
     ctx: &Ctx,
-    chain_t: Option<&Table>,
-    walls_t: Option<&Table>,
-    walls: &[Option<Wall>; 2],
+    c: &ChainKeys,
+    walls: &[Option<(Wall, WallKeys)>; 2],
     arrays: ChainArrays,
     scales: Option<UnitScales>,
 ) -> Result<Option<Damping>, SceneError> {
-    let law = match opt_str(ctx, chain_t, "chain", "law")? {
+    let law = match opt_str(ctx, "[chain].law", &c.law)? {
         None | Some("power") => None,
         Some("viscoelastic") => Some(DampingLaw::Viscoelastic),
         Some("linear_dashpot") => Some(DampingLaw::LinearDashpot),
@@ -59,24 +58,24 @@ pub(crate) fn parse(
         }
     };
     let Some(law) = law else {
-        refuse_damping_keys(ctx, chain_t, walls_t)?;
+        refuse_damping_keys(ctx, c, walls)?;
         if arrays.material_a.is_some() {
             return Err(ctx.err("[units].viscosity_shear", VISCOSITY_LAW));
         }
         return Ok(None);
     };
     let contact = match (arrays.material_a, scales) {
-        (Some(a), Some(sc)) => material_coefficients(ctx, chain_t, law, a, sc)?,
-        _ => contact_coefficients(ctx, chain_t, law, &arrays, scales)?,
+        (Some(a), Some(sc)) => material_coefficients(ctx, c, law, a, sc)?,
+        _ => contact_coefficients(ctx, c, law, &arrays, scales)?,
     };
     let mut wall = [0.0; 2];
     for (s, side) in ["left", "right"].iter().enumerate() {
         let key = format!("[walls.{side}]");
-        let plain =
-            wall_key(walls_t, side, "damping").map(|v| number(ctx, &format!("{key}.damping"), v));
-        let si = wall_key(walls_t, side, "damping_si")
-            .map(|v| number(ctx, &format!("{key}.damping_si"), v));
-        let value = match (plain.transpose()?, si.transpose()?) {
+        let [plain, si] = wall_damping(&walls[s]);
+        let value = match (
+            opt_num(ctx, &format!("{key}.damping"), plain.1)?,
+            opt_num(ctx, &format!("{key}.damping_si"), si.1)?,
+        ) {
             (Some(_), Some(_)) => {
                 return Err(ctx.err(
                     &format!("{key}.damping_si"),
@@ -91,8 +90,8 @@ pub(crate) fn parse(
             }
         };
         check_coefficient(ctx, &format!("{key}.damping"), value)?;
-        let hard = walls[s].as_ref().is_some_and(|w| w.restitution.is_some());
-        if hard && plain_given(walls_t, side) {
+        let hard = walls[s].as_ref().is_some_and(|w| w.0.restitution.is_some());
+        if hard && (plain.1.is_some() || si.1.is_some()) {
             return Err(ctx.err(
                 &format!("{key}.damping"),
                 "a hard wall has a restitution, not a damping",
@@ -119,7 +118,7 @@ const VISCOSITY_LAW: &str = "the material viscosities give the constant A of [ch
 /// interpolation between two materials). Excludes `damping` and `restitution`.
 fn material_coefficients(
     ctx: &Ctx,
-    chain_t: Option<&Table>,
+    c: &ChainKeys,
     law: DampingLaw,
     a: &[f64],
     sc: UnitScales,
@@ -127,102 +126,74 @@ fn material_coefficients(
     if law != DampingLaw::Viscoelastic {
         return Err(ctx.err("[units].viscosity_shear", VISCOSITY_LAW));
     }
-    for k in [
-        "damping",
-        "damping_si",
-        "restitution",
-        "impact_speed",
-        "impact_speed_si",
-    ] {
-        if get(chain_t, k).is_some() {
-            return Err(ctx.err(
-                &kp("chain", k),
-                "give either the material viscosities ([units] viscosity_shear, viscosity_bulk) or the contacts' damping, not both",
-            ));
-        }
-    }
+    let why = "give either the material viscosities ([units] viscosity_shear, viscosity_bulk) or the contacts' damping, not both";
+    forbid(ctx, "[chain]", &damping_keys(c), why)?;
     Ok(a.windows(2).map(|w| sc.time(0.5 * (w[0] + w[1]))).collect())
 }
 
 /// A conservative scene (law `power`) refuses the damping keys of `[chain]` and the walls.
 fn refuse_damping_keys(
     ctx: &Ctx,
-    chain_t: Option<&Table>,
-    walls_t: Option<&Table>,
+    c: &ChainKeys,
+    walls: &[Option<(Wall, WallKeys)>; 2],
 ) -> Result<(), SceneError> {
-    let keys = [
-        "damping",
-        "damping_si",
-        "restitution",
-        "impact_speed",
-        "impact_speed_si",
-    ];
-    for k in keys {
-        if get(chain_t, k).is_some() {
-            return Err(ctx.err(
-                &kp("chain", k),
-                "needs a dissipative law ([chain] law = \"viscoelastic\" or \"linear_dashpot\")",
-            ));
-        }
-    }
-    for side in ["left", "right"] {
-        for k in ["damping", "damping_si"] {
-            if wall_key(walls_t, side, k).is_some() {
-                return Err(ctx.err(
-                    &format!("[walls.{side}].{k}"),
-                    "needs a dissipative law ([chain] law = \"viscoelastic\" or \"linear_dashpot\")",
-                ));
-            }
-        }
+    let why = "needs a dissipative law ([chain] law = \"viscoelastic\" or \"linear_dashpot\")";
+    forbid(ctx, "[chain]", &damping_keys(c), why)?;
+    for (side, wall) in ["left", "right"].into_iter().zip(walls) {
+        forbid(ctx, &format!("[walls.{side}]"), &wall_damping(wall), why)?;
     }
     Ok(())
 }
 
-fn plain_given(walls_t: Option<&Table>, side: &str) -> bool {
-    wall_key(walls_t, side, "damping").is_some() || wall_key(walls_t, side, "damping_si").is_some()
+/// The damping keys of `[chain]`.
+fn damping_keys(c: &ChainKeys) -> [(&str, &Opt); 5] {
+    [
+        ("damping", &c.damping),
+        ("damping_si", &c.damping_si),
+        ("restitution", &c.restitution),
+        ("impact_speed", &c.impact_speed),
+        ("impact_speed_si", &c.impact_speed_si),
+    ]
 }
 
-fn wall_key<'a>(walls_t: Option<&'a Table>, side: &str, key: &str) -> Option<&'a toml::Value> {
-    walls_t
-        .and_then(|w| w.get(side))
-        .and_then(|t| t.as_table())
-        .and_then(|t| t.get(key))
+/// The damping keys of a wall (absent without the wall).
+fn wall_damping(wall: &Option<(Wall, WallKeys)>) -> [(&str, &Opt); 2] {
+    match wall {
+        Some((_, k)) => [("damping", &k.damping), ("damping_si", &k.damping_si)],
+        None => [("damping", &None), ("damping_si", &None)],
+    }
 }
 
 /// Per-contact coefficients from `damping`, `damping_si`, or `restitution` + `impact_speed`.
 fn contact_coefficients(
     ctx: &Ctx,
-    chain_t: Option<&Table>,
+    c: &ChainKeys,
     law: DampingLaw,
     arrays: &ChainArrays,
     scales: Option<UnitScales>,
 ) -> Result<Vec<f64>, SceneError> {
     let nc = arrays.exponent.len();
-    exclusive(ctx, chain_t, "chain", "damping", "damping_si")?;
-    exclusive(ctx, chain_t, "chain", "damping", "restitution")?;
-    exclusive(ctx, chain_t, "chain", "damping_si", "restitution")?;
-    exclusive(ctx, chain_t, "chain", "impact_speed", "impact_speed_si")?;
+    let [damping, damping_si, restitution, impact_speed, impact_speed_si] = damping_keys(c);
+    exclusive(ctx, "chain", damping, damping_si)?;
+    exclusive(ctx, "chain", damping, restitution)?;
+    exclusive(ctx, "chain", damping_si, restitution)?;
+    exclusive(ctx, "chain", impact_speed, impact_speed_si)?;
     if scales.is_none() {
-        for k in ["damping_si", "impact_speed_si"] {
-            if get(chain_t, k).is_some() {
-                return Err(ctx.err(
-                    &kp("chain", k),
-                    "only allowed in a physical scene ([units] system = \"physical\")",
-                ));
-            }
-        }
+        forbid(
+            ctx,
+            "[chain]",
+            &[damping_si, impact_speed_si],
+            PHYSICAL_ONLY,
+        )?;
     }
-    if let Some(e) = opt_num(ctx, chain_t, "chain", "restitution")? {
-        return from_restitution(ctx, chain_t, law, arrays, scales, e);
+    if let Some(e) = opt_num(ctx, "[chain].restitution", restitution.1)? {
+        return from_restitution(ctx, c, law, arrays, scales, e);
     }
-    for k in ["impact_speed", "impact_speed_si"] {
-        if get(chain_t, k).is_some() {
-            return Err(ctx.err(&kp("chain", k), "only used with [chain].restitution"));
-        }
-    }
+    let why = "only used with [chain].restitution";
+    forbid(ctx, "[chain]", &[impact_speed, impact_speed_si], why)?;
     let (spec, key, si) = match (
-        opt_spec(ctx, chain_t, "chain", "damping")?,
-        opt_spec(ctx, chain_t, "chain", "damping_si")?,
+        opt_spec(ctx, "[chain].damping", &c.damping)?,
+        opt_spec(ctx, "[chain].damping_si", &c.damping_si)?,
     ) {
         (Some(s), _) => (s, "[chain].damping", false),
         (None, Some(s)) => (s, "[chain].damping_si", true),
@@ -256,7 +227,7 @@ fn contact_coefficients(
 /// Coefficients that give restitution `e` at impact speed `v` for every contact.
 fn from_restitution(
     ctx: &Ctx,
-    chain_t: Option<&Table>,
+    c: &ChainKeys,
     law: DampingLaw,
     arrays: &ChainArrays,
     scales: Option<UnitScales>,
@@ -265,7 +236,11 @@ fn from_restitution(
     if !(e > 0.0 && e <= 1.0) {
         return Err(ctx.err("[chain].restitution", format!("must be in (0, 1], got {e}")));
     }
-    let v = match (opt_num(ctx, chain_t, "chain", "impact_speed")?, opt_num(ctx, chain_t, "chain", "impact_speed_si")?, scales) {
+    let v = match (
+        opt_num(ctx, "[chain].impact_speed", &c.impact_speed)?,
+        opt_num(ctx, "[chain].impact_speed_si", &c.impact_speed_si)?,
+        scales,
+    ) {
         (Some(v), _, _) => v,
         (None, Some(v), Some(sc)) => sc.velocity(v),
         _ => {
@@ -331,10 +306,7 @@ fn to_computer(
     scales: Option<UnitScales>,
 ) -> Result<f64, SceneError> {
     let Some(sc) = scales else {
-        return Err(ctx.err(
-            key,
-            "only allowed in a physical scene ([units] system = \"physical\")",
-        ));
+        return Err(ctx.err(key, PHYSICAL_ONLY));
     };
     Ok(match law {
         DampingLaw::Viscoelastic => sc.time(g),

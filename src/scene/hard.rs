@@ -21,36 +21,32 @@
 //! bead may not start inside a hard wall: there is no force law that could push them apart, so
 //! the run would start from an impossible state (energy rose ×36 in such a run).
 
+use super::ctx::{fields, table_of};
 use super::error::SceneError;
-use super::keys::{get, kp, opt_num, table};
+use super::keys::{forbid, kp, opt_num, Opt};
+use super::tables::{HardKeys, RangeKeys, WallKeys};
 use super::values::{number, type_name, Ctx};
 use super::Scene;
 use crate::model::HardContacts;
-use toml::{Table, Value};
+use toml::Value;
 
 /// Parses `[hard]` for a chain of `nc` contacts. Without `collapse_interval` the interval is
 /// NaN here, and [`default_collapse_interval`] sets it once the initial state is known.
 pub(crate) fn parse_hard(
     ctx: &Ctx,
-    root: &Table,
+    hard: &Opt,
     nc: usize,
 ) -> Result<Option<HardContacts>, SceneError> {
-    let t = table(
-        ctx,
-        root,
-        "hard",
-        &["contacts", "restitution", "collapse_interval"],
-    )?;
-    let Some(t) = t else {
+    let Some(t) = table_of::<HardKeys>(ctx, "[hard]", hard.as_ref(), "a table")? else {
         return Ok(None);
     };
-    let list = contact_list(ctx, t, nc)?;
-    let values = restitutions(ctx, t, &list)?;
+    let list = contact_list(ctx, &t, nc)?;
+    let values = restitutions(ctx, &t, &list)?;
     let mut restitution = vec![None; nc];
     for (c, e) in list.iter().zip(values) {
         restitution[*c] = Some(e);
     }
-    let given = opt_num(ctx, Some(t), "hard", "collapse_interval")?;
+    let given = opt_num(ctx, "[hard].collapse_interval", &t.collapse_interval)?;
     let collapse_interval = given.unwrap_or(f64::NAN);
     if given.is_some() && !(collapse_interval > 0.0 && collapse_interval.is_finite()) {
         return Err(ctx.err(
@@ -65,9 +61,9 @@ pub(crate) fn parse_hard(
 }
 
 /// `[hard].contacts`: `"all"`, a list of contact indices (each once) or `{ from, to }`.
-fn contact_list(ctx: &Ctx, t: &Table, nc: usize) -> Result<Vec<usize>, SceneError> {
+fn contact_list(ctx: &Ctx, t: &HardKeys, nc: usize) -> Result<Vec<usize>, SceneError> {
     let key = kp("hard", "contacts");
-    let list: Vec<usize> = match t.get("contacts") {
+    let list: Vec<usize> = match &t.contacts {
         None => {
             return Err(ctx.err(
                 &key,
@@ -92,18 +88,12 @@ fn contact_list(ctx: &Ctx, t: &Table, nc: usize) -> Result<Vec<usize>, SceneErro
             out
         }
         Some(Value::Table(r)) => {
-            for k in r.keys() {
-                if k != "from" && k != "to" {
-                    return Err(ctx.err(&format!("{key}.{k}"), "unknown key (expected from, to)"));
-                }
-            }
-            let from = r
-                .get("from")
+            let r: RangeKeys = fields(ctx, &key, r)?;
+            let from = (r.from.as_ref())
                 .map(|v| index(ctx, &format!("{key}.from"), v, nc))
                 .transpose()?
                 .unwrap_or(0);
-            let to = r
-                .get("to")
+            let to = (r.to.as_ref())
                 .map(|v| index(ctx, &format!("{key}.to"), v, nc))
                 .transpose()?
                 .unwrap_or(nc - 1);
@@ -126,9 +116,9 @@ fn contact_list(ctx: &Ctx, t: &Table, nc: usize) -> Result<Vec<usize>, SceneErro
 }
 
 /// `[hard].restitution`: one value for every hard contact or one per contact, each in [0, 1].
-fn restitutions(ctx: &Ctx, t: &Table, list: &[usize]) -> Result<Vec<f64>, SceneError> {
+fn restitutions(ctx: &Ctx, t: &HardKeys, list: &[usize]) -> Result<Vec<f64>, SceneError> {
     let rkey = kp("hard", "restitution");
-    let values: Vec<f64> = match get(Some(t), "restitution") {
+    let values: Vec<f64> = match &t.restitution {
         None => vec![1.0; list.len()],
         Some(Value::Array(a)) => {
             if a.len() != list.len() {
@@ -216,9 +206,9 @@ pub(crate) fn check_start(ctx: &Ctx, scene: &Scene) -> Result<(), SceneError> {
 pub(crate) fn wall_restitution(
     ctx: &Ctx,
     key: &str,
-    wt: &Table,
+    wt: &WallKeys,
 ) -> Result<Option<f64>, SceneError> {
-    let hard = match wt.get("hard") {
+    let hard = match &wt.hard {
         None => false,
         Some(Value::Boolean(b)) => *b,
         Some(v) => {
@@ -228,10 +218,7 @@ pub(crate) fn wall_restitution(
             ))
         }
     };
-    let e = wt
-        .get("restitution")
-        .map(|v| number(ctx, &format!("{key}.restitution"), v))
-        .transpose()?;
+    let e = opt_num(ctx, &format!("{key}.restitution"), &wt.restitution)?;
     match (hard, e) {
         (false, Some(_)) => Err(ctx.err(
             &format!("{key}.restitution"),
@@ -240,14 +227,13 @@ pub(crate) fn wall_restitution(
         (false, None) => Ok(None),
         (true, e) => {
             // A hard wall has no force law: a contact-law key would be silently ignored.
-            for law in ["exponent", "prefactor", "prefactor_si"] {
-                if wt.contains_key(law) {
-                    return Err(ctx.err(
-                        &format!("{key}.{law}"),
-                        "a hard wall has no force law (remove the key, or set hard = false)",
-                    ));
-                }
-            }
+            let laws = [
+                ("exponent", &wt.exponent),
+                ("prefactor", &wt.prefactor),
+                ("prefactor_si", &wt.prefactor_si),
+            ];
+            let why = "a hard wall has no force law (remove the key, or set hard = false)";
+            forbid(ctx, key, &laws, why)?;
             let e = e.unwrap_or(1.0);
             if !(0.0..=1.0).contains(&e) {
                 return Err(ctx.err(

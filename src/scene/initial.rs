@@ -4,12 +4,12 @@
 //! paper eq. 7). The `_si` keys of physical scenes are converted with the scene's [`UnitScales`].
 
 use super::arrays::{Len, Specs};
+use super::ctx::table_of;
 use super::error::SceneError;
-use super::keys::{exclusive, get, opt_num};
-use super::tables::Tables;
+use super::keys::{exclusive, kp, opt_num, Opt, PHYSICAL_ONLY};
+use super::tables::{PulseKeys, Tables};
 use super::units::UnitScales;
-use super::values::{check_keys, index, number, type_name, Ctx, Per};
-use toml::Value;
+use super::values::{index, number, Ctx, Per};
 
 /// Initial displacements `u0` and velocities `v0`.
 pub(super) fn initial_state(
@@ -36,23 +36,29 @@ pub(super) fn initial_state(
             .collect(),
         _ => len.resolve(ctx, &s.velocity, "[initial].velocity", Per::Bead, 0.0)?,
     };
-    if let Some(pv) = get(t.initial, "pulse") {
-        let (l, v) = pulse(ctx, pv, nb, physical, scales)?;
+    let i = &t.initial;
+    let pulse_keys = "a table { beads, velocity }";
+    if let Some(p) = table_of(ctx, "[initial].pulse", i.pulse.as_ref(), pulse_keys)? {
+        let (l, v) = pulse(ctx, p, nb, physical, scales)?;
         v0[..l].fill(v);
     }
-    let si_or = |plain: &str, si: &str| -> Result<Option<f64>, SceneError> {
-        if let Some(x) = opt_num(ctx, t.initial, "initial", plain)? {
+    let si_or = |(plain, pv): (&str, &Opt), (si, sv): (&str, &Opt)| {
+        if let Some(x) = opt_num(ctx, &kp("initial", plain), pv)? {
             return Ok(Some(x));
         }
-        match (opt_num(ctx, t.initial, "initial", si)?, scales) {
+        match (opt_num(ctx, &kp("initial", si), sv)?, scales) {
             (Some(x), Some(sc)) => Ok(Some(sc.velocity(x))),
-            _ => Ok(None),
+            _ => Ok::<_, SceneError>(None),
         }
     };
-    if let Some(v) = si_or("striker", "striker_si")? {
+    if let Some(v) = si_or(("striker", &i.striker), ("striker_si", &i.striker_si))? {
         v0[0] = v;
     }
-    if let Some(v) = si_or("striker_right", "striker_right_si")? {
+    let right = (
+        ("striker_right", &i.striker_right),
+        ("striker_right_si", &i.striker_right_si),
+    );
+    if let Some(v) = si_or(right.0, right.1)? {
         v0[nb - 1] = -v;
     }
     Ok((u0, v0))
@@ -61,28 +67,15 @@ pub(super) fn initial_state(
 /// `[initial].pulse = { beads = L, velocity = v }`: the first `L` beads move with `v`.
 fn pulse(
     ctx: &Ctx,
-    pv: &Value,
+    p: PulseKeys,
     nb: usize,
     physical: bool,
     scales: Option<UnitScales>,
 ) -> Result<(usize, f64), SceneError> {
-    let k = "[initial].pulse";
-    let pt = pv.as_table().ok_or_else(|| {
-        ctx.err(
-            k,
-            format!(
-                "expected a table {{ beads, velocity }}, got {}",
-                type_name(pv)
-            ),
-        )
-    })?;
-    let allowed: &[&str] = if physical {
-        &["beads", "velocity", "velocity_si"]
-    } else {
-        &["beads", "velocity"]
-    };
-    check_keys(ctx, k, pt, allowed)?;
-    let l = match pt.get("beads") {
+    if !physical && p.velocity_si.is_some() {
+        return Err(ctx.err("[initial].pulse.velocity_si", PHYSICAL_ONLY));
+    }
+    let l = match &p.beads {
         Some(b) => index(ctx, "[initial].pulse.beads", b)?,
         None => return Err(ctx.err("[initial].pulse.beads", "missing")),
     };
@@ -92,7 +85,7 @@ fn pulse(
             format!("must be in 1..={nb}, got {l}"),
         ));
     }
-    let v = match (pt.get("velocity"), pt.get("velocity_si"), scales) {
+    let v = match (&p.velocity, &p.velocity_si, scales) {
         (Some(_), Some(_), _) => {
             return Err(ctx.err(
                 "[initial].pulse.velocity_si",
@@ -115,8 +108,14 @@ pub(super) fn field(
     scales: Option<UnitScales>,
     mass: &[f64],
 ) -> Result<Option<Vec<f64>>, SceneError> {
-    exclusive(ctx, t.field, "field", "force", "force_si")?;
-    exclusive(ctx, t.field, "field", "gravity", "gravity_si")?;
+    let f = &t.field;
+    exclusive(ctx, "field", ("force", &f.force), ("force_si", &f.force_si))?;
+    exclusive(
+        ctx,
+        "field",
+        ("gravity", &f.gravity),
+        ("gravity_si", &f.gravity_si),
+    )?;
     let mut w = vec![0.0; len.nb];
     if s.force.is_some() {
         w = len.resolve(ctx, &s.force, "[field].force", Per::Bead, 0.0)?;
@@ -128,8 +127,8 @@ pub(super) fn field(
             .collect();
     }
     let g = match (
-        opt_num(ctx, t.field, "field", "gravity")?,
-        opt_num(ctx, t.field, "field", "gravity_si")?,
+        opt_num(ctx, "[field].gravity", &f.gravity)?,
+        opt_num(ctx, "[field].gravity_si", &f.gravity_si)?,
         scales,
     ) {
         (Some(g), _, _) => g,

@@ -1,103 +1,63 @@
-//! Small typed accessors for TOML tables: every failure is a [`SceneError`] naming the key path.
+//! Small typed accessors for the keys of scene tables (the fields of their
+//! [`super::ctx::table_keys`] structs): every failure is a [`SceneError`] naming the key path.
 
 use super::error::SceneError;
-use super::values::{check_keys, number, type_name, Ctx, Per, Spec};
-use toml::{Table, Value};
+use super::values::{number, type_name, Ctx, Per, Spec};
+use toml::Value;
 
-/// A top-level table, with its keys checked.
-pub(crate) fn table<'a>(
-    ctx: &Ctx,
-    root: &'a Table,
-    name: &str,
-    allowed: &[&str],
-) -> Result<Option<&'a Table>, SceneError> {
-    match root.get(name) {
-        None => Ok(None),
-        Some(Value::Table(t)) => {
-            check_keys(ctx, &format!("[{name}]"), t, allowed)?;
-            Ok(Some(t))
-        }
-        Some(v) => Err(ctx.err(
-            &format!("[{name}]"),
-            format!("expected a table, got {}", type_name(v)),
-        )),
-    }
-}
+/// A key of a table: its TOML value, `None` when absent.
+pub(crate) type Opt = Option<Value>;
+
+/// Why a key of physical scenes (an `_si` key, `[units]` material data) is refused in another.
+pub(crate) const PHYSICAL_ONLY: &str =
+    "only allowed in a physical scene ([units] system = \"physical\")";
 
 /// Key path of `key` inside `[table]`.
 pub(crate) fn kp(table: &str, key: &str) -> String {
     format!("[{table}].{key}")
 }
 
-pub(crate) fn get<'a>(t: Option<&'a Table>, key: &str) -> Option<&'a Value> {
-    t.and_then(|t| t.get(key))
+/// The value form at `key` ([`Spec`]), `None` when absent.
+pub(crate) fn opt_spec(ctx: &Ctx, key: &str, v: &Opt) -> Result<Option<Spec>, SceneError> {
+    v.as_ref().map(|v| Spec::parse(ctx, key, v)).transpose()
 }
 
-pub(crate) fn opt_spec(
-    ctx: &Ctx,
-    t: Option<&Table>,
-    table: &str,
-    key: &str,
-) -> Result<Option<Spec>, SceneError> {
-    get(t, key)
-        .map(|v| Spec::parse(ctx, &kp(table, key), v))
-        .transpose()
+/// The number at `key`, `None` when absent.
+pub(crate) fn opt_num(ctx: &Ctx, key: &str, v: &Opt) -> Result<Option<f64>, SceneError> {
+    v.as_ref().map(|v| number(ctx, key, v)).transpose()
 }
 
-pub(crate) fn opt_num(
-    ctx: &Ctx,
-    t: Option<&Table>,
-    table: &str,
-    key: &str,
-) -> Result<Option<f64>, SceneError> {
-    get(t, key)
-        .map(|v| number(ctx, &kp(table, key), v))
-        .transpose()
-}
-
-pub(crate) fn opt_str<'a>(
-    ctx: &Ctx,
-    t: Option<&'a Table>,
-    table: &str,
-    key: &str,
-) -> Result<Option<&'a str>, SceneError> {
-    get(t, key)
+/// The string at `key`, `None` when absent.
+pub(crate) fn opt_str<'a>(ctx: &Ctx, key: &str, v: &'a Opt) -> Result<Option<&'a str>, SceneError> {
+    v.as_ref()
         .map(|v| {
-            v.as_str().ok_or_else(|| {
-                ctx.err(
-                    &kp(table, key),
-                    format!("expected a string, got {}", type_name(v)),
-                )
-            })
+            v.as_str()
+                .ok_or_else(|| ctx.err(key, format!("expected a string, got {}", type_name(v))))
         })
         .transpose()
 }
 
-/// Reject a key that only makes sense in the other unit system.
+/// Reject the keys of the table at `path` (`[chain]`) given that it does not allow (`why`).
 pub(crate) fn forbid(
     ctx: &Ctx,
-    t: Option<&Table>,
-    table: &str,
-    keys: &[&str],
+    path: &str,
+    keys: &[(&str, &Opt)],
     why: &str,
 ) -> Result<(), SceneError> {
-    for k in keys {
-        if get(t, k).is_some() {
-            return Err(ctx.err(&kp(table, k), why.to_string()));
-        }
+    match keys.iter().find(|(_, v)| v.is_some()) {
+        Some((k, _)) => Err(ctx.err(&format!("{path}.{k}"), why.to_string())),
+        None => Ok(()),
     }
-    Ok(())
 }
 
-/// At most one of two alternative keys.
+/// At most one of two alternative keys of `[table]`.
 pub(crate) fn exclusive(
     ctx: &Ctx,
-    t: Option<&Table>,
     table: &str,
-    a: &str,
-    b: &str,
+    (a, va): (&str, &Opt),
+    (b, vb): (&str, &Opt),
 ) -> Result<(), SceneError> {
-    if get(t, a).is_some() && get(t, b).is_some() {
+    if va.is_some() && vb.is_some() {
         return Err(ctx.err(
             &kp(table, b),
             format!("give either `{a}` or `{b}`, not both"),

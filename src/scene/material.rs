@@ -6,11 +6,10 @@
 
 use super::arrays::{Len, Specs};
 use super::error::SceneError;
-use super::keys::{forbid, kp, opt_num, opt_str, positive};
-use super::tables::Tables;
+use super::keys::{forbid, kp, opt_num, opt_str, positive, Opt};
+use super::tables::{Tables, UnitsKeys};
 use super::units::{self, UnitScales};
 use super::values::{Ctx, Per, Spec};
-use toml::Table;
 
 /// Default per-bead mass of dimensionless scenes.
 pub const DEFAULT_MASS: f64 = 1.0;
@@ -113,7 +112,7 @@ fn physical_inertia(ctx: &Ctx, t: &Tables, s: &Specs, len: Len) -> Result<Inerti
         })
         .collect();
     let viscous_a = viscous_constants(ctx, s, len, &young, &poisson)?;
-    let sc = time_scale(ctx, t.units, mass_si[0], pref_si[0])?;
+    let sc = time_scale(ctx, &t.units, mass_si[0], pref_si[0])?;
     Ok(Inertia {
         mass: mass_si.iter().map(|m| sc.mass(*m)).collect(),
         prefactor: pref_si.iter().map(|a| sc.prefactor(*a)).collect(),
@@ -185,26 +184,20 @@ fn viscous_constants(
 
 /// `[units].time_scale`: `"paper"` (eqs. 10–11, with `m0`, `n0`, `mu` defaulting to the first
 /// bead's mass, [`units::DEFAULT_N0`] and the first prefactor's order of magnitude) or `"si"`.
-fn time_scale(
-    ctx: &Ctx,
-    units_t: Option<&Table>,
-    mass0: f64,
-    pref0: f64,
-) -> Result<UnitScales, SceneError> {
-    match opt_str(ctx, units_t, "units", "time_scale")? {
+fn time_scale(ctx: &Ctx, u: &UnitsKeys, mass0: f64, pref0: f64) -> Result<UnitScales, SceneError> {
+    match opt_str(ctx, "[units].time_scale", &u.time_scale)? {
         None | Some("paper") => {
-            let pos = |k: &str, x: Option<f64>| -> Result<Option<f64>, SceneError> {
-                match x {
+            let pos = |k: &str, v: &Opt| -> Result<Option<f64>, SceneError> {
+                match opt_num(ctx, &kp("units", k), v)? {
                     Some(x) if x <= 0.0 => {
                         Err(ctx.err(&kp("units", k), format!("must be > 0, got {x}")))
                     }
-                    _ => Ok(x),
+                    x => Ok(x),
                 }
             };
-            let m0 = pos("m0", opt_num(ctx, units_t, "units", "m0")?)?.unwrap_or(mass0);
-            let n0 = pos("n0", opt_num(ctx, units_t, "units", "n0")?)?.unwrap_or(units::DEFAULT_N0);
-            let mu = pos("mu", opt_num(ctx, units_t, "units", "mu")?)?
-                .unwrap_or_else(|| UnitScales::order_of_magnitude(pref0));
+            let m0 = pos("m0", &u.m0)?.unwrap_or(mass0);
+            let n0 = pos("n0", &u.n0)?.unwrap_or(units::DEFAULT_N0);
+            let mu = pos("mu", &u.mu)?.unwrap_or_else(|| UnitScales::order_of_magnitude(pref0));
             if n0 <= 0.0 || n0.is_nan() {
                 return Err(ctx.err(
                     "[units].n0",
@@ -214,11 +207,11 @@ fn time_scale(
             Ok(UnitScales::paper(m0, mu, n0))
         }
         Some("si") => {
+            let keys = [("m0", &u.m0), ("n0", &u.n0), ("mu", &u.mu)];
             forbid(
                 ctx,
-                units_t,
-                "units",
-                &["m0", "n0", "mu"],
+                "[units]",
+                &keys,
                 "only used with time_scale = \"paper\"",
             )?;
             Ok(UnitScales::si())

@@ -11,11 +11,13 @@
 //! `run --beads/--fields/--frames-max` override the keys one by one. The table is not stored
 //! in snapshots as such: the snapshot header records the selection the run used.
 
+use super::ctx::table_of;
 use super::error::SceneError;
-use super::keys::{get, table};
+use super::keys::Opt;
 use super::selection::{parse_beads, Fields, Selection};
+use super::tables::OutputKeys;
 use super::values::{type_name, Ctx};
-use toml::{Table, Value};
+use toml::Value;
 
 const BEADS_EXPECTED: &str =
     "a bead index, a string such as \"0:100:10\" or an array of bead indices";
@@ -24,14 +26,13 @@ const FIELDS_EXPECTED: &str = "a string such as \"u,v\" or an array of field nam
 /// The `[output]` table of a chain of `nb` beads (`None` when the scene has none).
 pub(crate) fn parse_output(
     ctx: &Ctx,
-    root: &Table,
+    output: &Opt,
     nb: usize,
 ) -> Result<Option<Selection>, SceneError> {
-    let Some(t) = table(ctx, root, "output", &["beads", "fields", "frames_max"])? else {
+    let Some(t) = table_of::<OutputKeys>(ctx, "[output]", output.as_ref(), "a table")? else {
         return Ok(None);
     };
-    let t = Some(t);
-    let beads = match get(t, "beads") {
+    let beads = match &t.beads {
         None => None,
         Some(v) => {
             let spec = spec_text(ctx, "[output].beads", v, BEADS_EXPECTED, |x| match x {
@@ -41,7 +42,7 @@ pub(crate) fn parse_output(
             parse_beads(&spec, nb as u64).map_err(|e| ctx.err("[output].beads", e.to_string()))?
         }
     };
-    let fields = match get(t, "fields") {
+    let fields = match &t.fields {
         None => Fields::Both,
         Some(v) => {
             let spec = spec_text(ctx, "[output].fields", v, FIELDS_EXPECTED, |x| {
@@ -50,7 +51,7 @@ pub(crate) fn parse_output(
             Fields::parse(&spec).map_err(|e| ctx.err("[output].fields", e.to_string()))?
         }
     };
-    let frames_max = match get(t, "frames_max") {
+    let frames_max = match &t.frames_max {
         None => None,
         Some(Value::Integer(k)) if *k >= 2 => Some(*k as u64),
         Some(v) => {

@@ -100,7 +100,7 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Parsed, SceneErr
         base_dir,
         seed: 0,
     };
-    let (scene_t, seed) = tables::scene_table(&pre, root)?;
+    let (root, scene_t, seed) = tables::scene_table(&pre, root)?;
     let ctx = &Ctx {
         file: origin,
         base_dir,
@@ -139,9 +139,9 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Parsed, SceneErr
         precompression_force: pre_force,
     };
     let walls = walls::walls(ctx, &t, &defaults)?;
-    let damping = damping(ctx, &t, &walls, (&inertia, &exponent), scales)?;
-    let [left_wall, right_wall] = walls;
-    let (run, hard) = settings::run_settings(ctx, root, &t, scales, len.nb)?;
+    let damping = damping(ctx, &t.chain, &walls, (&inertia, &exponent), scales)?;
+    let [left_wall, right_wall] = walls.map(|w| w.map(|(wall, _)| wall));
+    let (run, hard) = settings::run_settings(ctx, &t, scales, len.nb)?;
     let (name, description) = settings::name_and_description(ctx, &t, origin, scales)?;
     let material = inertia.material.map(bead_material);
     let mut scene = Scene {
@@ -178,8 +178,8 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Parsed, SceneErr
 /// masses, prefactors and material (`inertia`) and exponents.
 fn damping(
     ctx: &Ctx,
-    t: &tables::Tables,
-    walls: &[Option<crate::model::Wall>; 2],
+    chain: &tables::ChainKeys,
+    walls: &[Option<(crate::model::Wall, tables::WallKeys)>; 2],
     (inertia, exponent): (&material::Inertia, &[f64]),
     scales: Option<super::units::UnitScales>,
 ) -> Result<Option<crate::model::Damping>, SceneError> {
@@ -192,7 +192,7 @@ fn damping(
             .as_ref()
             .and_then(|m| m.viscous_a.as_deref()),
     };
-    super::damping::parse(ctx, t.chain, t.walls, walls, arrays, scales)
+    super::damping::parse(ctx, chain, walls, arrays, scales)
 }
 
 /// `[chain].precompression` per contact, `None` when absent or zero everywhere (the chain then

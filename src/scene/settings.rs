@@ -3,7 +3,7 @@
 //! description (`[scene]`; a physical scene's description records its unit scales).
 
 use super::error::SceneError;
-use super::keys::{exclusive, opt_num, opt_str};
+use super::keys::{exclusive, kp, opt_num, opt_str, Opt};
 use super::tables::Tables;
 use super::units::UnitScales;
 use super::values::Ctx;
@@ -12,52 +12,54 @@ use crate::integrate::Method;
 use crate::model::HardContacts;
 use crate::names::Named;
 use std::path::Path;
-use toml::Table;
 
 /// The run settings, and the hard contacts of `[hard]` (read between `[run].engine` and
 /// `[run].rtol`, the order in which their errors are reported).
 pub(super) fn run_settings(
     ctx: &Ctx,
-    root: &Table,
     t: &Tables,
     scales: Option<UnitScales>,
     nb: usize,
 ) -> Result<(RunSettings, Option<HardContacts>), SceneError> {
-    exclusive(ctx, t.run, "run", "until", "until_si")?;
-    exclusive(ctx, t.run, "run", "every", "every_si")?;
-    let time = |plain: &str, si: &str| -> Result<Option<f64>, SceneError> {
-        match (
-            opt_num(ctx, t.run, "run", plain)?,
-            opt_num(ctx, t.run, "run", si)?,
-            scales,
-        ) {
-            (Some(t), _, _) => Ok(Some(t)),
-            (None, Some(t), Some(sc)) => Ok(Some(sc.time(t))),
-            _ => Ok(None),
-        }
+    let r = &t.run;
+    let until = (("until", &r.until), ("until_si", &r.until_si));
+    let every = (("every", &r.every), ("every_si", &r.every_si));
+    exclusive(ctx, "run", until.0, until.1)?;
+    exclusive(ctx, "run", every.0, every.1)?;
+    let time = |((plain, pv), (si, sv)): ((&str, &Opt), (&str, &Opt))| {
+        let given = (
+            opt_num(ctx, &kp("run", plain), pv)?,
+            opt_num(ctx, &kp("run", si), sv)?,
+        );
+        Ok::<_, SceneError>(match (given, scales) {
+            ((Some(t), _), _) => Some(t),
+            ((None, Some(t)), Some(sc)) => Some(sc.time(t)),
+            _ => None,
+        })
     };
-    let until = time("until", "until_si")?
-        .ok_or_else(|| ctx.err("[run].until", "missing (end time of the run)"))?;
-    let every = time("every", "every_si")?;
-    let method = named::<Method>(ctx, t.run, "method")?;
-    let engine = named::<Engine>(ctx, t.run, "engine")?;
-    let hard = super::hard::parse_hard(ctx, root, nb - 1)?;
+    let until =
+        time(until)?.ok_or_else(|| ctx.err("[run].until", "missing (end time of the run)"))?;
+    let every = time(every)?;
+    let method = named::<Method>(ctx, "method", &r.method)?;
+    let engine = named::<Engine>(ctx, "engine", &r.engine)?;
+    let hard = super::hard::parse_hard(ctx, &t.hard, nb - 1)?;
     let run = RunSettings {
         until,
         every,
-        rtol: opt_num(ctx, t.run, "run", "rtol")?,
-        atol: opt_num(ctx, t.run, "run", "atol")?,
+        rtol: opt_num(ctx, "[run].rtol", &r.rtol)?,
+        atol: opt_num(ctx, "[run].atol", &r.atol)?,
         method,
         engine,
-        output: super::output::parse_output(ctx, root, nb)?,
+        output: super::output::parse_output(ctx, &t.output, nb)?,
     };
     Ok((run, hard))
 }
 
 /// `[run].KEY` naming a value of `T` (the method, the engine); `None` when absent.
-fn named<T: Named>(ctx: &Ctx, run_t: Option<&Table>, key: &str) -> Result<Option<T>, SceneError> {
-    opt_str(ctx, run_t, "run", key)?
-        .map(|s| T::parse(s).map_err(|e| ctx.err(&format!("[run].{key}"), e.to_string())))
+fn named<T: Named>(ctx: &Ctx, key: &str, v: &Opt) -> Result<Option<T>, SceneError> {
+    let key = kp("run", key);
+    opt_str(ctx, &key, v)?
+        .map(|s| T::parse(s).map_err(|e| ctx.err(&key, e.to_string())))
         .transpose()
 }
 
@@ -72,8 +74,8 @@ pub(super) fn name_and_description(
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| origin.to_string());
-    let name = opt_str(ctx, t.scene, "scene", "name")?.map_or(stem, str::to_string);
-    let mut description = opt_str(ctx, t.scene, "scene", "description")?
+    let name = opt_str(ctx, "[scene].name", &t.scene.name)?.map_or(stem, str::to_string);
+    let mut description = opt_str(ctx, "[scene].description", &t.scene.description)?
         .unwrap_or("")
         .to_string();
     if let Some(sc) = scales {

@@ -17,14 +17,15 @@
 //! meets another wave's, or is not uniform (mass, exponent, prefactor; the message names the bead
 //! or contact where it changes); `n ≤ 2`; a precompression, field or hard contact on it.
 
+use super::ctx::table_of;
 use super::error::SceneError;
-use super::keys::get;
-use super::tables::Tables;
+use super::keys::{forbid, PHYSICAL_ONLY};
+use super::tables::{SolitaryKeys, Tables};
 use super::units::UnitScales;
-use super::values::{check_keys, index, number, type_name, Ctx};
+use super::values::{index, number, Ctx};
 use super::Scene;
 use crate::studies::solitary::{Direction, Placement, UnitProfile, Wave};
-use toml::{Table, Value};
+use toml::Value;
 
 /// One `[initial].solitary` entry as written.
 struct Spec {
@@ -47,7 +48,7 @@ pub(super) fn apply(
     scales: Option<UnitScales>,
     scene: &mut Scene,
 ) -> Result<(), SceneError> {
-    let Some(value) = get(t.initial, "solitary") else {
+    let Some(value) = &t.initial.solitary else {
         return Ok(());
     };
     let entries: Vec<(String, &Value)> = match value {
@@ -199,9 +200,6 @@ fn check_uniform(ctx: &Ctx, spec: &Spec, p: &Placement, scene: &Scene) -> Result
     Ok(())
 }
 
-/// The SI twins of an entry's amount (physical scenes only).
-const SI_KEYS: [&str; 2] = ["velocity_si", "energy_si"];
-
 /// One entry `{ at, velocity | velocity_si | energy | energy_si, direction }`.
 fn parse_entry(
     ctx: &Ctx,
@@ -210,42 +208,18 @@ fn parse_entry(
     physical: bool,
     scales: Option<UnitScales>,
 ) -> Result<Spec, SceneError> {
-    let t: &Table = v.as_table().ok_or_else(|| {
-        ctx.err(
-            key,
-            format!(
-                "expected a table {{ at, velocity | energy, direction }} or an array of them, got {}",
-                type_name(v)
-            ),
-        )
-    })?;
+    let shape = "a table { at, velocity | energy, direction } or an array of them";
+    let t: SolitaryKeys = table_of(ctx, key, Some(v), shape)?.unwrap_or_default();
     if !physical {
-        if let Some(k) = SI_KEYS.into_iter().find(|k| t.contains_key(*k)) {
-            return Err(ctx.err(
-                &format!("{key}.{k}"),
-                "only allowed in a physical scene ([units] system = \"physical\")",
-            ));
-        }
+        let si = [("velocity_si", &t.velocity_si), ("energy_si", &t.energy_si)];
+        forbid(ctx, key, &si, PHYSICAL_ONLY)?;
     }
-    check_keys(
-        ctx,
-        key,
-        t,
-        &[
-            "at",
-            "velocity",
-            "velocity_si",
-            "energy",
-            "energy_si",
-            "direction",
-        ],
-    )?;
-    let at = match t.get("at") {
+    let at = match &t.at {
         Some(b) => index(ctx, &format!("{key}.at"), b)?,
         None => return Err(ctx.err(&format!("{key}.at"), "missing (the wave's centre bead)")),
     };
-    let amount = amount(ctx, key, t, scales)?;
-    let direction = match t.get("direction") {
+    let amount = amount(ctx, key, &t, scales)?;
+    let direction = match &t.direction {
         None => Direction::Right,
         Some(Value::String(s)) if s == "right" => Direction::Right,
         Some(Value::String(s)) if s == "left" => Direction::Left,
@@ -269,25 +243,31 @@ fn parse_entry(
 fn amount(
     ctx: &Ctx,
     key: &str,
-    t: &Table,
+    t: &SolitaryKeys,
     scales: Option<UnitScales>,
 ) -> Result<Amount, SceneError> {
-    let given: Vec<&str> = ["velocity", "velocity_si", "energy", "energy_si"]
-        .into_iter()
-        .filter(|k| t.contains_key(*k))
+    let amounts = [
+        ("velocity", &t.velocity),
+        ("velocity_si", &t.velocity_si),
+        ("energy", &t.energy),
+        ("energy_si", &t.energy_si),
+    ];
+    let given: Vec<(&str, &Value)> = (amounts.into_iter())
+        .filter_map(|(k, v)| v.as_ref().map(|v| (k, v)))
         .collect();
+    let names: Vec<&str> = given.iter().map(|(k, _)| *k).collect();
     // The amount as written, > 0 (the message names the key and the value given).
-    let num = |k: &str| match number(ctx, &format!("{key}.{k}"), &t[k])? {
+    let num = |(k, v): (&str, &Value)| match number(ctx, &format!("{key}.{k}"), v)? {
         x if x > 0.0 => Ok(x),
         x => Err(ctx.err(&format!("{key}.{k}"), format!("must be > 0, got {x}"))),
     };
     let si =
         |k: &str| scales.ok_or_else(|| ctx.err(&format!("{key}.{k}"), "needs a physical scene"));
     Ok(match given.as_slice() {
-        ["velocity"] => Amount::PeakVelocity(num("velocity")?),
-        ["velocity_si"] => Amount::PeakVelocity(si("velocity_si")?.velocity(num("velocity_si")?)),
-        ["energy"] => Amount::Energy(num("energy")?),
-        ["energy_si"] => Amount::Energy(si("energy_si")?.energy(num("energy_si")?)),
+        [g @ ("velocity", _)] => Amount::PeakVelocity(num(*g)?),
+        [g @ ("velocity_si", _)] => Amount::PeakVelocity(si(g.0)?.velocity(num(*g)?)),
+        [g @ ("energy", _)] => Amount::Energy(num(*g)?),
+        [g] => Amount::Energy(si(g.0)?.energy(num(*g)?)),
         [] => {
             return Err(ctx.err(
                 &format!("{key}.velocity"),
@@ -296,8 +276,8 @@ fn amount(
         }
         _ => {
             return Err(ctx.err(
-                &format!("{key}.{}", given[1]),
-                format!("give only one of {}", given.join(", ")),
+                &format!("{key}.{}", names[1]),
+                format!("give only one of {}", names.join(", ")),
             ))
         }
     })

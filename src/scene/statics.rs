@@ -12,15 +12,16 @@
 //! [`UnitScales::force`]). The contacts (and walls) that the balance leaves without force, apart
 //! or just touching, are returned as one warning line ([`apply`]).
 
+use super::ctx::table_of;
 use super::error::SceneError;
-use super::keys::{exclusive, get, kp, opt_num};
-use super::tables::Tables;
+use super::keys::{exclusive, kp, opt_num, Opt};
+use super::tables::{ModeKeys, Tables};
 use super::units::UnitScales;
-use super::values::{check_keys, index, number, type_name, Ctx};
+use super::values::{index, number, type_name, Ctx};
 use super::Scene;
 use crate::studies::equilibrium::{equilibrium, overlap_for_force, Equilibrium};
 use crate::studies::modes::{linearize, solve};
-use toml::{Table, Value};
+use toml::Value;
 
 /// How many gaps the warning names before summarising.
 const GAPS_LISTED: usize = 6;
@@ -30,22 +31,22 @@ const GAPS_LISTED: usize = 6;
 /// Giving both is an error.
 fn force_key(
     ctx: &Ctx,
-    t: Option<&Table>,
     table: &str,
-    key: &str,
+    (key, plain): (&str, &Opt),
+    si: &Opt,
     scales: Option<UnitScales>,
 ) -> Result<Option<(f64, String, f64)>, SceneError> {
-    let si = format!("{key}_si");
-    exclusive(ctx, t, table, key, &si)?;
-    if let Some(f) = opt_num(ctx, t, table, key)? {
+    let si_key = format!("{key}_si");
+    exclusive(ctx, table, (key, plain), (&si_key, si))?;
+    if let Some(f) = opt_num(ctx, &kp(table, key), plain)? {
         return Ok(Some((f, kp(table, key), f)));
     }
-    let Some(f) = opt_num(ctx, t, table, &si)? else {
+    let Some(f) = opt_num(ctx, &kp(table, &si_key), si)? else {
         return Ok(None);
     };
     match scales {
-        Some(sc) => Ok(Some((sc.force(f), kp(table, &si), f))),
-        None => Err(ctx.err(&kp(table, &si), "needs a physical scene")),
+        Some(sc) => Ok(Some((sc.force(f), kp(table, &si_key), f))),
+        None => Err(ctx.err(&kp(table, &si_key), "needs a physical scene")),
     }
 }
 
@@ -56,12 +57,14 @@ pub(super) fn precompression_force(
     t: &Tables,
     scales: Option<UnitScales>,
 ) -> Result<Option<f64>, SceneError> {
-    let Some((f, key, raw)) = force_key(ctx, t.chain, "chain", "precompression_force", scales)?
+    let c = &t.chain;
+    let plain = ("precompression_force", &c.precompression_force);
+    let Some((f, key, raw)) = force_key(ctx, "chain", plain, &c.precompression_force_si, scales)?
     else {
         return Ok(None);
     };
     let name = key.trim_start_matches("[chain].");
-    if get(t.chain, "precompression").is_some() {
+    if c.precompression.is_some() {
         return Err(ctx.err(
             &key,
             format!("give either `precompression` or `{name}`, not both"),
@@ -84,7 +87,7 @@ pub(super) fn precompression_of(force: f64, exponent: &[f64], prefactor: &[f64])
 
 /// `[initial] equilibrium`: `true`, `false` or absent.
 fn wants_equilibrium(ctx: &Ctx, t: &Tables) -> Result<bool, SceneError> {
-    match get(t.initial, "equilibrium") {
+    match &t.initial.equilibrium {
         None => Ok(false),
         Some(Value::Boolean(b)) => Ok(*b),
         Some(v) => Err(ctx.err(
@@ -99,7 +102,8 @@ fn wants_equilibrium(ctx: &Ctx, t: &Tables) -> Result<bool, SceneError> {
 /// balance leaves ([`gap_warning`]).
 pub(super) fn apply(ctx: &Ctx, t: &Tables, scene: &mut Scene) -> Result<Vec<String>, SceneError> {
     let eq = wants_equilibrium(ctx, t)?;
-    let force = force_key(ctx, t.walls, "walls", "force", scene.units)?;
+    let w = &t.walls;
+    let force = force_key(ctx, "walls", ("force", &w.force), &w.force_si, scene.units)?;
     if let Some((_, k, raw)) = &force {
         if *raw < 0.0 {
             return Err(ctx.err(k, format!("must be >= 0 (a compressive force), got {raw}")));
@@ -113,10 +117,7 @@ pub(super) fn apply(ctx: &Ctx, t: &Tables, scene: &mut Scene) -> Result<Vec<Stri
                 "needs `[initial] equilibrium = true` (the chain starts at rest under the force)",
             ));
         }
-        if get(t.walls, "right")
-            .and_then(|r| r.get("precompression"))
-            .is_some()
-        {
+        if (w.right.as_ref().and_then(|r| r.get("precompression"))).is_some() {
             return Err(ctx.err(
                 "[walls].right.precompression",
                 format!("is set by `{k}` (the right wall is placed where it carries the force); remove it"),
@@ -128,7 +129,8 @@ pub(super) fn apply(ctx: &Ctx, t: &Tables, scene: &mut Scene) -> Result<Vec<Stri
         let e = at_rest(ctx, t, scene, force.map(|f| f.0))?;
         warnings.extend(gap_warning(&scene.name, &e, scene.chain.len()));
     }
-    if let Some(m) = get(t.initial, "mode") {
+    let shape = "a table { index, amplitude }";
+    if let Some(m) = table_of(ctx, "[initial].mode", t.initial.mode.as_ref(), shape)? {
         add_mode(ctx, m, scene)?;
     }
     Ok(warnings)
@@ -183,7 +185,7 @@ fn at_rest(
     scene: &mut Scene,
     force: Option<f64>,
 ) -> Result<Equilibrium, SceneError> {
-    if get(t.initial, "displacement").is_some() {
+    if t.initial.displacement.is_some() {
         return Err(ctx.err(
             "[initial].displacement",
             "`[initial] equilibrium = true` sets the displacements; remove `displacement`",
@@ -200,23 +202,13 @@ fn at_rest(
 
 /// `[initial] mode = { index, amplitude }`: adds mode `index` (0 = lowest frequency) of the
 /// chain linearised about the displacements so far, its largest bead displacement `amplitude`.
-fn add_mode(ctx: &Ctx, m: &Value, scene: &mut Scene) -> Result<(), SceneError> {
+fn add_mode(ctx: &Ctx, m: ModeKeys, scene: &mut Scene) -> Result<(), SceneError> {
     let k = "[initial].mode";
-    let mt = m.as_table().ok_or_else(|| {
-        ctx.err(
-            k,
-            format!(
-                "expected a table {{ index, amplitude }}, got {}",
-                type_name(m)
-            ),
-        )
-    })?;
-    check_keys(ctx, k, mt, &["index", "amplitude"])?;
-    let j = match mt.get("index") {
+    let j = match &m.index {
         Some(v) => index(ctx, "[initial].mode.index", v)?,
         None => return Err(ctx.err("[initial].mode.index", "missing")),
     };
-    let amp = match mt.get("amplitude") {
+    let amp = match &m.amplitude {
         Some(v) => number(ctx, "[initial].mode.amplitude", v)?,
         None => return Err(ctx.err("[initial].mode.amplitude", "missing")),
     };

@@ -23,8 +23,9 @@
 //! FNV-1a hash of the key path, so each key has its own reproducible stream and adding a random
 //! key elsewhere does not change this one. Gaussians use Box–Muller (cosine branch).
 
-use super::builder::{self, Segment};
-pub(crate) use super::ctx::{check_keys, index, number, type_name, Ctx, Per};
+use super::builder::{self, BuilderKeys, FileKeys, Segment};
+use super::ctx::fields;
+pub(crate) use super::ctx::{index, number, type_name, Ctx, Per};
 use super::error::{one_line, SceneError};
 use rand::Rng;
 use toml::Value;
@@ -74,8 +75,8 @@ impl Spec {
                 Ok(Spec::List(List { values, csv: None }))
             }
             Value::Table(t) if t.contains_key("file") => {
-                check_keys(ctx, key, t, &["file"])?;
-                let name = t.get("file").and_then(Value::as_str).ok_or_else(|| {
+                let f: FileKeys = fields(ctx, key, t)?;
+                let name = f.file.as_ref().and_then(Value::as_str).ok_or_else(|| {
                     ctx.err(&format!("{key}.file"), "expected a file name string")
                 })?;
                 read_csv(ctx, key, name).map(Spec::List)
@@ -137,40 +138,41 @@ impl Spec {
 
 impl Builder {
     fn parse(ctx: &Ctx, key: &str, t: &toml::Table) -> Result<Builder, SceneError> {
-        check_keys(ctx, key, t, builder::BUILDER_KEYS)?;
+        let t: BuilderKeys = fields(ctx, key, t)?;
         let mut b = Builder::default();
-        if let Some(v) = t.get("base") {
-            let k = format!("{key}.base");
-            let s = Spec::parse(ctx, &k, v)?;
+        let sub = |name: &str| format!("{key}.{name}");
+        if let Some(v) = &t.base {
+            let s = Spec::parse(ctx, &sub("base"), v)?;
             if matches!(s, Spec::Build(_)) {
-                return Err(ctx.err(&k, "base must be a number, an array or { file = ... }"));
+                let m = "base must be a number, an array or { file = ... }";
+                return Err(ctx.err(&sub("base"), m));
             }
             b.base = Some(s);
         }
-        if let Some(v) = t.get("start") {
-            b.start = index(ctx, &format!("{key}.start"), v)?;
+        if let Some(v) = &t.start {
+            b.start = index(ctx, &sub("start"), v)?;
         }
-        if let Some(v) = t.get("alternate") {
-            b.alternate = Some(builder::alternate(ctx, &format!("{key}.alternate"), v)?);
+        if let Some(v) = &t.alternate {
+            b.alternate = Some(builder::alternate(ctx, &sub("alternate"), v)?);
         }
-        if let Some(v) = t.get("random") {
-            let k = format!("{key}.random");
+        if let Some(v) = &t.random {
             if b.alternate.is_some() {
-                return Err(ctx.err(&k, "`random` and `alternate` cannot be combined"));
+                let m = "`random` and `alternate` cannot be combined";
+                return Err(ctx.err(&sub("random"), m));
             }
-            b.random = Some(builder::random(ctx, &k, v)?);
+            b.random = Some(builder::random(ctx, &sub("random"), v)?);
         }
-        if let Some(v) = t.get("taper") {
-            b.taper = Some(builder::taper(ctx, &format!("{key}.taper"), v)?);
+        if let Some(v) = &t.taper {
+            b.taper = Some(builder::taper(ctx, &sub("taper"), v)?);
         }
-        if let Some(v) = t.get("segments") {
-            builder::segments(ctx, &format!("{key}.segments"), v, &mut b.segments)?;
+        if let Some(v) = &t.segments {
+            builder::segments(ctx, &sub("segments"), v, &mut b.segments)?;
         }
-        if let Some(v) = t.get("impurity") {
-            builder::impurities(ctx, &format!("{key}.impurity"), v, &mut b.segments)?;
+        if let Some(v) = &t.impurity {
+            builder::impurities(ctx, &sub("impurity"), v, &mut b.segments)?;
         }
-        if let Some(v) = t.get("gaussian") {
-            b.gaussian = Some(builder::gaussian_noise(ctx, &format!("{key}.gaussian"), v)?);
+        if let Some(v) = &t.gaussian {
+            b.gaussian = Some(builder::gaussian_noise(ctx, &sub("gaussian"), v)?);
         }
         Ok(b)
     }

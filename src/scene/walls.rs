@@ -4,14 +4,14 @@
 //! wall of `[units] wall_young, wall_poisson` (default: the end bead's material).
 
 use super::arrays::Len;
+use super::ctx::table_of;
 use super::error::SceneError;
-use super::keys::{get, kp, opt_num};
+use super::keys::{forbid, kp, opt_num, Opt, PHYSICAL_ONLY};
 use super::material::Material;
-use super::tables::Tables;
+use super::tables::{Tables, UnitsKeys, WallKeys};
 use super::units::{self, UnitScales};
-use super::values::{check_keys, number, type_name, Ctx};
+use super::values::Ctx;
 use crate::model::Wall;
-use toml::{Table, Value};
 
 /// What a wall defaults to: the chain's length, exponents and prefactors, the scales and material of a
 /// physical scene.
@@ -27,104 +27,68 @@ pub(super) struct WallDefaults<'a> {
     pub precompression_force: Option<f64>,
 }
 
-/// The left and right walls (`None` where absent).
+/// The left and right walls with their keys (`None` where absent).
 pub(super) fn walls(
     ctx: &Ctx,
     t: &Tables,
     d: &WallDefaults,
-) -> Result<[Option<Wall>; 2], SceneError> {
+) -> Result<[Option<(Wall, WallKeys)>; 2], SceneError> {
     let Len { nb, nc } = d.len;
     let mut walls = [None, None];
-    for (side, slot) in ["left", "right"].iter().zip(walls.iter_mut()) {
-        let Some(v) = get(t.walls, side) else {
+    let sides = [("left", &t.walls.left), ("right", &t.walls.right)];
+    for ((side, v), slot) in sides.into_iter().zip(walls.iter_mut()) {
+        let k = kp("walls", side);
+        let shape = "a table { exponent, prefactor, precompression }";
+        let Some(wt) = table_of::<WallKeys>(ctx, &k, v.as_ref(), shape)? else {
             continue;
         };
-        let k = kp("walls", side);
-        let wt = wall_table(ctx, &k, v, d.physical)?;
-        let (bead, contact) = if *side == "left" {
+        if !d.physical {
+            let si = [
+                ("prefactor_si", &wt.prefactor_si),
+                ("damping_si", &wt.damping_si),
+            ];
+            forbid(ctx, &k, &si, PHYSICAL_ONLY)?;
+        }
+        let (bead, contact) = if side == "left" {
             (0, 0)
         } else {
             (nb - 1, nc - 1)
         };
-        *slot = Some(wall(ctx, t.units, &k, wt, d, bead, contact)?);
+        *slot = Some((wall(ctx, &t.units, &k, &wt, d, bead, contact)?, wt));
     }
     Ok(walls)
-}
-
-/// The wall's table, its keys checked.
-fn wall_table<'a>(
-    ctx: &Ctx,
-    k: &str,
-    v: &'a Value,
-    physical: bool,
-) -> Result<&'a Table, SceneError> {
-    let wt = v.as_table().ok_or_else(|| {
-        ctx.err(
-            k,
-            format!(
-                "expected a table {{ exponent, prefactor, precompression }}, got {}",
-                type_name(v)
-            ),
-        )
-    })?;
-    let allowed: &[&str] = if physical {
-        &[
-            "exponent",
-            "prefactor",
-            "prefactor_si",
-            "precompression",
-            "hard",
-            "restitution",
-            "damping",
-            "damping_si",
-        ]
-    } else {
-        &[
-            "exponent",
-            "prefactor",
-            "precompression",
-            "hard",
-            "restitution",
-            "damping",
-        ]
-    };
-    check_keys(ctx, k, wt, allowed)?;
-    Ok(wt)
 }
 
 /// One wall next to `bead` (the end contact `contact`).
 fn wall(
     ctx: &Ctx,
-    units_t: Option<&Table>,
+    u: &UnitsKeys,
     k: &str,
-    wt: &Table,
+    wt: &WallKeys,
     d: &WallDefaults,
     bead: usize,
     contact: usize,
 ) -> Result<Wall, SceneError> {
-    let num = |key: &str| {
-        wt.get(key)
-            .map(|x| number(ctx, &format!("{k}.{key}"), x))
-            .transpose()
-    };
-    let exponent = num("exponent")?.unwrap_or(d.exponent[contact]);
-    if wt.contains_key("prefactor") && wt.contains_key("prefactor_si") {
+    let num = |key: &str, v: &Opt| opt_num(ctx, &format!("{k}.{key}"), v);
+    let exponent = num("exponent", &wt.exponent)?.unwrap_or(d.exponent[contact]);
+    if wt.prefactor.is_some() && wt.prefactor_si.is_some() {
         return Err(ctx.err(
             &format!("{k}.prefactor_si"),
             "give either `prefactor` or `prefactor_si`, not both",
         ));
     }
     let prefactor = match (
-        num("prefactor")?,
-        num("prefactor_si")?,
+        num("prefactor", &wt.prefactor)?,
+        num("prefactor_si", &wt.prefactor_si)?,
         d.scales,
         d.material,
     ) {
         (Some(a), _, _, _) => a,
         (None, Some(a), Some(sc), _) => sc.prefactor(a),
         (None, None, Some(sc), Some(mat)) => {
-            let yw = opt_num(ctx, units_t, "units", "wall_young")?.unwrap_or(mat.young[bead]);
-            let sw = opt_num(ctx, units_t, "units", "wall_poisson")?.unwrap_or(mat.poisson[bead]);
+            let yw = opt_num(ctx, "[units].wall_young", &u.wall_young)?.unwrap_or(mat.young[bead]);
+            let sw =
+                opt_num(ctx, "[units].wall_poisson", &u.wall_poisson)?.unwrap_or(mat.poisson[bead]);
             let dd = units::hertz_d(mat.young[bead], mat.poisson[bead], yw, sw);
             sc.prefactor(units::hertz_wall_prefactor(mat.radius[bead], dd))
         }
@@ -135,7 +99,7 @@ fn wall(
         (Some(f), None) => crate::studies::equilibrium::overlap_for_force(exponent, prefactor, f),
         _ => 0.0,
     };
-    let precompression = num("precompression")?.unwrap_or(from_force);
+    let precompression = num("precompression", &wt.precompression)?.unwrap_or(from_force);
     Ok(Wall {
         exponent,
         prefactor,
