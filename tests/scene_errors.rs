@@ -312,3 +312,23 @@ fn every_scene_table_refuses_an_unknown_key_naming_file_key_path_and_its_keys() 
     let m = err(&format!("[scene]\nname = 1979-05-27\n{chain}{RUN}"));
     assert_eq!(m, "t.toml: [scene].name: expected a string, got a date");
 }
+
+/// A quoted key may hold the words ", expected " of serde's own message: the list of the
+/// table's keys is what follows the message's last ", expected " (the reader split at the first
+/// one, so the key's tail leaked into the list: "expected one of: y, expected one of beads, …").
+#[test]
+fn unknown_key_holding_the_word_expected_lists_the_tables_keys() {
+    let chain = "beads, mass, exponent, prefactor, precompression, precompression_force, precompression_force_si, radius, law, damping, damping_si, restitution, impact_speed, impact_speed_si";
+    let m = err(&format!("[chain]\nbeads = 4\n\"x, expected y\" = 1\n{RUN}"));
+    assert_eq!(
+        m,
+        format!("t.toml: [chain].x, expected y: unknown key (expected one of: {chain})")
+    );
+    let m = err(&format!(
+        "\"a, expected one of b\" = 1\n[chain]\nbeads = 4\n{RUN}"
+    ));
+    assert_eq!(
+        m,
+        "t.toml: [a, expected one of b]: unknown table or key (expected one of: scene, chain, initial, run, field, walls, units, hard, output)"
+    );
+}

@@ -153,8 +153,10 @@ pub(crate) fn read_keys<T: DeserializeOwned>(t: &Table) -> Result<T, (String, St
             .iter()
             .next_back()
             .map_or(String::new(), |s| s.to_string());
+        // serde's "unknown field `KEY`, expected one of `a`, `b`": the list follows the last
+        // ", expected " (a quoted key may hold the words itself; the keys never do)
         let m = e.inner().message();
-        let keys = m.split_once(", expected ").map_or("", |(_, k)| k);
+        let keys = m.rsplit_once(", expected ").map_or("", |(_, k)| k);
         let keys = keys.trim_start_matches("one of ").replace('`', "");
         (one_line(&key), keys.replace(" or ", ", "))
     })
