@@ -364,7 +364,9 @@ fn scene_output_keys_select_and_options_override_them() {
 fn bad_scene_output_keys_are_one_line_errors_naming_the_key() {
     let cases = [
         ("beads = [2, 0]", "beads = \"9\"", "[output].beads: bead 9 is out of range: the chain has 4 beads (indices 0 to 3)"),
-        ("beads = [2, 0]", "beads = [0, -1]", "[output].beads: expected a bead index, a string such as \"0:100:10\" or an array of bead indices, got an array with an invalid item"),
+        // the array's bad item is named by its position (it said only "an array with an invalid item")
+        ("beads = [2, 0]", "beads = [0, -1]", "[output].beads[1]: expected a bead index (an integer >= 0), got -1"),
+        ("fields = \"v\"", "fields = [\"u\", 3]", "[output].fields[1]: expected a field name (a string), got 3"),
         ("beads = [2, 0]", "beads = [1, 1]", "[output].beads: bead 1 is selected twice"),
         ("beads = [2, 0]", "beads = 1.5", "[output].beads: expected a bead index, a string such as \"0:100:10\" or an array of bead indices, got a number"),
         ("fields = \"v\"", "fields = \"w\"", "[output].fields: unknown field 'w': expected u, v or u,v (displacements, velocities)"),

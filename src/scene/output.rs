@@ -19,9 +19,21 @@ use super::tables::OutputKeys;
 use super::values::{type_name, Ctx};
 use toml::Value;
 
-const BEADS_EXPECTED: &str =
-    "a bead index, a string such as \"0:100:10\" or an array of bead indices";
-const FIELDS_EXPECTED: &str = "a string such as \"u,v\" or an array of field names";
+/// What a value of an `[output]` key may be, and what each item of its array may be.
+#[derive(Clone, Copy)]
+struct Expected {
+    all: &'static str,
+    item: &'static str,
+}
+
+const BEADS_EXPECTED: Expected = Expected {
+    all: "a bead index, a string such as \"0:100:10\" or an array of bead indices",
+    item: "a bead index (an integer >= 0)",
+};
+const FIELDS_EXPECTED: Expected = Expected {
+    all: "a string such as \"u,v\" or an array of field names",
+    item: "a field name (a string)",
+};
 
 /// The `[output]` table of a chain of `nb` beads (`None` when the scene has none).
 pub(crate) fn parse_output(
@@ -76,17 +88,18 @@ fn spec_text(
     ctx: &Ctx,
     key: &str,
     v: &Value,
-    expected: &str,
+    expected: Expected,
     item: impl Fn(&Value) -> Option<String>,
 ) -> Result<String, SceneError> {
-    let bad = |what: &str| ctx.err(key, format!("expected {expected}, got {what}"));
+    let bad = |what: &str| ctx.err(key, format!("expected {}, got {what}", expected.all));
     match v {
         Value::String(s) => Ok(s.clone()),
         Value::Array(a) => {
-            let items: Option<Vec<String>> = a.iter().map(&item).collect();
-            items
-                .map(|i| i.join(","))
-                .ok_or_else(|| bad("an array with an invalid item"))
+            let items = a.iter().enumerate().map(|(i, x)| {
+                let what = format!("expected {}, got {x}", expected.item);
+                item(x).ok_or_else(|| ctx.err(&format!("{key}[{i}]"), what))
+            });
+            Ok(items.collect::<Result<Vec<_>, _>>()?.join(","))
         }
         other => item(other).ok_or_else(|| bad(type_name(other))),
     }
