@@ -283,6 +283,23 @@ fn scene_name_with_a_path_is_refused() {
     assert_eq!(std::fs::read_dir(&p).unwrap().count(), 1);
 }
 
+/// A newline in `[scene].name` split the warnings that carry the name and the exports' one-line
+/// `# scene:` comment over two lines (the binary before accepted it and wrote a snapshot whose
+/// file name holds the newline); a control character is refused like a path.
+#[test]
+fn scene_name_with_a_control_character_is_refused() {
+    let d = tempfile::tempdir().expect("tempdir");
+    let p = d.path();
+    for name in ["evil\\nname", "tab\\there", "bell\\u0007"] {
+        let text = format!("[scene]\nname = \"{name}\"\n{TINY}");
+        std::fs::write(p.join("s.toml"), text).unwrap();
+        let o = bc(p, &["run", "s.toml"]);
+        let line = assert_refused(&o, &["s.toml", "[scene].name", "not a plain file name"]);
+        assert!(line.contains("control character"), "{line}");
+    }
+    assert_eq!(std::fs::read_dir(p).unwrap().count(), 1);
+}
+
 #[test]
 fn stale_temp_of_a_dead_process_is_removed() {
     let d = tempfile::tempdir().expect("tempdir");

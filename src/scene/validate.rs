@@ -222,14 +222,20 @@ fn warn_soft_contacts(file: &str, c: &Chain, warnings: &mut Vec<String>) {
 }
 
 /// `[scene].name` names the default output `<name>.snap` in the working directory, so it must be
-/// a plain file stem: not empty, not `.`/`..`, no `/`, `\` or NUL.
+/// a plain file stem: not empty, not `.`/`..`, no `/`, `\`, NUL or other control character.
 fn check_name(ctx: &Ctx, name: &str) -> Result<(), SceneError> {
-    let bad = name.is_empty() || name == "." || name == ".." || name.contains(['/', '\\', '\0']);
+    // a control character (a newline) would also split the one-line messages and the
+    // exports' `# scene:` comment line that carry the name
+    let bad = name.is_empty()
+        || name == "."
+        || name == ".."
+        || name.contains(['/', '\\'])
+        || name.chars().any(char::is_control);
     if bad {
         return Err(ctx.err(
             "[scene].name",
             format!(
-                "{name:?} is not a plain file name (it names the output <name>.snap in the working directory: no /, \\, NUL, . or ..)"
+                "{name:?} is not a plain file name (it names the output <name>.snap in the working directory: no /, \\, NUL or other control character, . or ..)"
             ),
         ));
     }
