@@ -332,3 +332,23 @@ fn unknown_key_holding_the_word_expected_lists_the_tables_keys() {
         "t.toml: [a, expected one of b]: unknown table or key (expected one of: scene, chain, initial, run, field, walls, units, hard, output)"
     );
 }
+
+/// A wall's damping keys are named by the same key path as every other wall key
+/// (`[walls].left.damping`); the damping reader wrote `[walls.left].damping`.
+#[test]
+fn wall_damping_errors_name_the_key_path_like_every_wall_key() {
+    let m = err(&format!(
+        "[chain]\nbeads = 4\n[walls]\nright = {{ damping = 0.1 }}\n{RUN}"
+    ));
+    assert_eq!(
+        m,
+        "t.toml: [walls].right.damping: needs a dissipative law ([chain] law = \"viscoelastic\" or \"linear_dashpot\")"
+    );
+    let m = err(&format!(
+        "[chain]\nbeads = 4\nlaw = \"linear_dashpot\"\ndamping = 0.1\n[walls]\nleft = {{ damping = \"x\" }}\n{RUN}"
+    ));
+    assert_eq!(
+        m,
+        "t.toml: [walls].left.damping: expected a number, got a string"
+    );
+}

@@ -70,7 +70,7 @@ pub(crate) fn parse(
     };
     let mut wall = [0.0; 2];
     for (s, side) in ["left", "right"].iter().enumerate() {
-        let key = format!("[walls.{side}]");
+        let key = format!("[walls].{side}");
         let [plain, si] = wall_damping(&walls[s]);
         let value = match (
             opt_num(ctx, &format!("{key}.damping"), plain.1)?,
@@ -140,7 +140,7 @@ fn refuse_damping_keys(
     let why = "needs a dissipative law ([chain] law = \"viscoelastic\" or \"linear_dashpot\")";
     forbid(ctx, "[chain]", &damping_keys(c), why)?;
     for (side, wall) in ["left", "right"].into_iter().zip(walls) {
-        forbid(ctx, &format!("[walls.{side}]"), &wall_damping(wall), why)?;
+        forbid(ctx, &format!("[walls].{side}"), &wall_damping(wall), why)?;
     }
     Ok(())
 }
