@@ -84,9 +84,11 @@ fn physical_scene_warns_on_an_initial_overlap_larger_than_a_radius() {
     let init = "striker_si = 0.1\ndisplacement = { base = 0.0, segments = [{ from = 0, to = 0, value = 0.01 }] }";
     let lines = run_scene(&steel(init, "until_si = 1e-7"), &[]);
     assert_eq!(lines.len(), 2, "{lines:?}");
+    // the end time was given as `until_si`: the warning names that key, in seconds, without the
+    // units advice (it named `[run].until` and advised `until_si`, which the scene uses)
     assert!(
-        lines[1].contains(
-            "[run].until: 0.11040913187338106 (1.0000e-7 s) is shorter than one contact time"
+        lines[1].ends_with(
+            "[run].until_si: 1.0000e-7 s is shorter than one contact time of the fastest initial collision (3.6657e-5 s, contact 0)"
         ),
         "{lines:?}"
     );
@@ -128,6 +130,20 @@ fn until_in_a_physical_scene_warns_when_shorter_than_a_contact() {
     );
     assert_ok(&o);
     assert!(stderr_lines(&o).is_empty(), "{:?}", stderr_lines(&o));
+    // Seconds too short: named as given, no advice on units (it advised `--until-si`).
+    let args = [
+        "run",
+        "hertz_spheres_physical",
+        "--quiet",
+        "--until-si",
+        "1e-6",
+    ];
+    let o = bc(dir.path(), &args);
+    assert_ok(&o);
+    assert_eq!(
+        stderr_lines(&o),
+        vec!["beadchain: warning: hertz_spheres_physical: --until-si: 1.0000e-6 s is shorter than one contact time of the fastest initial collision (3.5965e-5 s, contact 0)"]
+    );
     // A dimensionless scene never gets these warnings (its units are the user's).
     let o = bc(
         dir.path(),

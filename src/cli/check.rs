@@ -21,9 +21,10 @@ pub struct CheckArgs {
 
 /// Runs `beadchain check`; returns the exit code (1 when the engines disagree).
 pub fn cmd_check(a: CheckArgs) -> Result<i32> {
-    let (scene, material) = super::common::load_scene_with_material(&a.common.scene)?;
+    let p = super::common::load_scene_with_material(&a.common.scene)?;
+    let scene = p.scene;
     let base = config(&scene, &overrides(&scene, &a.common)?);
-    super::common::warn_implausible(&scene, material.as_ref(), &base, &a.common);
+    super::common::warn_implausible(&scene, p.material.as_ref(), p.until_key, &base, &a.common);
     engine::check_config(&scene, &base).with_context(|| scene.name.clone())?;
     let tol = a.tol.unwrap_or(1000.0 * base.rtol);
     compare(&scene, &base, tol, a.common.quiet)

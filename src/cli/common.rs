@@ -64,13 +64,14 @@ const RTOL_F64_FLOOR: f64 = 1e-14;
 /// Loads a scene (file or preset) and prints its validation warnings on standard error (each
 /// warning already names the scene: `beadchain: warning: NAME: KEY: ...`).
 pub fn load_scene(spec: &str) -> Result<Scene> {
-    load_scene_with_material(spec).map(|(s, _)| s)
+    load_scene_with_material(spec).map(|p| p.scene)
 }
 
-/// [`load_scene`], with the SI bead material of a physical scene (for [`warn_implausible`]).
+/// [`load_scene`], with what the resolved scene does not keep (the SI bead material of a
+/// physical scene and the key of its end time, for [`warn_implausible`]).
 /// Also prints the warnings of the scene's construction ([`scene::Parsed::warnings`]: the gaps
 /// that `[initial] equilibrium = true` leaves).
-pub fn load_scene_with_material(spec: &str) -> Result<(Scene, Option<BeadMaterial>)> {
+pub fn load_scene_with_material(spec: &str) -> Result<scene::Parsed> {
     let parsed = scene::load_full(spec).map_err(not_found_hint)?;
     for w in parsed
         .warnings
@@ -79,7 +80,7 @@ pub fn load_scene_with_material(spec: &str) -> Result<(Scene, Option<BeadMateria
     {
         eprintln!("beadchain: warning: {w}");
     }
-    Ok((parsed.scene, parsed.material))
+    Ok(parsed)
 }
 
 /// A scene that is neither a file nor a preset: the nearest preset names instead of the whole
@@ -100,13 +101,14 @@ fn not_found_hint(e: scene::SceneError) -> anyhow::Error {
 pub fn warn_implausible(
     scene: &Scene,
     material: Option<&BeadMaterial>,
+    until_key: &str,
     cfg: &RunConfig,
     c: &Common,
 ) {
     let key = match (c.until, c.until_si) {
         (Some(_), _) => "--until",
         (None, Some(_)) => "--until-si",
-        _ => "[run].until",
+        _ => until_key,
     };
     for w in scene::plausible::warnings(scene, material, cfg.until, key) {
         eprintln!("beadchain: warning: {w}");

@@ -8,7 +8,7 @@ use super::select::OutputArgs;
 use anyhow::{bail, Context, Result};
 use beadchain::engine::{self, RunConfig, RunOutcome, RunOverrides};
 use beadchain::progress::RunProgress;
-use beadchain::scene::{Engine, Scene};
+use beadchain::scene::{self, Engine, Scene};
 use beadchain::snapshot::{Header, Selection, SnapshotWriter};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -52,7 +52,12 @@ pub struct RunArgs {
 
 /// Runs `beadchain run`; returns the exit code.
 pub fn cmd_run(a: RunArgs) -> Result<i32> {
-    let (mut scene, material) = load_scene_with_material(&a.common.scene)?;
+    let scene::Parsed {
+        mut scene,
+        material,
+        until_key,
+        ..
+    } = load_scene_with_material(&a.common.scene)?;
     let o = RunOverrides {
         engine: a.engine,
         every: match a.every_si {
@@ -62,7 +67,7 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
         ..overrides(&scene, &a.common)?
     };
     let cfg = config(&scene, &o);
-    super::common::warn_implausible(&scene, material.as_ref(), &cfg, &a.common);
+    super::common::warn_implausible(&scene, material.as_ref(), until_key, &cfg, &a.common);
     engine::check_config(&scene, &cfg).with_context(|| scene.name.clone())?;
     warn_every_past_until(&a, &scene, &cfg);
     scene.run.until = cfg.until;

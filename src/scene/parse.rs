@@ -41,6 +41,9 @@ pub struct Parsed {
     /// Warnings of the construction, one line each naming the file and key (the gaps that
     /// `[initial] equilibrium = true` leaves); [`super::validate`] adds those of the scene.
     pub warnings: Vec<String>,
+    /// The key that gave the end time, `[run].until` or `[run].until_si` (seconds), which the
+    /// resolved scene holds in computer units: warnings about the end time name it.
+    pub until_key: &'static str,
 }
 
 /// [`parse_str`], with the bead material and the construction's warnings ([`Parsed`]).
@@ -167,10 +170,15 @@ fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Parsed, SceneErr
     super::solitary::apply(ctx, &t, physical, scales, &mut scene)?;
     super::hard::default_collapse_interval(&mut scene);
     let warnings = statics::apply(ctx, &t, &mut scene)?;
+    let until_key = match t.run.until_si {
+        Some(_) => "[run].until_si",
+        None => "[run].until",
+    };
     Ok(Parsed {
         scene,
         material,
         warnings,
+        until_key,
     })
 }
 

@@ -43,7 +43,9 @@ fn velocity_key(bead: usize, v: f64, nb: usize) -> (&'static str, &'static str) 
 }
 
 /// The warnings of a physical scene run until `until` (computer units; `until_key` names where
-/// it came from: `[run].until` or a command-line option); none for a dimensionless scene.
+/// it came from: `[run].until`, `[run].until_si` or a command-line option; a key ending in `si`
+/// was given in seconds, so its warning gives no advice on units); none for a dimensionless
+/// scene.
 pub fn warnings(
     scene: &Scene,
     material: Option<&BeadMaterial>,
@@ -106,11 +108,14 @@ pub fn warnings(
     if let Some((k, w)) = fastest {
         let mu = c.mass[k] * c.mass[k + 1] / (c.mass[k] + c.mass[k + 1]);
         let (_, tc) = collision(mu, w, c.exponent[k], c.prefactor[k]);
-        if until < tc {
+        let (until_s, tc_s) = (until * sc.time, tc * sc.time);
+        if until < tc && until_key.ends_with("si") {
             out.push(format!(
-                "{name}: {until_key}: {until} ({:.4e} s) is shorter than one contact time of the fastest initial collision ({tc:.4e} = {:.4e} s, contact {k}): plain times are computer units; for seconds use `until_si` or `--until-si`",
-                until * sc.time,
-                tc * sc.time
+                "{name}: {until_key}: {until_s:.4e} s is shorter than one contact time of the fastest initial collision ({tc_s:.4e} s, contact {k})"
+            ));
+        } else if until < tc {
+            out.push(format!(
+                "{name}: {until_key}: {until} ({until_s:.4e} s) is shorter than one contact time of the fastest initial collision ({tc:.4e} = {tc_s:.4e} s, contact {k}): plain times are computer units; for seconds use `until_si` or `--until-si`"
             ));
         }
     }
