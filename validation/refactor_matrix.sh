@@ -2,7 +2,8 @@
 # The "changed nothing" check of a refactor (issue 34): every preset run by the binary before
 # and the binary after, compared byte for byte (snapshot files, frames, event log;
 # validation/compare_presets.sh), at the default settings and across tolerances, engines and
-# methods, and with an output selection. Runs both binaries refuse with the same message count as the same.
+# methods, and with an output selection. Runs both binaries refuse with the same message count
+# as the same.
 # Usage: validation/refactor_matrix.sh OLD NEW; exit 1 if any run differs. About 20 minutes
 # on 2 cores.
 set -euo pipefail
