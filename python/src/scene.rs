@@ -116,7 +116,7 @@ impl Scene {
             ))
         })?;
         let parsed =
-            scene::parse::parse_table(&root, Path::new(base_dir), origin).map_err(scene_err)?;
+            scene::parse::parse_table(root, Path::new(base_dir), origin).map_err(scene_err)?;
         Ok((Self::parsed(parsed)?, text))
     }
 

@@ -2,7 +2,7 @@
 //! (`alternate`, `random`, `taper`, `segments`, `impurity`, `gaussian`) and applying the taper,
 //! the segments and the Gaussian noise (eq. B.1; Box–Muller, cosine branch) to resolved values.
 
-use super::ctx::{index, number, table_keys, table_of, type_name, Ctx, Per};
+use super::ctx::{index, number, table_keys, table_of, type_name, Ctx, Per, TakeKeys};
 use super::error::SceneError;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -39,7 +39,7 @@ table_keys! {
 }
 
 /// A sub-table of a builder key, as `T`.
-fn sub_table<T: DeserializeOwned + Default>(
+fn sub_table<T: DeserializeOwned + TakeKeys + Default>(
     ctx: &Ctx,
     key: &str,
     v: &Value,

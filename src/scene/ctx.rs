@@ -132,22 +132,42 @@ pub(crate) fn index(ctx: &Ctx, key: &str, v: &Value) -> Result<usize, SceneError
 
 /// Declares the structs of scene tables: each field is a key of the table, its value kept as
 /// TOML for the reader of its forms (numbers, arrays, builders, CSVs). serde refuses any other
-/// key ([`fields`]), so a struct is the list of its table's keys.
+/// key ([`fields`]), so a struct is the list of its table's keys; [`TakeKeys`] moves the values
+/// of those keys out of the table.
 macro_rules! table_keys {
     ($($(#[$m:meta])* $name:ident { $($key:ident),* $(,)? })*) => {$(
         $(#[$m])*
         #[derive(Default, serde::Deserialize)]
         #[serde(deny_unknown_fields)]
         pub(crate) struct $name { $(pub $key: Option<toml::Value>,)* }
+
+        impl $crate::scene::ctx::TakeKeys for $name {
+            fn take(mut t: toml::Table) -> Self {
+                Self { $($key: t.remove(stringify!($key)),)* }
+            }
+        }
     )*};
 }
 pub(crate) use table_keys;
 
-/// Reads table `t` into `T` (a [`table_keys`] struct). An unknown key is `Err((key, keys))`:
-/// the key and the keys `T` has, comma-separated.
-pub(crate) fn read_keys<T: DeserializeOwned>(t: &Table) -> Result<T, (String, String)> {
-    let t = Value::Table(t.iter().map(|(k, v)| (k.clone(), dates_kept(v))).collect());
-    serde_path_to_error::deserialize(t).map_err(|e| {
+/// A [`table_keys`] struct built by moving its keys' values out of a table.
+pub(crate) trait TakeKeys {
+    /// The struct of `t`'s values (a key `t` lacks is `None`; `t`'s other keys are dropped).
+    fn take(t: Table) -> Self;
+}
+
+/// Reads table `t` into `T` (a [`table_keys`] struct). serde checks the keys, on a copy of the
+/// table with every value replaced by `false` (every field of `T` takes any value); the values
+/// are then moved into `T` ([`TakeKeys`]): a scene's arrays of millions of beads are neither
+/// copied nor rebuilt, and a date stays a date. An unknown key is `Err((key, keys))`: the key
+/// and the keys `T` has, comma-separated.
+pub(crate) fn read_keys<T: DeserializeOwned + TakeKeys>(t: Table) -> Result<T, (String, String)> {
+    let keys_only = Value::Table(
+        t.keys()
+            .map(|k| (k.clone(), Value::Boolean(false)))
+            .collect(),
+    );
+    serde_path_to_error::deserialize::<_, T>(keys_only).map_err(|e| {
         let key = e
             .path()
             .iter()
@@ -159,31 +179,25 @@ pub(crate) fn read_keys<T: DeserializeOwned>(t: &Table) -> Result<T, (String, St
         let keys = m.rsplit_once(", expected ").map_or("", |(_, k)| k);
         let keys = keys.trim_start_matches("one of ").replace('`', "");
         (one_line(&key), keys.replace(" or ", ", "))
-    })
-}
-
-/// `v` with every date written as the one-key table that serde reads back as a TOML date
-/// (the deserializer of a [`Value`] hands a date on as a string: messages say "got a date").
-fn dates_kept(v: &Value) -> Value {
-    match v {
-        Value::Datetime(d) => Value::Table(Table::from_iter([(
-            "$__toml_private_datetime".to_string(),
-            Value::String(d.to_string()),
-        )])),
-        Value::Array(a) => Value::Array(a.iter().map(dates_kept).collect()),
-        Value::Table(t) => {
-            Value::Table(t.iter().map(|(k, v)| (k.clone(), dates_kept(v))).collect())
-        }
-        v => v.clone(),
-    }
+    })?;
+    Ok(T::take(t))
 }
 
 /// The keys of table `t` at key path `path` as `T` (a [`table_keys`] struct); an unknown key
 /// is refused, naming it and the keys the table has.
-pub(crate) fn fields<T: DeserializeOwned>(
+pub(crate) fn fields<T: DeserializeOwned + TakeKeys>(
     ctx: &Ctx,
     path: &str,
     t: &Table,
+) -> Result<T, SceneError> {
+    fields_owned(ctx, path, t.clone())
+}
+
+/// [`fields`] of a table the caller gives up (its values are moved, not copied).
+fn fields_owned<T: DeserializeOwned + TakeKeys>(
+    ctx: &Ctx,
+    path: &str,
+    t: Table,
 ) -> Result<T, SceneError> {
     read_keys(t).map_err(|(k, keys)| {
         ctx.err(
@@ -195,7 +209,7 @@ pub(crate) fn fields<T: DeserializeOwned>(
 
 /// [`fields`] of the table `v` (`None` when absent); another value is refused as not
 /// `expected` (`"a table"`, `"a table { beads, velocity }"`).
-pub(crate) fn table_of<T: DeserializeOwned>(
+pub(crate) fn table_of<T: DeserializeOwned + TakeKeys>(
     ctx: &Ctx,
     key: &str,
     v: Option<&Value>,
@@ -205,5 +219,19 @@ pub(crate) fn table_of<T: DeserializeOwned>(
         None => Ok(None),
         Some(Value::Table(t)) => fields(ctx, key, t).map(Some),
         Some(v) => Err(ctx.err(key, format!("expected {expected}, got {}", type_name(v)))),
+    }
+}
+
+/// [`table_of`] of a value the caller gives up (a whole scene table: its values are moved).
+pub(crate) fn table_of_owned<T: DeserializeOwned + TakeKeys>(
+    ctx: &Ctx,
+    key: &str,
+    v: Option<Value>,
+    expected: &str,
+) -> Result<Option<T>, SceneError> {
+    match v {
+        None => Ok(None),
+        Some(Value::Table(t)) => fields_owned(ctx, key, t).map(Some),
+        Some(v) => Err(ctx.err(key, format!("expected {expected}, got {}", type_name(&v)))),
     }
 }

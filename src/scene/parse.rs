@@ -50,7 +50,7 @@ pub struct Parsed {
 pub fn parse_full(text: &str, base_dir: &Path, origin: &str) -> Result<Parsed, SceneError> {
     let origin = one_line(origin);
     let root: Table = toml::from_str(text).map_err(|e| syntax_error(&origin, text, &e))?;
-    parse_table(&root, base_dir, &origin)
+    parse_table(root, base_dir, &origin)
 }
 
 /// [`parse_full`] of an already parsed TOML document (the Python package's `Scene(...)` passes
@@ -58,7 +58,7 @@ pub fn parse_full(text: &str, base_dir: &Path, origin: &str) -> Result<Parsed, S
 /// [`parse_full`] reads into a [`Table`] and hands here. `origin` names the scene in messages
 /// (its stem is the default scene name), `base_dir` resolves `{ file = ... }` CSVs. The result
 /// is validated.
-pub fn parse_table(root: &Table, base_dir: &Path, origin: &str) -> Result<Parsed, SceneError> {
+pub fn parse_table(root: Table, base_dir: &Path, origin: &str) -> Result<Parsed, SceneError> {
     let origin = one_line(origin);
     let parsed = build(root, base_dir, &origin)?;
     validate_in(&parsed.scene, &origin)?;
@@ -97,7 +97,7 @@ fn syntax_error(file: &str, text: &str, e: &toml::de::Error) -> SceneError {
 /// ([`super::arrays`]), masses and prefactors ([`super::material`]), initial state and field
 /// ([`super::initial`]), walls ([`super::walls`]) and damping ([`super::damping`]), run settings
 /// with `[hard]` and `[output]` ([`super::settings`]).
-fn build(root: &Table, base_dir: &Path, origin: &str) -> Result<Parsed, SceneError> {
+fn build(root: Table, base_dir: &Path, origin: &str) -> Result<Parsed, SceneError> {
     let pre = Ctx {
         file: origin,
         base_dir,
@@ -292,7 +292,7 @@ mod tests {
         };
         let here = Path::new(".");
         let a = parse_full(&text, here, "c.toml").unwrap();
-        let b = parse_table(&root, here, "c.toml").unwrap();
+        let b = parse_table(root.clone(), here, "c.toml").unwrap();
         assert_eq!(a.scene, b.scene);
         assert_eq!(a.scene.name, "c");
         assert_eq!(a.scene.chain.mass, mass);
@@ -309,7 +309,9 @@ mod tests {
         let ea = parse_full(&text_bad, here, "c.toml")
             .unwrap_err()
             .to_string();
-        let eb = parse_table(&bad, here, "c.toml").unwrap_err().to_string();
+        let eb = parse_table(bad.clone(), here, "c.toml")
+            .unwrap_err()
+            .to_string();
         assert_eq!(ea, eb);
         assert!(ea.starts_with("c.toml: [run].until: "), "{ea}");
     }

@@ -4,7 +4,7 @@
 //! keys and `[units]` material data only in physical scenes; explicit masses and prefactors only
 //! in dimensionless ones). First step of [`super::parse::parse_str`].
 
-use super::ctx::{read_keys, table_keys, table_of};
+use super::ctx::{read_keys, table_keys, table_of_owned, TakeKeys};
 use super::error::SceneError;
 use super::keys::{forbid, kp, opt_num, opt_str, Opt, PHYSICAL_ONLY};
 use super::units::UnitScales;
@@ -69,25 +69,25 @@ pub(super) struct Tables {
     pub output: Opt,
 }
 
-/// `[name]` of the scene as `T` (empty when absent).
-fn section<T: serde::de::DeserializeOwned + Default>(
+/// `[name]` of the scene as `T` (empty when absent); its values are moved, not copied.
+fn section<T: serde::de::DeserializeOwned + TakeKeys + Default>(
     ctx: &Ctx,
     name: &str,
-    v: &Opt,
+    v: Opt,
 ) -> Result<T, SceneError> {
-    table_of(ctx, &format!("[{name}]"), v.as_ref(), "a table").map(Option::unwrap_or_default)
+    table_of_owned(ctx, &format!("[{name}]"), v, "a table").map(Option::unwrap_or_default)
 }
 
 /// Refuses unknown top-level tables, reads `[scene]` and its seed (the seed of every random
 /// builder: messages of later tables are reported with it).
-pub(super) fn scene_table(pre: &Ctx, root: &Table) -> Result<(Root, SceneKeys, u64), SceneError> {
-    let root: Root = read_keys(root).map_err(|(k, keys)| {
+pub(super) fn scene_table(pre: &Ctx, root: Table) -> Result<(Root, SceneKeys, u64), SceneError> {
+    let mut root: Root = read_keys(root).map_err(|(k, keys)| {
         pre.err(
             &format!("[{k}]"),
             format!("unknown table or key (expected one of: {keys})"),
         )
     })?;
-    let scene: SceneKeys = section(pre, "scene", &root.scene)?;
+    let scene: SceneKeys = section(pre, "scene", root.scene.take())?;
     let seed = match &scene.seed {
         Some(Value::Integer(i)) if *i >= 0 => *i as u64,
         Some(v) => {
@@ -106,12 +106,12 @@ pub(super) fn scene_table(pre: &Ctx, root: &Table) -> Result<(Root, SceneKeys, u
 pub(super) fn read_tables(ctx: &Ctx, root: Root, scene: SceneKeys) -> Result<Tables, SceneError> {
     Ok(Tables {
         scene,
-        chain: section(ctx, "chain", &root.chain)?,
-        units: section(ctx, "units", &root.units)?,
-        initial: section(ctx, "initial", &root.initial)?,
-        run: section(ctx, "run", &root.run)?,
-        field: section(ctx, "field", &root.field)?,
-        walls: section(ctx, "walls", &root.walls)?,
+        chain: section(ctx, "chain", root.chain)?,
+        units: section(ctx, "units", root.units)?,
+        initial: section(ctx, "initial", root.initial)?,
+        run: section(ctx, "run", root.run)?,
+        field: section(ctx, "field", root.field)?,
+        walls: section(ctx, "walls", root.walls)?,
         hard: root.hard,
         output: root.output,
     })
