@@ -133,7 +133,8 @@ pub(crate) fn index(ctx: &Ctx, key: &str, v: &Value) -> Result<usize, SceneError
 /// Declares the structs of scene tables: each field is a key of the table, its value kept as
 /// TOML for the reader of its forms (numbers, arrays, builders, CSVs). serde refuses any other
 /// key ([`fields`]), so a struct is the list of its table's keys; [`TakeKeys`] moves the values
-/// of those keys out of the table.
+/// of those keys out of the table by the same names (`stringify!`), so a key must be a plain
+/// identifier (no `r#`) and the structs take no serde renaming attributes.
 macro_rules! table_keys {
     ($($(#[$m:meta])* $name:ident { $($key:ident),* $(,)? })*) => {$(
         $(#[$m])*

@@ -96,8 +96,8 @@ fn spec_text(
         Value::String(s) => Ok(s.clone()),
         Value::Array(a) => {
             let items = a.iter().enumerate().map(|(i, x)| {
-                let what = format!("expected {}, got {x}", expected.item);
-                item(x).ok_or_else(|| ctx.err(&format!("{key}[{i}]"), what))
+                let what = || format!("expected {}, got {x}", expected.item);
+                item(x).ok_or_else(|| ctx.err(&format!("{key}[{i}]"), what()))
             });
             Ok(items.collect::<Result<Vec<_>, _>>()?.join(","))
         }
