@@ -311,3 +311,48 @@ fn every_option_past_until_warns_like_the_toml_key() {
     assert!(run(&["run", "e.toml", "-q", "--out", "f.snap", "--until", "1"]).is_empty());
     assert!(run(&["run", "t.toml", "-q", "--out", "u.snap", "--every", "0.5"]).is_empty());
 }
+
+/// The defect: the frame-cap and output-size refusals of `run` named the end time
+/// `[run].until` with its value in computer units, also when it was given in seconds
+/// (`[run].until_si`, `--until-si`): a key the scene does not have and a value the user never
+/// wrote. They name the key or option given, with the value as given (seconds) and in computer
+/// units (the unit of `every` and of the `--every` they suggest).
+#[test]
+fn end_time_in_seconds_is_named_as_given_in_frame_cap_and_output_size_errors() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    // until_si = 1e-4 s is 110.409… computer units for these beads
+    let scene = steel("striker_si = 0.11", "until_si = 1e-4\nevery_si = 1e-6");
+    std::fs::write(dir.path().join("steel.toml"), scene).expect("write");
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &["--frames-max", "3"],
+            "frames ([run].until_si = 1.0000e-4 s = 110.4",
+        ),
+        (
+            &["--frames-max", "3", "--until-si", "2e-4"],
+            "frames (--until-si = 2.0000e-4 s = 220.8",
+        ),
+        (
+            &["--max-output-bytes", "1000"],
+            ": [run].until_si = 1.0000e-4 s = 110.4",
+        ),
+        (
+            &["--max-output-bytes", "1000", "--until-si", "2e-4"],
+            "lower --until-si, or pass",
+        ),
+    ];
+    for (extra, want) in cases {
+        let mut args = vec!["run", "steel.toml", "--quiet"];
+        args.extend_from_slice(extra);
+        let o = bc(dir.path(), &args);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}");
+        let e = String::from_utf8_lossy(&o.stderr).to_string();
+        assert!(e.contains(want) && e.lines().count() == 1, "{extra:?}: {e}");
+        assert!(
+            !e.contains("[run].until ") && !e.contains("[run].until="),
+            "{e}"
+        );
+        let files = std::fs::read_dir(dir.path()).expect("dir").count();
+        assert_eq!(files, 1, "nothing written beside the scene");
+    }
+}

@@ -71,3 +71,23 @@ def test_scene_and_run_cannot_be_pickled_process_pool():
         a, b = (f.result(timeout=120) for f in futures)
     same_run(a, bc.run(s))
     same_run(b, bc.run(s, every=8.0))
+
+
+def test_scene_state_that_no_longer_validates_is_refused_before_any_output(tmp_path):
+    """A scene from a snapshot or a pickle written by an older version is not re-validated when
+    it is read (the data stays readable), so run(), Simulation and the studies validate it before
+    they start: a name with a tab (refused since the control-character check) raised only after
+    run() had written its output file."""
+    from beadchain._scene import _scene_from_state
+
+    good = bc.Scene(name="tab_here", beads=5, striker=1.0, until=5.0)
+    state = bytes(good._s._state())
+    assert state.count(b"tab_here") == 1
+    bad = _scene_from_state(state.replace(b"tab_here", b"tab\there"), None)
+    assert bad.name == "tab\there"
+    out = tmp_path / "out.snap"
+    with pytest.raises(bc.SceneError, match=r'^tab\\there: \[scene\]\.name: "tab\\there" is not'):
+        bc.run(bad, out=out)
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(bc.SceneError, match=r"\[scene\]\.name"):
+        bc.Simulation(bad)

@@ -189,21 +189,25 @@ pub fn cmd_resume(
     }
     // The output selection (beads, fields, frame cap) is the unfinished output's own header's.
     let sel = beadchain::snapshot::read_header(&ck.writer.temp)?.output;
-    let until_key = if until.is_some() {
-        "--until"
-    } else {
-        "[run].until"
+    // a checkpoint's scene holds its end time in computer units, `[run].until`
+    let end = super::common::EndTime {
+        key: if until.is_some() {
+            "--until"
+        } else {
+            "[run].until"
+        },
+        beta: None,
     };
     let span = (cfg.until, cfg.every);
     let keys = ("--until", "--frames-max");
-    super::select::check_frames_max(&what, &sel, span, keys, until_key)?;
+    super::select::check_frames_max(&what, &sel, span, keys, &end)?;
     let n = ck.scene.chain.len();
     limit.check(
         &what,
         (n, sel.values_per_frame(n as u64).unwrap_or(u64::MAX)),
         (ck.engine.time(), cfg.until, cfg.every),
         ck.writer.offsets.len(),
-        until_key,
+        &end,
     )?;
     let writer = SnapshotWriter::reopen(&ck.writer)?;
     let out_path = ck.writer.path.clone();

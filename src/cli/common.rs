@@ -105,13 +105,43 @@ pub fn warn_implausible(
     cfg: &RunConfig,
     c: &Common,
 ) {
-    let key = match (c.until, c.until_si) {
-        (Some(_), _) => "--until",
-        (None, Some(_)) => "--until-si",
-        _ => until_key,
-    };
+    let key = EndTime::of(c, until_key, scene).key;
     for w in scene::plausible::warnings(scene, material, cfg.until, key) {
         eprintln!("beadchain: warning: {w}");
+    }
+}
+
+/// Where a run's end time came from, as messages name it: `--until`, `--until-si` or the
+/// scene's own key (`[run].until`, `[run].until_si`); `beta` is the scene's time unit in seconds
+/// where the time was given in seconds.
+pub struct EndTime<'a> {
+    pub key: &'a str,
+    pub beta: Option<f64>,
+}
+
+impl<'a> EndTime<'a> {
+    /// The command line's `--until`/`--until-si`, else `scene_key` (the parsed scene's).
+    pub fn of(c: &Common, scene_key: &'a str, scene: &Scene) -> Self {
+        let key = match (c.until, c.until_si) {
+            (Some(_), _) => "--until",
+            (None, Some(_)) => "--until-si",
+            _ => scene_key,
+        };
+        let si = key.ends_with("_si") || key.ends_with("-si");
+        Self {
+            key,
+            beta: scene.units.filter(|_| si).map(|u| u.time),
+        }
+    }
+
+    /// `until` (computer units) as given: in seconds, then in computer units, where it was given
+    /// in seconds (`1.0000e-4 s = 110.4 computer units`).
+    pub fn shown(&self, until: f64) -> String {
+        use beadchain::snapshot::size::short;
+        match self.beta {
+            Some(b) => format!("{:.4e} s = {} computer units", until * b, short(until)),
+            None => short(until),
+        }
     }
 }
 

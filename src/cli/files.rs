@@ -46,14 +46,14 @@ impl SizeLimit {
     /// Refuses a run of `n_beads` (frames of `values` stored numbers: `2 N`, or fewer with an
     /// output selection) from `t0` to `until` with interval `every` writing `frames_before`
     /// frames already, if its snapshot would exceed the limit. `what` names the file (scene or
-    /// checkpoint), `until_key` the option or key that set the end time.
+    /// checkpoint), `end` the option or key that set the end time.
     pub fn check(
         &self,
         what: &str,
         (n_beads, values): (usize, u64),
         (t0, until, every): (f64, f64, Option<f64>),
         frames_before: usize,
-        until_key: &str,
+        end: &super::common::EndTime,
     ) -> Result<()> {
         let limit = self.bytes();
         let of = if values == 2 * n_beads as u64 {
@@ -66,12 +66,14 @@ impl SizeLimit {
             check_output_size((n_beads, values), span, frames_before, limit)
         {
             bail!(
-                "{what}: [run].every: the output would be about {} ({} frames of {of}: {until_key} = {}, every = {}), above the limit of {}: raise [run].every (or --every), lower {until_key}, or pass --max-output-bytes N or --force",
+                "{what}: [run].every: the output would be about {} ({} frames of {of}: {} = {}, every = {}), above the limit of {}: raise [run].every (or --every), lower {}, or pass --max-output-bytes N or --force",
                 human_bytes(bytes),
                 count_text(frames),
-                short(until),
+                end.key,
+                end.shown(until),
                 every.map_or("none (first and last frame)".into(), short),
                 human_bytes(limit as f64),
+                end.key,
             );
         }
         Ok(())

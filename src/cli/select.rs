@@ -65,13 +65,13 @@ impl OutputArgs {
 /// Refuses a run to `until` with interval `every` that would write more frames than the
 /// selection's `frames_max`. `key` names the value at fault (`--frames-max` or
 /// `[output].frames_max` for `run`, `--until` for `resume`), `cap_key` where the cap came from,
-/// `until_key` where `until` came from.
+/// `end` where `until` came from.
 pub fn check_frames_max(
     what: &str,
     sel: &Selection,
     (until, every): (f64, Option<f64>),
     (key, cap_key): (&str, &str),
-    until_key: &str,
+    end: &super::common::EndTime,
 ) -> Result<()> {
     let Err(TooManyFrames {
         count,
@@ -82,9 +82,10 @@ pub fn check_frames_max(
         return Ok(());
     };
     bail!(
-        "{what}: {key}: the run would write {} frames ({until_key} = {}, every = {}), more than {cap_key} {k}; use --every {} or larger, or raise {cap_key}",
+        "{what}: {key}: the run would write {} frames ({} = {}, every = {}), more than {cap_key} {k}; use --every {} or larger, or raise {cap_key}",
         count_text(count),
-        short(until),
+        end.key,
+        end.shown(until),
         every.map_or("none".into(), short),
         short(dt),
     )

@@ -13,9 +13,9 @@ use std::path::Path;
 const LIST_MAX: usize = 5;
 
 /// Validate a resolved scene; on success returns the warnings. Messages name the scene (its
-/// `name`), the key path and the bead/contact index.
+/// `name`, control characters escaped), the key path and the bead/contact index.
 pub fn validate(scene: &Scene) -> Result<Vec<String>, SceneError> {
-    validate_in(scene, &scene.name)
+    validate_in(scene, &super::error::one_line(&scene.name))
 }
 
 /// [`validate`] with messages naming `file`.
