@@ -216,11 +216,8 @@ pub(crate) fn table_of<T: DeserializeOwned + TakeKeys>(
     v: Option<&Value>,
     expected: &str,
 ) -> Result<Option<T>, SceneError> {
-    match v {
-        None => Ok(None),
-        Some(Value::Table(t)) => fields(ctx, key, t).map(Some),
-        Some(v) => Err(ctx.err(key, format!("expected {expected}, got {}", type_name(v)))),
-    }
+    // a table is copied as `fields` copies it; another value only to be named in the error
+    table_of_owned(ctx, key, v.cloned(), expected)
 }
 
 /// [`table_of`] of a value the caller gives up (a whole scene table: its values are moved).
