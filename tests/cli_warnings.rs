@@ -356,3 +356,40 @@ fn end_time_in_seconds_is_named_as_given_in_frame_cap_and_output_size_errors() {
         assert_eq!(files, 1, "nothing written beside the scene");
     }
 }
+
+/// The defect: a command-line option the engine refuses (`--rtol 0`, `--until 0`, `--engine
+/// dense` on hard contacts) was reported under the scene's `[scene].name`, not the file the
+/// command named, unlike every other error of `run` and `check`.
+#[test]
+fn refused_run_options_name_the_scene_file() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let scene = "[scene]\nname = \"other\"\n[chain]\nbeads = 4\n[initial]\nstriker = 1.0\n[run]\nuntil = 2.0\n";
+    std::fs::write(dir.path().join("s.toml"), scene).expect("write");
+    for (cmd, opt, want) in [
+        (
+            "run",
+            "--rtol=0",
+            "s.toml: invalid run configuration: rtol = 0 must be in (0, 1)",
+        ),
+        (
+            "run",
+            "--until=0",
+            "s.toml: invalid run configuration: until = 0 must be positive and finite",
+        ),
+        (
+            "check",
+            "--rtol=2",
+            "s.toml: invalid run configuration: rtol = 2 must be in (0, 1)",
+        ),
+    ] {
+        let o = bc(dir.path(), &[cmd, "s.toml", opt]);
+        assert_eq!(o.status.code(), Some(2), "{cmd} {opt}");
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(e, format!("beadchain: error: {want}\n"), "{cmd} {opt}");
+        assert_eq!(
+            std::fs::read_dir(dir.path()).expect("dir").count(),
+            1,
+            "nothing written"
+        );
+    }
+}

@@ -25,7 +25,7 @@ pub fn cmd_check(a: CheckArgs) -> Result<i32> {
     let scene = p.scene;
     let base = config(&scene, &overrides(&scene, &a.common)?);
     super::common::warn_implausible(&scene, p.material.as_ref(), p.until_key, &base, &a.common);
-    engine::check_config(&scene, &base).with_context(|| scene.name.clone())?;
+    engine::check_config(&scene, &base).with_context(|| a.common.scene.clone())?;
     let tol = a.tol.unwrap_or(1000.0 * base.rtol);
     compare(&scene, &base, tol, a.common.quiet)
 }

@@ -68,7 +68,7 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
     };
     let cfg = config(&scene, &o);
     super::common::warn_implausible(&scene, material.as_ref(), until_key, &cfg, &a.common);
-    engine::check_config(&scene, &cfg).with_context(|| scene.name.clone())?;
+    engine::check_config(&scene, &cfg).with_context(|| a.common.scene.clone())?;
     warn_every_past_until(&a, &scene, &cfg);
     scene.run.until = cfg.until;
     scene.run.every = cfg.every;
