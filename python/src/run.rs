@@ -85,10 +85,11 @@ pub(crate) fn config(scene: &LibScene, o: &Options) -> PyResult<(LibScene, RunCo
     let mut s = scene.clone();
     s.run.until = cfg.until;
     s.run.every = cfg.every;
-    // A scene read from a snapshot or a pickle of an older version was not validated again
-    // (`Scene::unchecked`): it is here, before any output is written.
-    beadchain::scene::validate(&s).map_err(crate::scene::scene_err)?;
+    // the options first (their messages name them: `until = -1 must be …`), then the scene: one
+    // read from a snapshot or a pickle of an older version was not validated again
+    // (`Scene::unchecked`); it is here, before any output is written
     engine::check_config(&s, &cfg).map_err(|e| config_err(&s, e))?;
+    beadchain::scene::validate(&s).map_err(crate::scene::scene_err)?;
     Ok((s, cfg))
 }
 

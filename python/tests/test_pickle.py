@@ -91,3 +91,9 @@ def test_scene_state_that_no_longer_validates_is_refused_before_any_output(tmp_p
     assert list(tmp_path.iterdir()) == []
     with pytest.raises(bc.SceneError, match=r"\[scene\]\.name"):
         bc.Simulation(bad)
+    # a bad option is still named as the option, not as the scene's key it overrides
+    for kw, msg in ((dict(until=-1.0), "until = -1 must be positive and finite"),
+                    (dict(every=-2.0), "every = -2 must be positive and finite")):
+        with pytest.raises(bc.SceneError) as e:
+            bc.run(good, **kw)
+        assert str(e.value) == f"tab_here: invalid run configuration: {msg}"
