@@ -352,22 +352,3 @@ fn wall_damping_errors_name_the_key_path_like_every_wall_key() {
         "t.toml: [walls].left.damping: expected a number, got a string"
     );
 }
-
-/// The defect: a scene file whose own `[run]` asks for an engine or method that cannot run it
-/// (`engine = "dense"` with hard contacts, `method = "verlet"` with damped contacts) parsed, and
-/// `run` refused it naming the scene, not the file and key, advising `--engine hybrid`.
-#[test]
-fn run_engine_or_method_that_cannot_run_the_scene_is_refused_naming_the_key() {
-    let hard = "[chain]\nbeads = 5\n[hard]\ncontacts = \"all\"\n[initial]\nstriker = 1.0\n[run]\nuntil = 5.0\nengine = \"dense\"\n";
-    assert_eq!(
-        err(hard),
-        "t.toml: [run].engine: \"dense\" cannot run this scene: it declares hard contacts or walls, which only the hybrid engine handles (use \"hybrid\")"
-    );
-    ok(&hard.replace("\"dense\"", "\"hybrid\""));
-    let damped = "[chain]\nbeads = 5\nlaw = \"viscoelastic\"\nrestitution = 0.9\nimpact_speed = 1.0\n[initial]\nstriker = 1.0\n[run]\nuntil = 5.0\nmethod = \"verlet\"\n";
-    assert_eq!(
-        err(damped),
-        "t.toml: [run].method: \"verlet\" does not integrate velocity-dependent (damped) contacts; use \"auto\", \"dop853\" or \"radau5\""
-    );
-    ok(&damped.replace("\"verlet\"", "\"dop853\""));
-}

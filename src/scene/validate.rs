@@ -5,7 +5,7 @@
 
 use super::error::SceneError;
 use super::values::{Ctx, Per};
-use super::Scene;
+use super::{RunSettings, Scene};
 use crate::model::Chain;
 use std::path::Path;
 
@@ -31,7 +31,7 @@ pub(crate) fn validate_in(scene: &Scene, file: &str) -> Result<Vec<String>, Scen
     super::hard::check_start(&ctx, scene)?;
     let mut warnings = Vec::new();
     check_walls(&ctx, scene, &mut warnings)?;
-    check_run(&ctx, scene)?;
+    check_run(&ctx, &scene.run)?;
     check_scales(&ctx, scene)?;
     super::damping::check_scale(&ctx, scene)?;
     warn_soft_contacts(file, &scene.chain, &mut warnings);
@@ -180,8 +180,7 @@ fn check_walls(ctx: &Ctx, scene: &Scene, warnings: &mut Vec<String>) -> Result<(
 }
 
 /// `[run]`: end time and interval finite and > 0, tolerances in (0, 1).
-fn check_run(ctx: &Ctx, scene: &Scene) -> Result<(), SceneError> {
-    let r = &scene.run;
+fn check_run(ctx: &Ctx, r: &RunSettings) -> Result<(), SceneError> {
     let pos = |key: &str, x: f64| {
         if x.is_finite() && x > 0.0 {
             Ok(())
@@ -199,25 +198,6 @@ fn check_run(ctx: &Ctx, scene: &Scene) -> Result<(), SceneError> {
                 return Err(ctx.err(key, format!("must be in (0, 1), got {t}")));
             }
         }
-    }
-    check_run_can_integrate(ctx, scene)
-}
-
-/// The scene's own `[run]` engine and method can run its contacts (what
-/// [`crate::engine::check_config`] refuses for the command line's choices).
-fn check_run_can_integrate(ctx: &Ctx, scene: &Scene) -> Result<(), SceneError> {
-    use crate::integrate::Method;
-    if scene.run.engine == Some(super::Engine::Dense) && scene.chain.has_hard() {
-        return Err(ctx.err(
-            "[run].engine",
-            "\"dense\" cannot run this scene: it declares hard contacts or walls, which only the hybrid engine handles (use \"hybrid\")",
-        ));
-    }
-    if scene.run.method == Some(Method::Verlet) && scene.chain.is_dissipative() {
-        return Err(ctx.err(
-            "[run].method",
-            "\"verlet\" does not integrate velocity-dependent (damped) contacts; use \"auto\", \"dop853\" or \"radau5\"",
-        ));
     }
     Ok(())
 }
