@@ -3,7 +3,6 @@
 use super::common::{config, overrides, Common};
 use anyhow::{Context, Result};
 use beadchain::check::{check_with_progress, CheckReport};
-use beadchain::engine;
 use beadchain::engine::RunConfig;
 use beadchain::names::Named;
 use beadchain::scene::Scene;
@@ -25,7 +24,8 @@ pub fn cmd_check(a: CheckArgs) -> Result<i32> {
     let scene = p.scene;
     let base = config(&scene, &overrides(&scene, &a.common)?);
     super::common::warn_implausible(&scene, p.material.as_ref(), p.until_key, &base, &a.common);
-    engine::check_config(&scene, &base).with_context(|| a.common.scene.clone())?;
+    let given = (false, a.common.method.is_some());
+    super::common::check_config(&a.common.scene, &scene, &base, given)?;
     let tol = a.tol.unwrap_or(1000.0 * base.rtol);
     compare(&scene, &base, tol, a.common.quiet)
 }

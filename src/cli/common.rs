@@ -95,6 +95,31 @@ fn not_found_hint(e: scene::SceneError) -> anyhow::Error {
     }
 }
 
+/// [`beadchain::engine::check_config`] for a run of the scene file `what` (the prefix of its
+/// error, control characters escaped). An engine or method it refuses that the scene's own
+/// `[run]` chose (the command line did not: `engine_given`, `method_given`) is named by that
+/// key, with both ways out.
+pub fn check_config(
+    what: &str,
+    scene: &Scene,
+    cfg: &RunConfig,
+    (engine_given, method_given): (bool, bool),
+) -> Result<()> {
+    use beadchain::scene::Engine;
+    let what = scene::error::one_line(what);
+    if cfg.engine == Engine::Dense && scene.chain.has_hard() && !engine_given {
+        anyhow::bail!(
+            "{what}: [run].engine: \"dense\" cannot run this scene: it declares hard contacts or walls, which only the hybrid engine handles (set engine = \"hybrid\" or pass --engine hybrid)"
+        );
+    }
+    if cfg.method == Method::Verlet && scene.chain.is_dissipative() && !method_given {
+        anyhow::bail!(
+            "{what}: [run].method: \"verlet\" does not integrate velocity-dependent (damped) contacts; set method = \"auto\", \"dop853\" or \"radau5\", or pass --method"
+        );
+    }
+    beadchain::engine::check_config(scene, cfg).map_err(|e| anyhow::anyhow!("{what}: {e}"))
+}
+
 /// Prints the warnings of [`scene::plausible`] (a physical scene whose plain numbers look like
 /// SI values: a striker faster than sound, a run shorter than one contact, ...) for a run to
 /// `cfg.until`.

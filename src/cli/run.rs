@@ -5,7 +5,7 @@ use super::ckpt;
 use super::common::{config, load_scene_with_material, named, overrides, print_outcome, Common};
 use super::files::SizeLimit;
 use super::select::OutputArgs;
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use beadchain::engine::{self, RunConfig, RunOutcome, RunOverrides};
 use beadchain::progress::RunProgress;
 use beadchain::scene::{self, Engine, Scene};
@@ -68,7 +68,8 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
     };
     let cfg = config(&scene, &o);
     super::common::warn_implausible(&scene, material.as_ref(), until_key, &cfg, &a.common);
-    engine::check_config(&scene, &cfg).with_context(|| a.common.scene.clone())?;
+    let given = (a.engine.is_some(), a.common.method.is_some());
+    super::common::check_config(&a.common.scene, &scene, &cfg, given)?;
     warn_every_past_until(&a, &scene, &cfg);
     scene.run.until = cfg.until;
     scene.run.every = cfg.every;

@@ -90,7 +90,7 @@ pub enum SceneError {
 }
 
 /// Make user text safe for a one-line message (escapes newlines and other control characters).
-pub(crate) fn one_line(s: &str) -> String {
+pub fn one_line(s: &str) -> String {
     s.chars()
         .flat_map(|c| {
             if c.is_control() {
