@@ -436,3 +436,27 @@ fn scenes_own_run_engine_or_method_that_cannot_run_it_is_named_and_overridable()
         "{e}"
     );
 }
+
+/// The defect: `--until-si -1` was converted first and refused as `until = -1104091.3… must be
+/// positive and finite` (computer units, under a key the command line did not use), after a
+/// warning that the run is shorter than one contact. The option is checked as given.
+#[test]
+fn non_positive_si_times_on_the_command_line_are_refused_as_given() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let scene = steel("striker_si = 0.11", "until_si = 1e-4");
+    std::fs::write(dir.path().join("steel.toml"), scene).expect("write");
+    for (opt, x) in [
+        ("--until-si", "-1"),
+        ("--every-si", "0"),
+        ("--until-si", "nan"),
+    ] {
+        let o = bc(dir.path(), &["run", "steel.toml", &format!("{opt}={x}")]);
+        assert_eq!(o.status.code(), Some(2), "{opt}");
+        let e = String::from_utf8_lossy(&o.stderr);
+        let x = if x == "nan" { "NaN" } else { x };
+        assert_eq!(
+            e,
+            format!("beadchain: error: {opt}: must be a finite number > 0 (seconds), got {x}\n")
+        );
+    }
+}

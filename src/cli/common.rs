@@ -173,6 +173,9 @@ impl<'a> EndTime<'a> {
 /// `x` seconds in the computer time of `scene` (`x / β`, paper eq. 10); a one-line error naming
 /// `option` when the scene is dimensionless.
 pub fn si_time(scene: &Scene, option: &str, x: f64) -> Result<f64> {
+    if !(x.is_finite() && x > 0.0) {
+        anyhow::bail!("{option}: must be a finite number > 0 (seconds), got {x}");
+    }
     match scene.units {
         Some(u) => Ok(x / u.time),
         None => anyhow::bail!(
