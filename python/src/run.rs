@@ -48,6 +48,12 @@ fn si_time(
             scene.name
         )));
     }
+    if !(x.is_finite() && x > 0.0) {
+        return Err(SceneError::new_err(format!(
+            "{}: {key}: must be a finite number > 0 (seconds), got {x}",
+            scene.name
+        )));
+    }
     match scene.units {
         Some(u) => Ok(Some(x / u.time)),
         None => Err(SceneError::new_err(format!(

@@ -43,3 +43,16 @@ def test_until_si_every_si_missing_in_python_errors():
         bc.run(plain, every_si=1e-5)
     assert str(e.value).startswith("scene: every_si: the scene is dimensionless (computer units "
                                    "only); SI times need a physical scene"), str(e.value)
+
+
+def test_non_positive_si_times_are_refused_as_given():
+    """The defect: until_si=-1 was converted first and refused as 'until = -1104091.3… must be
+    positive and finite' (computer units, under the plain key); as the CLI's --until-si now."""
+    phys = bc.Scene.preset("hertz_spheres_physical")
+    for kw, got in ((dict(until_si=-1.0), "-1"), (dict(every_si=0.0), "0"),
+                    (dict(until_si=float("nan")), "NaN")):
+        key = next(iter(kw))
+        with pytest.raises(bc.SceneError) as e:
+            bc.run(phys, **kw)
+        assert str(e.value) == (f"hertz_spheres_physical: {key}: must be a finite number > 0 "
+                                f"(seconds), got {got}")
