@@ -72,8 +72,8 @@ def chain_of(binary, scene, tmp):
     with open(path, "w") as f:
         f.write(text)
     until = float([ln for ln in text.splitlines() if ln.startswith("until = ")][0].split("=")[1])
-    rows = list(csv.DictReader(io.StringIO(subprocess.run(
-        [binary, "scene", "show", scene, "--format", "csv"], capture_output=True, text=True, check=True).stdout)))
+    rows = csv_rows(subprocess.run(
+        [binary, "scene", "show", scene, "--format", "csv"], capture_output=True, text=True, check=True).stdout)
     col = lambda k, rs=rows: [float(r[k]) for r in rs]  # noqa: E731
     chain = dict(mass=col("mass"), u0=col("u0"), v0=col("v0"), exponent=col("exponent", rows[:-1]),
                  prefactor=col("prefactor", rows[:-1]), until=until)
@@ -164,6 +164,11 @@ def run_scipy(args, ch, method, rtol, timeout):
     return res
 
 
+def csv_rows(text):
+    """The rows of a beadchain CSV output, past its `# …` provenance lines."""
+    return list(csv.DictReader(line for line in io.StringIO(text) if not line.startswith("#")))
+
+
 def run_beadchain(args, scene, engine, method, rtol, tmp, atol=None):
     """One beadchain run; `atol` (relative) overrides --beadchain-atol (the reference's)."""
     import re
@@ -180,7 +185,7 @@ def run_beadchain(args, scene, engine, method, rtol, tmp, atol=None):
     wall = float(re.search(r" in ([0-9.eE+-]+) s:", out.stdout).group(1))
     last = subprocess.run([args.binary, "export", snap, "--frame", "last"], capture_output=True,
                           text=True, check=True).stdout
-    rows = list(csv.DictReader(io.StringIO(last)))
+    rows = csv_rows(last)
     return {"status": "ok", "wall": wall, "u": [float(r["u"]) for r in rows], "v": [float(r["v"]) for r in rows]}
 
 

@@ -226,3 +226,19 @@ def test_compare_binaries_runs_a_binary_against_itself():
     cells = [c.strip() for c in rows[0].strip("|").split("|")]
     assert cells[1] == "1e-4" and cells[5] == "yes", rows[0]
     assert float(cells[4]) > 0.0
+
+
+def test_run_beadchain_reads_the_last_frame_past_the_provenance_lines(tmp_path):
+    """The defect: `beadchain export` starts with `# …` provenance lines (issue 36), which
+    csv.DictReader took for the header, so every beadchain run of run_scene_peers.py (and of
+    wholechain_numba.py) failed with KeyError: 'u'. The striker's last frame is read whole."""
+    binary = os.environ.get("BEADCHAIN_CLI")
+    if not binary or not os.path.exists(binary):
+        import pytest
+        pytest.skip("BEADCHAIN_CLI not set")
+    args = _args(tmp_path, "velocity")
+    args.binary = binary
+    res = rsp.run_beadchain(args, "striker", "hybrid", "auto", 1e-6, str(tmp_path))
+    assert res["status"] == "ok" and len(res["u"]) == len(res["v"]) == 100
+    # the striker's momentum (1 at t = 0) is carried to the end: sum of v to 1e-9 (absolute)
+    assert abs(sum(res["v"]) - 1.0) <= 1e-9, sum(res["v"])

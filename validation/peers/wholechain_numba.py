@@ -277,7 +277,8 @@ def run_beadchain(binary, scene, rtol, tmp, extra=()):
     st = re.search(r"(\d+) steps \((\d+) rejected\), (\d+) active bead-steps, (\d+) RHS", out.stdout)
     last = subprocess.run([binary, "export", snap, "--frame", "last"], capture_output=True, text=True,
                           check=True).stdout
-    rows = list(csv.DictReader(io.StringIO(last)))
+    # past the export's `# …` provenance lines
+    rows = list(csv.DictReader(ln for ln in io.StringIO(last) if not ln.startswith("#")))
     return dict(status="ok", wall=wall, u=np.array([float(r["u"]) for r in rows]),
                 v=np.array([float(r["v"]) for r in rows]), steps=int(st.group(1)), rejected=int(st.group(2)),
                 bead_steps=int(st.group(3)), rhs=int(st.group(4)))
