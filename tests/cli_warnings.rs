@@ -460,3 +460,56 @@ fn non_positive_si_times_on_the_command_line_are_refused_as_given() {
         );
     }
 }
+
+/// The defect: the output-size refusal always named `[run].every` and advised "raise
+/// [run].every (or --every)", also when the interval came from `--every`, `--every-si` or
+/// `[run].every_si`, with its value in computer units; the frame-cap refusal likewise showed an
+/// interval given in seconds in computer units. Both name the interval as given now.
+#[test]
+fn output_interval_is_named_as_given_in_output_size_and_frame_cap_errors() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let scene = steel("striker_si = 0.11", "until_si = 1e-4\nevery_si = 1e-6");
+    std::fs::write(dir.path().join("steel.toml"), scene).expect("write");
+    let size = ["--max-output-bytes", "1000"];
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &size,
+            "steel.toml: [run].every_si: the output would be about ",
+        ),
+        (&size, "every = 1.0000e-6 s = 1.10409"),
+        (
+            &size,
+            "raise [run].every_si (or --every-si), lower [run].until_si",
+        ),
+        (
+            &["--max-output-bytes", "1000", "--every", "2"],
+            "steel.toml: --every: the output would be about ",
+        ),
+    ];
+    for (extra, want) in cases {
+        let mut args = vec!["run", "steel.toml", "--quiet"];
+        args.extend_from_slice(extra);
+        let o = bc(dir.path(), &args);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}");
+        let e = String::from_utf8_lossy(&o.stderr).to_string();
+        assert!(e.contains(want) && e.lines().count() == 1, "{extra:?}: {e}");
+    }
+    let o = bc(
+        dir.path(),
+        &[
+            "run",
+            "steel.toml",
+            "--frames-max",
+            "3",
+            "--every-si",
+            "2e-6",
+        ],
+    );
+    let e = String::from_utf8_lossy(&o.stderr).to_string();
+    assert!(e.contains(", every = 2.0000e-6 s = 2.208"), "{e}");
+    assert_eq!(
+        std::fs::read_dir(dir.path()).expect("dir").count(),
+        1,
+        "nothing written"
+    );
+}

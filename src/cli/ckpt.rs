@@ -189,8 +189,9 @@ pub fn cmd_resume(
     }
     // The output selection (beads, fields, frame cap) is the unfinished output's own header's.
     let sel = beadchain::snapshot::read_header(&ck.writer.temp)?.output;
-    // a checkpoint's scene holds its end time in computer units, `[run].until`
-    let end = super::common::EndTime {
+    // a checkpoint's scene holds its end time and interval in computer units, `[run]`'s
+    use super::common::GivenTime;
+    let end = GivenTime {
         key: if until.is_some() {
             "--until"
         } else {
@@ -198,16 +199,20 @@ pub fn cmd_resume(
         },
         beta: None,
     };
+    let interval = GivenTime {
+        key: "[run].every",
+        beta: None,
+    };
     let span = (cfg.until, cfg.every);
     let keys = ("--until", "--frames-max");
-    super::select::check_frames_max(&what, &sel, span, keys, &end)?;
+    super::select::check_frames_max(&what, &sel, span, keys, (&end, &interval))?;
     let n = ck.scene.chain.len();
     limit.check(
         &what,
         (n, sel.values_per_frame(n as u64).unwrap_or(u64::MAX)),
         (ck.engine.time(), cfg.until, cfg.every),
         ck.writer.offsets.len(),
-        &end,
+        (&end, &interval),
     )?;
     let writer = SnapshotWriter::reopen(&ck.writer)?;
     let out_path = ck.writer.path.clone();

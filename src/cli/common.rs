@@ -130,28 +130,24 @@ pub fn warn_implausible(
     cfg: &RunConfig,
     c: &Common,
 ) {
-    let key = EndTime::of(c, until_key, scene).key;
+    let key = GivenTime::until(c, until_key, scene).key;
     for w in scene::plausible::warnings(scene, material, cfg.until, key) {
         eprintln!("beadchain: warning: {w}");
     }
 }
 
-/// Where a run's end time came from, as messages name it: `--until`, `--until-si` or the
-/// scene's own key (`[run].until`, `[run].until_si`); `beta` is the scene's time unit in seconds
-/// where the time was given in seconds.
-pub struct EndTime<'a> {
+/// Where a run's end time or output interval came from, as messages name it: the command
+/// line's option (`--until`, `--until-si`, `--every`, `--every-si`) or the scene's own key
+/// (`[run].until`, `[run].every_si`, …); `beta` is the scene's time unit in seconds where the
+/// time was given in seconds.
+pub struct GivenTime<'a> {
     pub key: &'a str,
     pub beta: Option<f64>,
 }
 
-impl<'a> EndTime<'a> {
-    /// The command line's `--until`/`--until-si`, else `scene_key` (the parsed scene's).
-    pub fn of(c: &Common, scene_key: &'a str, scene: &Scene) -> Self {
-        let key = match (c.until, c.until_si) {
-            (Some(_), _) => "--until",
-            (None, Some(_)) => "--until-si",
-            _ => scene_key,
-        };
+impl<'a> GivenTime<'a> {
+    /// `key`, in seconds when it ends in `_si`/`-si`.
+    pub fn new(key: &'a str, scene: &Scene) -> Self {
         let si = key.ends_with("_si") || key.ends_with("-si");
         Self {
             key,
@@ -159,13 +155,47 @@ impl<'a> EndTime<'a> {
         }
     }
 
-    /// `until` (computer units) as given: in seconds, then in computer units, where it was given
+    /// The end time: the command line's `--until`/`--until-si`, else `scene_key` (the parsed
+    /// scene's).
+    pub fn until(c: &Common, scene_key: &'a str, scene: &Scene) -> Self {
+        let key = match (c.until, c.until_si) {
+            (Some(_), _) => "--until",
+            (None, Some(_)) => "--until-si",
+            _ => scene_key,
+        };
+        Self::new(key, scene)
+    }
+
+    /// The output interval: `--every`/`--every-si` where given (`cli`), else `scene_key`.
+    pub fn every(cli: (Option<f64>, Option<f64>), scene_key: &'a str, scene: &Scene) -> Self {
+        let key = match cli {
+            (Some(_), _) => "--every",
+            (None, Some(_)) => "--every-si",
+            _ => scene_key,
+        };
+        Self::new(key, scene)
+    }
+
+    /// `x` (computer units) as given: in seconds, then in computer units, where it was given
     /// in seconds (`1.0000e-4 s = 110.4 computer units`).
-    pub fn shown(&self, until: f64) -> String {
+    pub fn shown(&self, x: f64) -> String {
         use beadchain::snapshot::size::short;
         match self.beta {
-            Some(b) => format!("{:.4e} s = {} computer units", until * b, short(until)),
-            None => short(until),
+            Some(b) => format!("{:.4e} s = {} computer units", x * b, short(x)),
+            None => short(x),
+        }
+    }
+
+    /// An optional interval as given; `none` names the default (first and last frame only).
+    pub fn shown_or(&self, x: Option<f64>, none: &str) -> String {
+        x.map_or(none.to_string(), |x| self.shown(x))
+    }
+
+    /// How to change it: the key, and for a scene key the option that overrides it.
+    pub fn or_option(&self) -> String {
+        match self.key.strip_prefix("[run].") {
+            Some(k) => format!("{} (or --{})", self.key, k.replace('_', "-")),
+            None => self.key.to_string(),
         }
     }
 }

@@ -14,6 +14,7 @@
 //!   killed run left beside it is removed ([`beadchain::files::remove_stale_temps`]) and each
 //!   removal is said on standard error ([`clean_stale_temps`]; it used to be silent).
 
+use super::common::GivenTime;
 use anyhow::{bail, Result};
 use beadchain::files::same_file;
 pub use beadchain::snapshot::size::short;
@@ -46,14 +47,14 @@ impl SizeLimit {
     /// Refuses a run of `n_beads` (frames of `values` stored numbers: `2 N`, or fewer with an
     /// output selection) from `t0` to `until` with interval `every` writing `frames_before`
     /// frames already, if its snapshot would exceed the limit. `what` names the file (scene or
-    /// checkpoint), `end` the option or key that set the end time.
+    /// checkpoint), `end` and `interval` the options or keys that set the end time and the interval.
     pub fn check(
         &self,
         what: &str,
         (n_beads, values): (usize, u64),
         (t0, until, every): (f64, f64, Option<f64>),
         frames_before: usize,
-        end: &super::common::EndTime,
+        (end, interval): (&GivenTime, &GivenTime),
     ) -> Result<()> {
         let limit = self.bytes();
         let of = if values == 2 * n_beads as u64 {
@@ -66,13 +67,15 @@ impl SizeLimit {
             check_output_size((n_beads, values), span, frames_before, limit)
         {
             bail!(
-                "{what}: [run].every: the output would be about {} ({} frames of {of}: {} = {}, every = {}), above the limit of {}: raise [run].every (or --every), lower {}, or pass --max-output-bytes N or --force",
+                "{what}: {}: the output would be about {} ({} frames of {of}: {} = {}, every = {}), above the limit of {}: raise {}, lower {}, or pass --max-output-bytes N or --force",
+                interval.key,
                 human_bytes(bytes),
                 count_text(frames),
                 end.key,
                 end.shown(until),
-                every.map_or("none (first and last frame)".into(), short),
+                interval.shown_or(every, "none (first and last frame)"),
                 human_bytes(limit as f64),
+                interval.or_option(),
                 end.key,
             );
         }

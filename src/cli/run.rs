@@ -56,6 +56,7 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
         mut scene,
         material,
         until_key,
+        every_key,
         ..
     } = load_scene_with_material(&a.common.scene)?;
     let o = RunOverrides {
@@ -82,7 +83,7 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
         .unwrap_or_else(|| PathBuf::from(format!("{}.snap", scene.name)));
     let n = scene.chain.len();
     let sel = (a.output).selection(&a.common.scene, n, scene.run.output.as_ref())?;
-    check_run_files(&a, (&scene, until_key), &cfg, &sel, &out_path)?;
+    check_run_files(&a, (&scene, (until_key, every_key)), &cfg, &sel, &out_path)?;
     let created_by = std::env::args().collect::<Vec<_>>().join(" ");
     let mut header = Header::new(
         scene.clone(),
@@ -191,7 +192,7 @@ fn warn_every_past_until(a: &RunArgs, scene: &Scene, cfg: &RunConfig) {
 /// input, a stream output takes no checkpoints, `--frames-max`, and the estimated output size.
 fn check_run_files(
     a: &RunArgs,
-    (scene, until_key): (&Scene, &str),
+    (scene, (until_key, every_key)): (&Scene, (&str, &str)),
     cfg: &RunConfig,
     sel: &Selection,
     out_path: &std::path::Path,
@@ -208,21 +209,23 @@ fn check_run_files(
             out_path.display()
         );
     }
-    let end = super::common::EndTime::of(&a.common, until_key, scene);
+    use super::common::GivenTime;
+    let end = GivenTime::until(&a.common, until_key, scene);
+    let interval = GivenTime::every((a.every, a.every_si), every_key, scene);
     let span = (cfg.until, cfg.every);
     let cap_key = if a.output.frames_max.is_some() {
         "--frames-max"
     } else {
         "[output].frames_max"
     };
-    super::select::check_frames_max(what, sel, span, (cap_key, cap_key), &end)?;
+    super::select::check_frames_max(what, sel, span, (cap_key, cap_key), (&end, &interval))?;
     let n = scene.chain.len();
     a.limit.check(
         what,
         (n, sel.values_per_frame(n as u64).unwrap_or(u64::MAX)),
         (0.0, cfg.until, cfg.every),
         0,
-        &end,
+        (&end, &interval),
     )
 }
 

@@ -9,6 +9,7 @@
 //! `--every` that fits (`until/(K−1)`, rounded up to a value that fits). The cap is stored in
 //! the snapshot header, so `resume --until T` is refused the same way.
 
+use super::common::GivenTime;
 use super::files::short;
 use anyhow::{bail, Result};
 use beadchain::snapshot::select::parse_beads;
@@ -65,13 +66,13 @@ impl OutputArgs {
 /// Refuses a run to `until` with interval `every` that would write more frames than the
 /// selection's `frames_max`. `key` names the value at fault (`--frames-max` or
 /// `[output].frames_max` for `run`, `--until` for `resume`), `cap_key` where the cap came from,
-/// `end` where `until` came from.
+/// `end` and `interval` where `until` and `every` came from.
 pub fn check_frames_max(
     what: &str,
     sel: &Selection,
     (until, every): (f64, Option<f64>),
     (key, cap_key): (&str, &str),
-    end: &super::common::EndTime,
+    (end, interval): (&GivenTime, &GivenTime),
 ) -> Result<()> {
     let Err(TooManyFrames {
         count,
@@ -86,7 +87,7 @@ pub fn check_frames_max(
         count_text(count),
         end.key,
         end.shown(until),
-        every.map_or("none".into(), short),
+        interval.shown_or(every, "none"),
         short(dt),
     )
 }

@@ -44,6 +44,8 @@ pub struct Parsed {
     /// The key that gave the end time, `[run].until` or `[run].until_si` (seconds), which the
     /// resolved scene holds in computer units: warnings about the end time name it.
     pub until_key: &'static str,
+    /// The key that gave the output interval, `[run].every` or `[run].every_si` (seconds).
+    pub every_key: &'static str,
 }
 
 /// [`parse_str`], with the bead material and the construction's warnings ([`Parsed`]).
@@ -174,11 +176,16 @@ fn build(root: Table, base_dir: &Path, origin: &str) -> Result<Parsed, SceneErro
         Some(_) => "[run].until_si",
         None => "[run].until",
     };
+    let every_key = match t.run.every_si {
+        Some(_) => "[run].every_si",
+        None => "[run].every",
+    };
     Ok(Parsed {
         scene,
         material,
         warnings,
         until_key,
+        every_key,
     })
 }
 
