@@ -342,12 +342,7 @@ fn end_time_in_seconds_is_named_as_given_in_frame_cap_and_output_size_errors() {
         ),
     ];
     for (extra, want) in cases {
-        let mut args = vec!["run", "steel.toml", "--quiet"];
-        args.extend_from_slice(extra);
-        let o = bc(dir.path(), &args);
-        assert_eq!(o.status.code(), Some(2), "{extra:?}");
-        let e = String::from_utf8_lossy(&o.stderr).to_string();
-        assert!(e.contains(want) && e.lines().count() == 1, "{extra:?}: {e}");
+        let e = refused_run_of_steel(dir.path(), extra, want);
         assert!(
             !e.contains("[run].until ") && !e.contains("[run].until="),
             "{e}"
@@ -487,12 +482,7 @@ fn output_interval_is_named_as_given_in_output_size_and_frame_cap_errors() {
         ),
     ];
     for (extra, want) in cases {
-        let mut args = vec!["run", "steel.toml", "--quiet"];
-        args.extend_from_slice(extra);
-        let o = bc(dir.path(), &args);
-        assert_eq!(o.status.code(), Some(2), "{extra:?}");
-        let e = String::from_utf8_lossy(&o.stderr).to_string();
-        assert!(e.contains(want) && e.lines().count() == 1, "{extra:?}: {e}");
+        refused_run_of_steel(dir.path(), extra, want);
     }
     let o = bc(
         dir.path(),
@@ -512,4 +502,15 @@ fn output_interval_is_named_as_given_in_output_size_and_frame_cap_errors() {
         1,
         "nothing written"
     );
+}
+
+/// `run steel.toml --quiet EXTRA` in `dir`: refused (exit 2) with one line holding `want`.
+fn refused_run_of_steel(dir: &std::path::Path, extra: &[&str], want: &str) -> String {
+    let mut args = vec!["run", "steel.toml", "--quiet"];
+    args.extend_from_slice(extra);
+    let o = bc(dir, &args);
+    assert_eq!(o.status.code(), Some(2), "{extra:?}");
+    let e = String::from_utf8_lossy(&o.stderr).to_string();
+    assert!(e.contains(want) && e.lines().count() == 1, "{extra:?}: {e}");
+    e
 }
