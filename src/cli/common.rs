@@ -105,17 +105,16 @@ pub fn check_config(
     cfg: &RunConfig,
     (engine_given, method_given): (bool, bool),
 ) -> Result<()> {
-    use beadchain::scene::Engine;
+    use beadchain::engine::{unrunnable, Unrunnable};
     let what = scene::error::one_line(what);
-    if cfg.engine == Engine::Dense && scene.chain.has_hard() && !engine_given {
-        anyhow::bail!(
+    match unrunnable(scene, cfg) {
+        Some(Unrunnable::DenseOnHard) if !engine_given => anyhow::bail!(
             "{what}: [run].engine: \"dense\" cannot run this scene: it declares hard contacts or walls, which only the hybrid engine handles (set engine = \"hybrid\" or pass --engine hybrid)"
-        );
-    }
-    if cfg.method == Method::Verlet && scene.chain.is_dissipative() && !method_given {
-        anyhow::bail!(
+        ),
+        Some(Unrunnable::VerletOnDamped) if !method_given => anyhow::bail!(
             "{what}: [run].method: \"verlet\" does not integrate velocity-dependent (damped) contacts; set method = \"auto\", \"dop853\" or \"radau5\", or pass --method"
-        );
+        ),
+        _ => {}
     }
     beadchain::engine::check_config(scene, cfg).map_err(|e| anyhow::anyhow!("{what}: {e}"))
 }
@@ -158,22 +157,20 @@ impl<'a> GivenTime<'a> {
     /// The end time: the command line's `--until`/`--until-si`, else `scene_key` (the parsed
     /// scene's).
     pub fn until(c: &Common, scene_key: &'a str, scene: &Scene) -> Self {
-        let key = match (c.until, c.until_si) {
-            (Some(_), _) => "--until",
-            (None, Some(_)) => "--until-si",
-            _ => scene_key,
-        };
-        Self::new(key, scene)
+        let given = [(c.until, "--until"), (c.until_si, "--until-si")];
+        Self::given(given, scene_key, scene)
     }
 
     /// The output interval: `--every`/`--every-si` where given (`cli`), else `scene_key`.
     pub fn every(cli: (Option<f64>, Option<f64>), scene_key: &'a str, scene: &Scene) -> Self {
-        let key = match cli {
-            (Some(_), _) => "--every",
-            (None, Some(_)) => "--every-si",
-            _ => scene_key,
-        };
-        Self::new(key, scene)
+        let given = [(cli.0, "--every"), (cli.1, "--every-si")];
+        Self::given(given, scene_key, scene)
+    }
+
+    /// The first option given, else `scene_key`.
+    fn given(options: [(Option<f64>, &'a str); 2], scene_key: &'a str, scene: &Scene) -> Self {
+        let key = options.iter().find(|(x, _)| x.is_some());
+        Self::new(key.map_or(scene_key, |&(_, k)| k), scene)
     }
 
     /// `x` (computer units) as given: in seconds, then in computer units, where it was given

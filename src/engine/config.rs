@@ -107,20 +107,40 @@ impl RunConfig {
     }
 }
 
+/// An engine or method that cannot run a scene's contacts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Unrunnable {
+    /// The dense engine on hard contacts or walls (only the hybrid engine handles them).
+    DenseOnHard,
+    /// Velocity Verlet on damped (velocity-dependent) contacts.
+    VerletOnDamped,
+}
+
+/// Whether `cfg`'s engine or method cannot run `scene` (the first rule of [`check_config`]; the
+/// CLI names the key that chose it).
+pub fn unrunnable(scene: &Scene, cfg: &RunConfig) -> Option<Unrunnable> {
+    if cfg.engine == EngineKind::Dense && scene.chain.has_hard() {
+        Some(Unrunnable::DenseOnHard)
+    } else if cfg.method == Method::Verlet && scene.chain.is_dissipative() {
+        Some(Unrunnable::VerletOnDamped)
+    } else {
+        None
+    }
+}
+
 /// Checks a run configuration's tolerances and times (the engines call it; the CLI calls it
 /// before it creates any output file).
 pub fn check_config(scene: &Scene, cfg: &RunConfig) -> Result<(), EngineError> {
-    if cfg.engine == EngineKind::Dense && scene.chain.has_hard() {
-        return Err(EngineError::Config(
+    match unrunnable(scene, cfg) {
+        Some(Unrunnable::DenseOnHard) => return Err(EngineError::Config(
             "the scene declares hard contacts or walls, which only the hybrid engine handles (use --engine hybrid)"
                 .into(),
-        ));
-    }
-    if cfg.method == Method::Verlet && scene.chain.is_dissipative() {
-        return Err(EngineError::Config(
+        )),
+        Some(Unrunnable::VerletOnDamped) => return Err(EngineError::Config(
             "method verlet does not integrate velocity-dependent (damped) contacts; use auto, dop853 or radau5"
                 .into(),
-        ));
+        )),
+        None => {}
     }
     let bad = |what: &str, x: f64| EngineError::Config(format!("{what} = {x} must be in (0, 1)"));
     if !(cfg.rtol > 0.0 && cfg.rtol < 1.0) {
