@@ -111,7 +111,10 @@ fn exit_on_parse_error(e: &clap::Error) -> ! {
     }
 }
 
-/// The error and its causes on one line, skipping a cause whose text the message already holds.
+/// The error and its causes on one line, skipping a cause whose text the message already holds
+/// and writing once what a context and its cause both begin with;
+/// control characters (a tab or newline in a file name) are escaped (`\t`, `\n`), so the line
+/// shows the name as it is.
 fn one_line(e: &anyhow::Error) -> String {
     let mut out = String::new();
     for cause in e.chain() {
@@ -119,10 +122,14 @@ fn one_line(e: &anyhow::Error) -> String {
         if out.contains(&text) {
             continue;
         }
+        if !out.is_empty() && text.starts_with(&out) {
+            out = text; // a cause that names what the context named (`f.snap: f.snap: …`)
+            continue;
+        }
         if !out.is_empty() {
             out.push_str(": ");
         }
         out.push_str(&text);
     }
-    out.replace('\n', " ")
+    beadchain::scene::error::one_line(&out)
 }

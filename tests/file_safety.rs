@@ -40,20 +40,25 @@ fn assert_refused(o: &Output, needles: &[&str]) -> String {
 /// started in `dir` with `--out o.snap`; SIGINT once the first checkpoint exists. Returns the
 /// time of the checkpoint written at the interrupt.
 fn interrupted_run(dir: &Path) -> f64 {
-    std::fs::write(
-        dir.join("long.toml"),
-        "[chain]\nbeads = 200\n[initial]\nstriker = 1.0\n[run]\nuntil = 1e6\nengine = \"dense\"\n",
-    )
-    .expect("write scene");
+    let long =
+        "[chain]\nbeads = 200\n[initial]\nstriker = 1.0\n[run]\nuntil = 1e6\nengine = \"dense\"\n";
+    interrupted_run_of(dir, long, &[])
+}
+
+/// [`interrupted_run`] of the scene `text` with `extra` arguments for `run`.
+fn interrupted_run_of(dir: &Path, text: &str, extra: &[&str]) -> f64 {
+    std::fs::write(dir.join("long.toml"), text).expect("write scene");
+    let mut args = vec![
+        "run",
+        "long.toml",
+        "--out",
+        "o.snap",
+        "--checkpoint-every",
+        "1",
+    ];
+    args.extend_from_slice(extra);
     let child = Command::new(BIN)
-        .args([
-            "run",
-            "long.toml",
-            "--out",
-            "o.snap",
-            "--checkpoint-every",
-            "1",
-        ])
+        .args(&args)
         .current_dir(dir)
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -123,6 +128,78 @@ fn rejected_resume_until_keeps_the_run_resumable() {
     assert_eq!(info.status.code(), Some(0), "{}", err(&info));
     assert!(String::from_utf8_lossy(&info.stdout).contains("complete"));
     assert!(temps(d.path()).is_empty(), "{:?}", temps(d.path()));
+}
+
+/// The defect: `resume`'s frame-cap and output-size refusals advised `--every`, `--frames-max`
+/// and `[run].every`, which `resume` does not take (the interval and the cap are the unfinished
+/// output's), and named the original end time `[run].until` in computer units even when the
+/// scene gave it in seconds.
+#[test]
+fn resume_refusals_advise_only_what_resume_can_change() {
+    let d = tempfile::tempdir().expect("tempdir");
+    let long =
+        "[chain]\nbeads = 200\n[initial]\nstriker = 1.0\n[run]\nuntil = 1e6\nengine = \"dense\"\n";
+    let caps = ["--every", "1000", "--frames-max", "1001"];
+    interrupted_run_of(d.path(), long, &caps);
+    let o = bc(d.path(), &["resume", "o.snap.ckpt", "--until", "2e6"]);
+    let e = assert_refused(&o, &["o.snap.ckpt: --until: the run would write 2001 frames (--until = 2000000, every = 1000), more than the cap of 1001 frames its output was started with", "pass --until 1000000 or less", "can still be resumed"]);
+    assert!(!e.contains("--every") && !e.contains("raise"), "{e}");
+    let o = bc(
+        d.path(),
+        &["resume", "o.snap.ckpt", "--max-output-bytes", "100"],
+    );
+    let e = assert_refused(&o, &["the original run's end time = 1000000, every = 1000), above the limit of 100 bytes: pass an earlier --until, or --max-output-bytes N or --force"]);
+    assert!(!e.contains("[run]") && !e.contains("--every"), "{e}");
+    assert!(d.path().join("o.snap.ckpt").exists());
+    // A physical scene's end time is shown in seconds too (the scene gave `until_si`).
+    let d = tempfile::tempdir().expect("tempdir");
+    let steel = "[units]\nsystem = \"physical\"\nradius = 4e-3\nyoung = 2.26e11\npoisson = 0.3\ndensity = 7650.0\n[chain]\nbeads = 200\n[initial]\nstriker = 0.01\n[run]\nuntil_si = 1.0\nengine = \"dense\"\n";
+    interrupted_run_of(d.path(), steel, &[]);
+    let o = bc(
+        d.path(),
+        &["resume", "o.snap.ckpt", "--max-output-bytes", "100"],
+    );
+    assert_refused(
+        &o,
+        &[
+            "(3 frames of 200 beads: the original run's end time = 1.0000e0 s = 1104091.31",
+            " computer units, every = none (first and last frame))",
+        ],
+    );
+}
+
+/// The defect: a tab in a file name was printed raw in error lines (the frame-cap, output-size
+/// and output-is-an-input refusals, every snapshot reader), and a newline became a space, so
+/// the line did not show the name as it is; `analyze` named a missing snapshot twice.
+#[test]
+fn error_lines_escape_control_characters_in_file_names() {
+    let d = tempfile::tempdir().expect("tempdir");
+    let p = d.path();
+    // named: a scene without a name takes its file's stem, which a tab makes no file name
+    let named = format!("[scene]\nname = \"t\"\n{TINY}");
+    std::fs::write(p.join("a\tb.toml"), named).expect("write scene");
+    let cases: [&[&str]; 3] = [
+        &["run", "a\tb.toml", "--frames-max", "3"],
+        &["run", "a\tb.toml", "--max-output-bytes", "100"],
+        &["run", "a\tb.toml", "--out", "a\tb.toml"],
+    ];
+    for args in cases {
+        let e = assert_refused(&bc(p, args), &["beadchain: error: a\\tb.toml: "]);
+        assert!(!e.contains('\t'), "{args:?}: {e}");
+    }
+    for cmd in ["analyze", "export", "inspect"] {
+        let o = bc(p, &[cmd, "c\td.snap"]);
+        let e = assert_refused(&o, &["beadchain: error: c\\td.snap: opening snapshot: "]);
+        assert_eq!(e.matches("d.snap").count(), 1, "{cmd}: {e}");
+    }
+    assert_eq!(
+        bc(p, &["run", "a\tb.toml", "--out", "o.snap"])
+            .status
+            .code(),
+        Some(0)
+    );
+    let o = bc(p, &["export", "o.snap", "--out", "g\nh/x.csv"]);
+    assert_refused(&o, &["g\\nh/x.csv"]);
 }
 
 #[test]

@@ -205,7 +205,7 @@ fn resume_continues_with_the_selection() {
         assert_eq!(o.status.code(), Some(2));
         assert_eq!(
             stderr(&o),
-            "beadchain: error: o.snap.ckpt: --until: the run would write 1001 frames (--until = 5000, every = 5), more than --frames-max 600; use --every 8.347245409015025 or larger, or raise --frames-max\n"
+            "beadchain: error: o.snap.ckpt: --until: the run would write 1001 frames (--until = 5000, every = 5), more than the cap of 600 frames its output was started with (--frames-max or [output].frames_max); pass --until 2995 or less (the run is unchanged and can still be resumed)\n"
         );
         ok(&bc(d.path(), &["resume", "o.snap.ckpt"]));
         let got = std::fs::read(d.path().join("o.snap")).unwrap();

@@ -7,7 +7,7 @@
 use anyhow::{Context, Result};
 use beadchain::engine::{self, EngineError, RunConfig, RunOutcome};
 use beadchain::scene::Scene;
-use beadchain::snapshot::ckpt::read_checkpoint;
+use beadchain::snapshot::ckpt::{read_checkpoint, CheckpointFile};
 use beadchain::snapshot::{CheckpointPolicy, RunSummary, SnapshotSink, SnapshotWriter};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -162,6 +162,56 @@ fn locate(file: &Path, mark: &mut beadchain::snapshot::WriterMark) {
     }
 }
 
+/// `resume`'s output checks ([`super::select::check_frames_max`] and
+/// [`super::files::SizeLimit::check`] of `run`). The interval and the output selection (frame
+/// cap included) are the unfinished output's own, so a refusal advises only what `resume` can
+/// change: an earlier `--until`, or the size limit. The end time is `--until` where given, else
+/// the original run's, in seconds too for a physical scene (the checkpoint does not record
+/// whether the scene gave it in seconds).
+fn check_resume_output(
+    what: &str,
+    ck: &CheckpointFile,
+    cfg: &RunConfig,
+    until_given: bool,
+    limit: super::files::SizeLimit,
+) -> Result<()> {
+    use super::common::GivenTime;
+    use beadchain::snapshot::size::{self, count_text, short};
+    let sel = beadchain::snapshot::read_header(&ck.writer.temp)?.output;
+    let beta = ck.scene.units.map(|u| u.time);
+    let end = match until_given {
+        true => GivenTime::new("--until", &ck.scene),
+        false => GivenTime {
+            key: "the original run's end time",
+            beta,
+        },
+    };
+    let interval = GivenTime { key: "every", beta };
+    if let (Err(e), Some(every)) = (
+        size::check_frames_max(sel.frames_max, cfg.until, cfg.every),
+        cfg.every,
+    ) {
+        anyhow::bail!(
+            "{what}: {}: the run would write {} frames ({} = {}, every = {}), more than the cap of {} frames its output was started with (--frames-max or [output].frames_max); pass --until {} or less (the run is unchanged and can still be resumed)",
+            end.key,
+            count_text(e.count),
+            end.key,
+            end.shown(cfg.until),
+            interval.shown(every),
+            e.frames_max,
+            short(size::until_that_fits(every, e.frames_max)),
+        );
+    }
+    let n = ck.scene.chain.len();
+    limit.check_resume(
+        what,
+        (n, sel.values_per_frame(n as u64).unwrap_or(u64::MAX)),
+        (ck.engine.time(), cfg.until, cfg.every),
+        ck.writer.offsets.len(),
+        (&end, &interval),
+    )
+}
+
 /// `beadchain resume FILE.ckpt [--until T] [--checkpoint-every DT]`. Every argument is checked
 /// before the unfinished output is touched, so a rejected `--until` leaves the run resumable.
 /// The run continues with the output selection (`run --beads/--fields/--frames-max`) stored
@@ -187,33 +237,7 @@ pub fn cmd_resume(
         }
         cfg.until = t;
     }
-    // The output selection (beads, fields, frame cap) is the unfinished output's own header's.
-    let sel = beadchain::snapshot::read_header(&ck.writer.temp)?.output;
-    // a checkpoint's scene holds its end time and interval in computer units, `[run]`'s
-    use super::common::GivenTime;
-    let end = GivenTime {
-        key: if until.is_some() {
-            "--until"
-        } else {
-            "[run].until"
-        },
-        beta: None,
-    };
-    let interval = GivenTime {
-        key: "[run].every",
-        beta: None,
-    };
-    let span = (cfg.until, cfg.every);
-    let keys = ("--until", "--frames-max");
-    super::select::check_frames_max(&what, &sel, span, keys, (&end, &interval))?;
-    let n = ck.scene.chain.len();
-    limit.check(
-        &what,
-        (n, sel.values_per_frame(n as u64).unwrap_or(u64::MAX)),
-        (ck.engine.time(), cfg.until, cfg.every),
-        ck.writer.offsets.len(),
-        (&end, &interval),
-    )?;
+    check_resume_output(&what, &ck, &cfg, until.is_some(), limit)?;
     let writer = SnapshotWriter::reopen(&ck.writer)?;
     let out_path = ck.writer.path.clone();
     let mut sink = sink(

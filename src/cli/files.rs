@@ -51,35 +51,66 @@ impl SizeLimit {
     pub fn check(
         &self,
         what: &str,
-        (n_beads, values): (usize, u64),
-        (t0, until, every): (f64, f64, Option<f64>),
+        sizes: (usize, u64),
+        span: (f64, f64, Option<f64>),
         frames_before: usize,
         (end, interval): (&GivenTime, &GivenTime),
     ) -> Result<()> {
+        if let Some(over) = self.over(sizes, span, frames_before, (end, interval)) {
+            bail!(
+                "{what}: {}: the output would be {over}: raise {}, lower {}, or pass --max-output-bytes N or --force",
+                interval.key,
+                interval.or_option(),
+                end.key,
+            );
+        }
+        Ok(())
+    }
+
+    /// [`SizeLimit::check`] for `resume`, whose interval and output selection are the
+    /// unfinished output's: only the end time (`--until`) and the limit can change.
+    pub fn check_resume(
+        &self,
+        what: &str,
+        sizes: (usize, u64),
+        span: (f64, f64, Option<f64>),
+        frames_before: usize,
+        (end, interval): (&GivenTime, &GivenTime),
+    ) -> Result<()> {
+        if let Some(over) = self.over(sizes, span, frames_before, (end, interval)) {
+            bail!(
+                "{what}: the output would be {over}: pass an earlier --until, or --max-output-bytes N or --force (the run is unchanged and can still be resumed)"
+            );
+        }
+        Ok(())
+    }
+
+    /// `about B (F frames of N beads: END = T, every = DT), above the limit of L` when the
+    /// output would exceed the limit.
+    fn over(
+        &self,
+        (n_beads, values): (usize, u64),
+        span: (f64, f64, Option<f64>),
+        frames_before: usize,
+        (end, interval): (&GivenTime, &GivenTime),
+    ) -> Option<String> {
         let limit = self.bytes();
         let of = if values == 2 * n_beads as u64 {
             format!("{n_beads} beads")
         } else {
             format!("{values} stored values of {n_beads} beads")
         };
-        let span = (t0, until, every);
-        if let Err(OutputTooLarge { bytes, frames }) =
-            check_output_size((n_beads, values), span, frames_before, limit)
-        {
-            bail!(
-                "{what}: {}: the output would be about {} ({} frames of {of}: {} = {}, every = {}), above the limit of {}: raise {}, lower {}, or pass --max-output-bytes N or --force",
-                interval.key,
-                human_bytes(bytes),
-                count_text(frames),
-                end.key,
-                end.shown(until),
-                interval.shown_or(every, "none (first and last frame)"),
-                human_bytes(limit as f64),
-                interval.or_option(),
-                end.key,
-            );
-        }
-        Ok(())
+        let OutputTooLarge { bytes, frames } =
+            check_output_size((n_beads, values), span, frames_before, limit).err()?;
+        Some(format!(
+            "about {} ({} frames of {of}: {} = {}, every = {}), above the limit of {}",
+            human_bytes(bytes),
+            count_text(frames),
+            end.key,
+            end.shown(span.1),
+            interval.shown_or(span.2, "none (first and last frame)"),
+            human_bytes(limit as f64),
+        ))
     }
 }
 

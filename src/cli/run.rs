@@ -218,7 +218,7 @@ fn check_run_files(
     } else {
         "[output].frames_max"
     };
-    super::select::check_frames_max(what, sel, span, (cap_key, cap_key), (&end, &interval))?;
+    super::select::check_frames_max(what, sel, span, cap_key, (&end, &interval))?;
     let n = scene.chain.len();
     a.limit.check(
         what,

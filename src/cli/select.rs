@@ -64,14 +64,14 @@ impl OutputArgs {
 }
 
 /// Refuses a run to `until` with interval `every` that would write more frames than the
-/// selection's `frames_max`. `key` names the value at fault (`--frames-max` or
-/// `[output].frames_max` for `run`, `--until` for `resume`), `cap_key` where the cap came from,
-/// `end` and `interval` where `until` and `every` came from.
+/// selection's `frames_max` (`run`'s rule; `resume` has its own advice, `cli::ckpt`).
+/// `cap_key` names where the cap came from (`--frames-max` or `[output].frames_max`), `end` and
+/// `interval` where `until` and `every` came from.
 pub fn check_frames_max(
     what: &str,
     sel: &Selection,
     (until, every): (f64, Option<f64>),
-    (key, cap_key): (&str, &str),
+    cap_key: &str,
     (end, interval): (&GivenTime, &GivenTime),
 ) -> Result<()> {
     let Err(TooManyFrames {
@@ -83,7 +83,7 @@ pub fn check_frames_max(
         return Ok(());
     };
     bail!(
-        "{what}: {key}: the run would write {} frames ({} = {}, every = {}), more than {cap_key} {k}; use --every {} or larger, or raise {cap_key}",
+        "{what}: {cap_key}: the run would write {} frames ({} = {}, every = {}), more than {cap_key} {k}; use --every {} or larger, or raise {cap_key}",
         count_text(count),
         end.key,
         end.shown(until),

@@ -177,6 +177,20 @@ fn every_that_fits(until: f64, k: u64) -> f64 {
     dt
 }
 
+/// The latest end time (to f64 rounding) at which a run with interval `every` writes at most
+/// `k ≥ 2` frames: `(k−1)·every`, stepped down by ulps until [`frame_count`] agrees (`resume`,
+/// whose interval and cap are fixed, advises it).
+pub fn until_that_fits(every: f64, k: u64) -> f64 {
+    let mut until = k.saturating_sub(1).max(1) as f64 * every;
+    for _ in 0..64 {
+        if frame_count(until, Some(every)) <= k as f64 {
+            break;
+        }
+        until = f64::from_bits(until.to_bits() - 1);
+    }
+    until
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -189,6 +203,18 @@ mod tests {
         assert_eq!(e.count, 21.0);
         assert_eq!(e.every_that_fits, 5.0);
         assert!(frame_count(20.0, Some(e.every_that_fits)) <= 5.0);
+    }
+
+    #[test]
+    fn until_that_fits_is_the_last_end_time_within_the_cap() {
+        for (every, k) in [(5.0, 600), (0.1, 11), (0.3, 7), (1e-3, 1001)] {
+            let t = until_that_fits(every, k);
+            assert!(frame_count(t, Some(every)) <= k as f64, "{every} {k}");
+            // one ulp later writes one frame more
+            let next = f64::from_bits(t.to_bits() + 1);
+            assert!(frame_count(next, Some(every)) > k as f64, "{every} {k}");
+        }
+        assert_eq!(until_that_fits(5.0, 600), 2995.0);
     }
 
     #[test]
