@@ -199,19 +199,31 @@ pub(crate) fn frames_dict<'py>(
 /// The output rules of `beadchain run`, shared with it ([`size::check_frames_max`],
 /// [`size::check_output_size`]): a run that would write more frames than `[output].frames_max`,
 /// or whose estimated output (kept frames or snapshot file, the same bytes) is above `limit`, is
-/// refused before it starts, with the keywords that fit it.
-fn check_output(s: &LibScene, cfg: &RunConfig, sel: &Selection, limit: u64) -> PyResult<()> {
-    use beadchain::snapshot::size::{self, count_text, human_bytes, short};
+/// refused before it starts, with the keywords that fit it. The end time and the interval are
+/// named as given (`until_si=` in seconds, then computer units; [`given_time`]).
+fn check_output(
+    s: &LibScene,
+    (cfg, o): (&RunConfig, &Options),
+    sel: &Selection,
+    limit: u64,
+) -> PyResult<()> {
+    use beadchain::snapshot::size::{self, count_text, human_bytes};
     let (until, every) = (cfg.until, cfg.every);
-    let every_text = every.map_or("none (first and last frame)".into(), short);
+    let until_text = given_time(s, ("until", o.until_si.is_some()), until);
+    let every_text = every.map_or("every = none (first and last frame)".into(), |x| {
+        given_time(s, ("every", o.every_si.is_some()), x)
+    });
     if let Err(e) = size::check_frames_max(sel.frames_max, until, every) {
+        let fits = e.every_that_fits;
+        let fits_si = s.units.map_or(String::new(), |u| {
+            format!(" (every_si={:.4e})", fits * u.time)
+        });
         return Err(SceneError::new_err(format!(
-            "{}: output.frames_max: the run would write {} frames (until = {}, every = {every_text}), more than frames_max {}; use every={} or larger, or raise output frames_max",
+            "{}: output.frames_max: the run would write {} frames ({until_text}, {every_text}), more than frames_max {}; use every={}{fits_si} or larger, or raise output frames_max",
             s.name,
             count_text(e.count),
-            short(until),
             e.frames_max,
-            short(e.every_that_fits),
+            size::short(fits),
         )));
     }
     let n = s.chain.len();
@@ -223,15 +235,31 @@ fn check_output(s: &LibScene, cfg: &RunConfig, sel: &Selection, limit: u64) -> P
             format!("{values} stored values of {n} beads")
         };
         return Err(SceneError::new_err(format!(
-            "{}: every: the output would be about {} ({} frames of {of}: until = {}, every = {every_text}), above the limit of {}: use a larger every=, a smaller until=, fewer beads or fields (output={{\"beads\": ..., \"fields\": ...}}), or pass max_output_bytes=",
+            "{}: every: the output would be about {} ({} frames of {of}: {until_text}, {every_text}), above the limit of {}: use a larger every=, a smaller until=, fewer beads or fields (output={{\"beads\": ..., \"fields\": ...}}), or pass max_output_bytes=",
             s.name,
             human_bytes(e.bytes),
             count_text(e.frames),
-            short(until),
             human_bytes(limit as f64),
         )));
     }
     Ok(())
+}
+
+/// A run time `x` (computer units) named as given: `until_si = 1.0000e-4 s = 110.4 computer
+/// units` where the keyword in seconds was passed (`key.1`), else `until = 110.4`, with the
+/// seconds beside it in a physical scene (`until = 110.4 (1.0000e-4 s)`: the scene's own
+/// `until_si` or `until`).
+fn given_time(s: &LibScene, (key, si): (&str, bool), x: f64) -> String {
+    use beadchain::snapshot::size::short;
+    match (s.units, si) {
+        (Some(u), true) => format!(
+            "{key}_si = {:.4e} s = {} computer units",
+            x * u.time,
+            short(x)
+        ),
+        (Some(u), false) => format!("{key} = {} ({:.4e} s)", short(x), x * u.time),
+        (None, _) => format!("{key} = {}", short(x)),
+    }
 }
 
 /// Runs `scene` to its end time; frames in memory (unless `record` is false) and, with `out`,
@@ -274,7 +302,7 @@ pub fn run<'py>(
         (false, None) => u64::MAX, // nothing kept: only frames_max applies
         _ => max_output_bytes.unwrap_or(DEFAULT_MAX_OUTPUT_BYTES),
     };
-    check_output(&s, &cfg, &sel, limit)?;
+    check_output(&s, (&cfg, &o), &sel, limit)?;
     let created_by = format!("python: beadchain.run({})", s.name);
     let writer = match &out {
         Some(path) => {

@@ -56,3 +56,29 @@ def test_non_positive_si_times_are_refused_as_given():
             bc.run(phys, **kw)
         assert str(e.value) == (f"hertz_spheres_physical: {key}: must be a finite number > 0 "
                                 f"(seconds), got {got}")
+
+
+def test_output_refusals_name_the_times_as_given():
+    """The defect: run()'s frame-cap and output-size refusals showed until_si=1e-4 and every_si=
+    as 'until = 110.4…, every = 11.04…' (computer units under the plain keys), which a
+    physicist who gave seconds cannot recognise; as the CLI's refusals now, they are named as
+    given, in seconds then computer units."""
+    phys = bc.Scene.preset("hertz_spheres_physical")
+    beta = 1e-4 / 110.40913187338107  # the scene's time unit (s), as the CLI prints it
+    with pytest.raises(bc.SceneError) as e:
+        bc.run(phys.with_overrides({"output.frames_max": 3}), until_si=1e-4, every_si=1e-5)
+    msg = str(e.value)
+    assert "(until_si = 1.0000e-4 s = 110.40913187338107 computer units, every_si = 1.0000e-5 s = " \
+        "11.040913187338107 computer units), more than frames_max 3; use every=55.2" in msg, msg
+    assert msg.endswith("use every=55.204565936690535 (every_si=5.0000e-5) or larger, or raise "
+                        "output frames_max"), msg
+    with pytest.raises(bc.SceneError) as e:
+        bc.run(phys, until_si=1e-4, every_si=1e-8, max_output_bytes=1000)
+    msg = str(e.value)
+    assert "frames of " in msg and ": until_si = 1.0000e-4 s = 110.40913187338107 computer units, " \
+        "every_si = 1.0000e-8 s = " in msg, msg
+    # computer units given: the plain key, with the seconds beside it
+    with pytest.raises(bc.SceneError) as e:
+        bc.run(phys, until=110.0, every=0.01, max_output_bytes=1000)
+    assert ": until = 110 (9.9629e-5 s), every = 0.01 (" in str(e.value), str(e.value)
+    assert abs(110.0 * beta - 9.9629e-5) < 1e-9
