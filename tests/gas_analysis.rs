@@ -268,3 +268,60 @@ fn granular_gas_preset_reports_its_initial_temperature() {
         "{coll}"
     );
 }
+
+/// The defect: a bounce off a hard wall was logged as `hard_collision` with the bead index as
+/// its contact, so `analyze` counted it as a collision between beads (and a reader could not
+/// tell the left wall's bounce from the contact between beads 0 and 1). Two equal beads, gaps
+/// of 1 to each other and to two elastic hard walls, `v = (1, 0)`, worked out by hand: the beads
+/// swap velocities at t = 1, 3, 7, 9, 13, 15 and bounce off the walls at t = 2 (right), 5
+/// (left), 8, 11, 14, 17 (period 6) until t = 18.5.
+#[test]
+fn hard_wall_bounces_are_wall_collisions_not_collisions_between_beads() {
+    let d = tempfile::tempdir().unwrap();
+    let wall = "{ hard = true, restitution = 1.0, precompression = -1.0 }";
+    let scene = format!(
+        "[chain]\nbeads = 2\nprecompression = -1.0\n[initial]\nvelocity = [1.0, 0.0]\n\
+         [hard]\ncontacts = \"all\"\nrestitution = 1.0\n[walls]\nleft = {wall}\nright = {wall}\n\
+         [run]\nuntil = 18.5\nevery = 0.5\n"
+    );
+    std::fs::write(d.path().join("box.toml"), scene).unwrap();
+    assert_ok(&bc(
+        d.path(),
+        &["run", "box.toml", "--out", "gas.snap", "-q"],
+    ));
+    let s = Snapshot::open(&d.path().join("gas.snap")).unwrap();
+    let got: Vec<(f64, u64, EventKind)> = s
+        .events()
+        .iter()
+        .map(|e| (e.t, e.contact, e.kind))
+        .collect();
+    let (pair, wall) = (EventKind::HardCollision, EventKind::WallClose);
+    let want = [
+        (1.0, 0, pair),
+        (2.0, 1, wall),
+        (3.0, 0, pair),
+        (5.0, 0, wall),
+        (7.0, 0, pair),
+        (8.0, 1, wall),
+        (9.0, 0, pair),
+        (11.0, 0, wall),
+        (13.0, 0, pair),
+        (14.0, 1, wall),
+        (15.0, 0, pair),
+        (17.0, 0, wall),
+    ];
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for (g, w) in got.iter().zip(want) {
+        // times: abs 1e-12 (free flights of integer lengths at unit speed)
+        assert!(
+            close(g.0, w.0, 1e-12, 0.0) && (g.1, g.2) == (w.1, w.2),
+            "{got:?}"
+        );
+    }
+    let json = analyze(d.path(), &["--json"]);
+    assert_eq!(
+        (num(&json, "pair"), num(&json, "wall")),
+        (6.0, 6.0),
+        "{json}"
+    );
+}

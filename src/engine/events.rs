@@ -14,9 +14,9 @@ pub enum EventKind {
     Close,
     /// A contact between two beads opened (gap appears).
     Open,
-    /// An instantaneous hard collision.
+    /// An instantaneous hard collision between two beads.
     HardCollision,
-    /// A bead touched a wall.
+    /// A bead touched a wall (a soft wall's contact starts, or the bead bounced off a hard wall).
     WallClose,
     /// A bead left a wall.
     WallOpen,

@@ -36,6 +36,12 @@
 //! carry ([`crate::engine::Observer::dissipated`]; a scene with hard contacts or walls reports
 //! it, [`crate::model::Chain::loses_energy`]), so `E_kin + E_pot + E_d` is conserved as in a
 //! damped scene.
+//!
+//! **Event log.** A collision between beads is logged as `hard_collision` (the contact index);
+//! a bounce off a hard wall as `wall_close` with the bead index, as a soft wall's contact is
+//! (no `wall_open` follows: it lasts no time). It was logged as `hard_collision` with the bead
+//! index, which `analyze` counted as a collision between beads and which a reader could not
+//! tell from the contact between beads 0 and 1.
 
 use super::stick::collide;
 use super::{Hybrid, FREE};
@@ -213,7 +219,7 @@ impl Hybrid<'_> {
         let k = self.ctx.n - 1 + side as usize;
         let stick = push > 0.0 && self.sticks(k, t, e0, w, push);
         let (e, floor) = self.tc_model(k, t, e0, push);
-        self.log(t, i, EventKind::HardCollision, w, 0.0);
+        self.log(t, i, EventKind::WallClose, w, 0.0);
         let sep = if stick {
             0.0
         } else {
@@ -244,7 +250,7 @@ impl Hybrid<'_> {
         let k = self.ctx.n - 1 + side as usize;
         let stick = self.sticks(k, t, e0, w, push);
         self.st.last_hard[k] = t;
-        self.log(t, i, EventKind::HardCollision, w, 0.0);
+        self.log(t, i, EventKind::WallClose, w, 0.0);
         let sep = if stick { 0.0 } else { e0 * w.max(0.0) };
         // a group a wall already holds is at rest and stays so (infinite mass: no loss)
         self.st.dissipated += collision_loss(self.group_mass(&g), f64::INFINITY, w, sep);
