@@ -161,6 +161,46 @@ fn a_changed_csv_file_of_the_scene_reruns_its_runs() {
     assert_eq!((sum.skipped, sum.ran), (0, 2), "{sum:?}");
 }
 
+/// The defect: an interrupted sweep (`OUT.partial`) resumed after a CSV file its scene reads had
+/// changed kept the rows computed from the old file, and wrote them into `OUT` under the new
+/// content keys, so every later rerun skipped them as up to date. The partial file's first line
+/// now carries a hash of its runs' content keys; such a partial file is refused, naming why.
+#[test]
+fn a_partial_sweep_written_before_a_csv_file_changed_is_not_resumed() {
+    let dir = tempfile::tempdir().unwrap();
+    let masses = |m: f64| format!("{m}\n").repeat(10);
+    std::fs::write(dir.path().join("m.csv"), masses(1.0)).unwrap();
+    std::fs::write(
+        dir.path().join("base.toml"),
+        "[chain]\nmass = { file = \"m.csv\" }\n[initial]\nstriker = 1.0\n[run]\nuntil = 10.0\n",
+    )
+    .unwrap();
+    let text = "scene = \"base.toml\"\n[grid]\n\"initial.striker\" = [0.5, 1.0, 1.5, 2.0]\n";
+    let out = dir.path().join("r.csv");
+    let interrupted = SweepOptions {
+        max_runs: Some(2),
+        ..opts(&out)
+    };
+    let first = run_sweep(&spec_in(text, dir.path()), &interrupted, &none).unwrap();
+    assert_eq!((first.ran, first.complete), (2, false));
+    std::fs::write(dir.path().join("m.csv"), masses(3.0)).unwrap();
+    let e = run_sweep(&spec_in(text, dir.path()), &opts(&out), &none).unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.contains("r.csv.partial") && msg.contains("a file this sweep's scene reads changed"),
+        "{msg}"
+    );
+    assert!(!out.exists(), "nothing written");
+    // the same inputs resume as before
+    std::fs::write(dir.path().join("m.csv"), masses(1.0)).unwrap();
+    let sum = run_sweep(&spec_in(text, dir.path()), &opts(&out), &none).unwrap();
+    assert_eq!((sum.resumed, sum.ran, sum.written), (2, 2, true), "{sum:?}");
+    // and give the bytes of a fresh sweep
+    let fresh = dir.path().join("fresh.csv");
+    run_sweep(&spec_in(text, dir.path()), &opts(&fresh), &none).unwrap();
+    assert_eq!(read(&out), read(&fresh));
+}
+
 #[test]
 fn old_results_without_keys_and_merged_shards() {
     let dir = tempfile::tempdir().unwrap();

@@ -272,11 +272,12 @@ pub fn run_sweep(
         keyed,
         keys,
         spec_line,
+        partial_line,
         columns,
         mine,
     } = plan(spec, opts)?;
     let (partial, done, resumed, skipped) =
-        rows_done(spec, opts, keyed, &mine, &spec_line, &columns)?;
+        rows_done(spec, opts, keyed, &mine, &partial_line, &columns)?;
     let mut pending: Vec<&RunPoint> = mine
         .iter()
         .filter(|r| !done.contains_key(&r.index))
@@ -299,12 +300,26 @@ pub fn run_sweep(
     })
 }
 
+/// Line 1 of `OUT.partial`: the spec line and a hash of the content keys of every run of the
+/// sweep (`inputs=HASH`; every shard's alike). The spec hash covers the sweep file and the base
+/// scene's text only; the keys also see the CSV files the scene reads, so rows written before
+/// such a file changed are not resumed as if they were this sweep's.
+fn partial_spec_line(spec_line: &str, all: &[(RunPoint, u64)]) -> String {
+    let text: String = all
+        .iter()
+        .map(|(r, k)| format!("{}:{k:016x};", r.index))
+        .collect();
+    format!("{spec_line} inputs={:016x}", super::fnv1a(text.as_bytes()))
+}
+
 /// What a sweep (shard) runs, before anything runs: its runs with their content keys, the keys
-/// by run index, the result file's spec line and column header.
+/// by run index, the result file's spec line (and the partial file's, [`partial_spec_line`])
+/// and column header.
 struct Plan {
     keyed: Vec<(RunPoint, u64)>,
     keys: BTreeMap<usize, u64>,
     spec_line: String,
+    partial_line: String,
     columns: String,
     mine: Vec<RunPoint>,
 }
@@ -313,12 +328,13 @@ struct Plan {
 fn plan(spec: &SweepSpec, opts: &SweepOptions) -> Result<Plan, SweepError> {
     let all = spec.check_all_keyed()?;
     let total = all.len();
+    let spec_line = csv::spec_line(spec.hash, total);
+    let partial_line = partial_spec_line(&spec_line, &all);
     let keyed: Vec<(RunPoint, u64)> = all
         .into_iter()
         .filter(|(r, _)| opts.shard.is_none_or(|s| s.contains(r.index)))
         .collect();
     let keys: BTreeMap<usize, u64> = keyed.iter().map(|(r, k)| (r.index, *k)).collect();
-    let spec_line = csv::spec_line(spec.hash, total);
     let columns = csv::columns(spec, opts.timing)
         .iter()
         .map(|c| field(c))
@@ -329,6 +345,7 @@ fn plan(spec: &SweepSpec, opts: &SweepOptions) -> Result<Plan, SweepError> {
         keyed,
         keys,
         spec_line,
+        partial_line,
         columns,
         mine,
     })
@@ -499,6 +516,13 @@ fn check_partial(
         line,
         message,
     };
+    let same_spec = |l: &str| l.split(" inputs=").next() == spec_line.split(" inputs=").next();
+    if old.spec_line != spec_line && same_spec(&old.spec_line) {
+        return Err(bad(
+            1,
+            "written before a file this sweep's scene reads changed (a CSV file: the runs' content keys differ), so its rows are not this sweep's results; delete it or choose another --out".into(),
+        ));
+    }
     if old.spec_line != spec_line {
         return Err(bad(
             1,
