@@ -411,6 +411,46 @@ fn shards_merge_to_the_unsharded_bytes() {
     assert!("3".parse::<Shard>().is_err());
 }
 
+/// The defect: `merge` and `sweep` wrote `OUT.meta` first and `OUT` second, so when `OUT` could
+/// not be replaced (a symbolic link, a directory, an immutable file) the command failed with
+/// `OUT.meta` already overwritten, describing a table `OUT` did not hold (and `sweep` ran every
+/// run before it found out). Both paths are now checked first.
+#[test]
+fn a_result_that_cannot_be_written_leaves_its_sidecar_as_it_was() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = spec(SMALL).unwrap();
+    let shard = dir.path().join("s.csv");
+    run_sweep(&s, &opts(&shard, 1), &no_progress).unwrap();
+    let meta = |p: &Path| PathBuf::from(format!("{}.meta", p.display()));
+    // a symbolic link, and a directory, as OUT; an old sidecar beside each
+    let target = dir.path().join("target.csv");
+    std::fs::write(&target, "OTHER\n").unwrap();
+    let link = dir.path().join("link.csv");
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    let adir = dir.path().join("d.csv");
+    std::fs::create_dir(&adir).unwrap();
+    for out in [&link, &adir] {
+        std::fs::write(meta(out), "OLDMETA\n").unwrap();
+        let e = merge(out, std::slice::from_ref(&shard), false)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with(&format!("{}: ", out.display())), "{e}");
+        let mut o = opts(out, 1);
+        o.max_runs = Some(1);
+        let e = run_sweep(&s, &o, &no_progress).unwrap_err().to_string();
+        assert!(
+            e.contains("symbolic link") || e.contains("is a directory"),
+            "{e}"
+        );
+        assert_eq!(read(&meta(out)), "OLDMETA\n", "{}", out.display());
+        assert!(
+            !partial_path(out).exists(),
+            "sweep ran before it checked its output"
+        );
+    }
+    assert_eq!(read(&target), "OTHER\n");
+}
+
 #[test]
 fn example_sweep_files_parse() {
     for f in [

@@ -144,7 +144,10 @@ pub fn read_keys(out: &Path) -> BTreeMap<usize, u64> {
 
 /// Writes a finished result: the spec line and content keys to `OUT.meta`, then the table to
 /// `OUT` (each atomically; `OUT` appears last). A file that already holds those bytes is left
-/// alone (its modification time too). Returns whether anything was written.
+/// alone (its modification time too). Both paths are checked before anything is written (a
+/// symbolic link or a directory is refused), and when `OUT` cannot be written after all, the
+/// sidecar is put back as it was, so it never describes a table `OUT` does not hold. Returns
+/// whether anything was written.
 pub fn write_result(
     out: &Path,
     spec_line: &str,
@@ -152,19 +155,61 @@ pub fn write_result(
     columns: &str,
     rows: &BTreeMap<usize, String>,
 ) -> Result<bool, SweepError> {
-    let mut s = render(spec_line, columns, rows);
-    s.drain(..=spec_line.len());
-    let mut wrote = false;
-    for (path, text) in [
-        (meta_path(out), meta_text(spec_line, keys)),
-        (out.to_path_buf(), s),
-    ] {
-        if std::fs::read(&path).ok().as_deref() != Some(text.as_bytes()) {
-            write_atomic(&path, &text)?;
-            wrote = true;
+    let mut table = render(spec_line, columns, rows);
+    table.drain(..=spec_line.len());
+    let meta = meta_path(out);
+    check_destinations(out)?;
+    let old_meta = std::fs::read(&meta).ok();
+    let new_meta = meta_text(spec_line, keys);
+    let meta_changes = old_meta.as_deref() != Some(new_meta.as_bytes());
+    if meta_changes {
+        write_atomic(&meta, new_meta.as_bytes())?;
+    }
+    let out_changes = std::fs::read(out).ok().as_deref() != Some(table.as_bytes());
+    if out_changes {
+        if let Err(e) = write_atomic(out, table.as_bytes()) {
+            if meta_changes {
+                // best effort: the error above is the one to report
+                let _ = match &old_meta {
+                    Some(bytes) => write_atomic(&meta, bytes),
+                    None => {
+                        std::fs::remove_file(&meta).map_err(|e| io_err(&meta, "cannot remove", e))
+                    }
+                };
+            }
+            return Err(e);
         }
     }
-    Ok(wrote)
+    Ok(meta_changes || out_changes)
+}
+
+/// `OUT` and `OUT.meta` can be replaced by [`write_atomic`] ([`check_destination`]): checked
+/// before a sweep runs or a merge reads its shards, and again before the result is written.
+pub fn check_destinations(out: &Path) -> Result<(), SweepError> {
+    check_destination(&meta_path(out))?;
+    check_destination(out)
+}
+
+/// A result path that [`write_atomic`] can replace: not a symbolic link (its target would be
+/// bypassed) and not a directory.
+fn check_destination(path: &Path) -> Result<(), SweepError> {
+    if let Err(crate::files::OutputError::Symlink { target, .. }) =
+        crate::files::classify_output(path)
+    {
+        return Err(SweepError::Io {
+            file: path.display().to_string(),
+            action: format!("is a symbolic link (to {})", target.display()),
+            reason: "refusing to replace it: give the target path itself".into(),
+        });
+    }
+    if path.is_dir() {
+        return Err(SweepError::Io {
+            file: path.display().to_string(),
+            action: "cannot write".into(),
+            reason: "is a directory".into(),
+        });
+    }
+    Ok(())
 }
 
 /// A result file read back: its spec line, column header and its rows by run index.
@@ -300,9 +345,9 @@ pub fn render(spec_line: &str, columns: &str, rows: &BTreeMap<usize, String>) ->
 
 /// Writes `content` to `path` atomically ([`crate::snapshot::write_atomically`]: a temporary
 /// sibling, fsynced and renamed; never a half-written file under `path`).
-pub fn write_atomic(path: &Path, content: &str) -> Result<(), SweepError> {
+pub fn write_atomic(path: &Path, content: &[u8]) -> Result<(), SweepError> {
     crate::snapshot::write_atomically(path, |w| {
-        w.write_all(content.as_bytes())
+        w.write_all(content)
             .map_err(crate::snapshot::SnapshotError::Output)
     })
     .map_err(|e| SweepError::Io {
@@ -337,6 +382,7 @@ pub fn merge(
     let first = shards
         .first()
         .ok_or_else(|| SweepError::Options("merge: no shard files given".into()))?;
+    check_destinations(out)?;
     let head = read_result(first, false)?;
     let mut rows: BTreeMap<usize, String> = BTreeMap::new();
     let mut from: BTreeMap<usize, &Path> = BTreeMap::new();

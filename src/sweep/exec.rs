@@ -276,6 +276,7 @@ pub fn run_sweep(
         columns,
         mine,
     } = plan(spec, opts)?;
+    csv::check_destinations(&opts.out)?;
     let (partial, done, resumed, skipped) =
         rows_done(spec, opts, keyed, &mine, &partial_line, &columns)?;
     let mut pending: Vec<&RunPoint> = mine
@@ -438,7 +439,7 @@ fn rows_done(
     let reused = reusable_rows(spec, &todo, &opts.out, columns);
     let skipped = reused.len();
     done.extend(reused);
-    csv::write_atomic(&partial, &csv::render(spec_line, columns, &done))?;
+    csv::write_atomic(&partial, csv::render(spec_line, columns, &done).as_bytes())?;
     Ok((partial, done, resumed, skipped))
 }
 
