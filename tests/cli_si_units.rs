@@ -64,6 +64,45 @@ fn until_si_and_every_si_are_seconds_of_a_physical_scene() {
     assert!(close(last, UNTIL_SI / beta, 0.0, 1e-15), "{last}");
 }
 
+/// The defect: `until_si = 5e-3` with `every_si = 2.5e-4` (20 intervals) wrote 22 frames, not
+/// 21: after division by β, `20·every` fell one ulp short of `until`, so a frame was written
+/// there and the last one an ulp later (a spurious zero-length interval in every per-frame
+/// analysis). A `k·every` within a few ulps of `until` is now the last frame, and the size
+/// estimate (`frame_count`) counts the same.
+#[test]
+fn a_whole_number_of_intervals_in_seconds_ends_on_one_last_frame() {
+    use beadchain::engine::RunConfig;
+    use beadchain::snapshot::size::frame_count;
+    let d = tempfile::tempdir().unwrap();
+    let args = [
+        "run",
+        "hertz_spheres_physical",
+        "--until-si",
+        "5e-3",
+        "--every-si",
+        "2.5e-4",
+        "--out",
+        "p.snap",
+        "-q",
+    ];
+    assert_ok(&bc(d.path(), &args));
+    let snap = Snapshot::open(&d.path().join("p.snap")).unwrap();
+    let beta = snap.header().scene.units.expect("physical scene").time;
+    let (until, every) = (5e-3 / beta, 2.5e-4 / beta);
+    assert!(20.0 * every < until, "the case: 20·every is below until");
+    assert_eq!(snap.frame_count(), 21);
+    let t: Vec<f64> = (0..21).map(|k| snap.frame(k).unwrap().t).collect();
+    assert_eq!(t[20], until);
+    assert_eq!(t[19], 19.0 * every);
+    assert_eq!(frame_count(until, Some(every)), 21.0);
+    let mut cfg = RunConfig::from_scene(&snap.header().scene);
+    (cfg.until, cfg.every) = (until, Some(every));
+    assert_eq!(
+        (cfg.frame_time(19), cfg.frame_time(20)),
+        (19.0 * every, until)
+    );
+}
+
 #[test]
 fn until_si_on_a_dimensionless_scene_is_refused() {
     let d = tempfile::tempdir().unwrap();

@@ -92,10 +92,17 @@ impl RunConfig {
     }
 
     /// Output times: `0, every, 2·every, …` (computed as `k·every`, not by summation) and
-    /// `until` itself.
+    /// `until` itself; a `k·every` that [`reaches_until`] is `until` (the last frame).
     pub fn frame_time(&self, k: u64) -> f64 {
         match self.every {
-            Some(dt) => (k as f64 * dt).min(self.until),
+            Some(dt) => {
+                let t = k as f64 * dt;
+                if reaches_until(t, self.until) {
+                    self.until
+                } else {
+                    t
+                }
+            }
             None => {
                 if k == 0 {
                     0.0
@@ -105,6 +112,15 @@ impl RunConfig {
             }
         }
     }
+}
+
+/// Whether the output time `t = k·every` is the end time `until`: at or past it, or within
+/// `16ε·until` below it. An interval and an end time given in seconds are both divided by the
+/// time unit, so `k·every` can fall a few ulps short of an `until` that is a whole number of
+/// intervals (`until_si = 5e-3`, `every_si = 2.5e-4`: `20·every` one ulp below `until`); the
+/// frame there was written, and then the last frame one ulp later.
+pub fn reaches_until(t: f64, until: f64) -> bool {
+    t >= until || until - t <= 16.0 * f64::EPSILON * until.abs()
 }
 
 /// An engine or method that cannot run a scene's contacts.

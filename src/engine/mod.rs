@@ -20,7 +20,7 @@ mod start;
 pub mod stepper;
 
 pub use checkpoint::Control;
-pub use config::{check_config, unrunnable, RunConfig, RunOverrides, Unrunnable};
+pub use config::{check_config, reaches_until, unrunnable, RunConfig, RunOverrides, Unrunnable};
 pub(crate) use observe::poll_stop;
 pub use observe::{Observer, Observers, Recorder};
 pub use start::{restore, start};

@@ -39,12 +39,14 @@ pub fn frame_count(until: f64, every: Option<f64>) -> f64 {
             if q.is_nan() || q >= 1e15 {
                 return q + 1.0; // beyond exact integer steps: any cap is exceeded anyway
             }
-            // The last frame is the first k with k·dt ≥ until, in the engines' arithmetic.
+            // The last frame is the first k whose k·dt reaches until, in the engines' arithmetic
+            // (`engine::reaches_until`).
+            let reaches = |k: u64| crate::engine::reaches_until(k as f64 * dt, until);
             let mut k = q as u64;
-            while k > 0 && (k - 1) as f64 * dt >= until {
+            while k > 0 && reaches(k - 1) {
                 k -= 1;
             }
-            while (k as f64 * dt) < until {
+            while !reaches(k) {
                 k += 1;
             }
             k as f64 + 1.0
@@ -177,7 +179,7 @@ fn every_that_fits(until: f64, k: u64) -> f64 {
     dt
 }
 
-/// The latest end time (to f64 rounding) at which a run with interval `every` writes at most
+/// The latest end time (to a few ulps) at which a run with interval `every` writes at most
 /// `k ≥ 2` frames: `(k−1)·every`, stepped down by ulps until [`frame_count`] agrees (`resume`,
 /// whose interval and cap are fixed, advises it).
 pub fn until_that_fits(every: f64, k: u64) -> f64 {
@@ -210,9 +212,12 @@ mod tests {
         for (every, k) in [(5.0, 600), (0.1, 11), (0.3, 7), (1e-3, 1001)] {
             let t = until_that_fits(every, k);
             assert!(frame_count(t, Some(every)) <= k as f64, "{every} {k}");
-            // one ulp later writes one frame more
-            let next = f64::from_bits(t.to_bits() + 1);
-            assert!(frame_count(next, Some(every)) > k as f64, "{every} {k}");
+            // a relative 1e-12 later writes one frame more (within 16 ulps, a time that reaches
+            // the last frame's `k·every` still ends on it: `engine::reaches_until`)
+            assert!(
+                frame_count(t * (1.0 + 1e-12), Some(every)) > k as f64,
+                "{every} {k}"
+            );
         }
         assert_eq!(until_that_fits(5.0, 600), 2995.0);
     }
