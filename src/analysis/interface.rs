@@ -3,7 +3,10 @@
 //! - [`energy_split`]: at interface bead `k` (the paper's bead 50: contact `k−1` has `n₁`,
 //!   contact `k` has `n₂`), the energy left of the interface, beads `0..k` and contacts
 //!   `0..k−1`, and right of it, beads `k..N` and contacts `k..N−1`; the straddling contact `k−1`
-//!   (beads `k−1`, `k`) counts half to each side. Once the reflected and transmitted pulses have
+//!   (beads `k−1`, `k`) counts half to each side; a soft wall's contact energy counts on its
+//!   side, and a field's potential energy `−W_i u_i` on bead `i`'s, so the two sides sum to
+//!   the chain's total energy (they left out walls and fields: on `dimer_dispersion` the two
+//!   walls' 0.0094 of 0.19). Once the reflected and transmitted pulses have
 //!   separated (no force across contact `k−1`, nothing crossing the interface any more) this is
 //!   the paper's `E_refl` and `E_trans` (Sec. 3.2, Fig. 7), up to the small energy left in beads
 //!   that rest near the interface.
@@ -25,7 +28,7 @@ pub struct EnergySplit {
 }
 
 impl EnergySplit {
-    /// `left + right` (the chain's total energy).
+    /// `left + right`: the chain's total energy ([`Chain::energy`], to rounding).
     pub fn total(&self) -> f64 {
         self.left + self.right
     }
@@ -41,9 +44,16 @@ pub fn energy_split(chain: &Chain, u: &[f64], v: &[f64], k: usize) -> EnergySpli
         chain.prefactor[c],
         chain.overlap(c, u[c], u[c + 1]),
     );
+    let (left_wall, right_wall) = chain.wall_energies(u);
     EnergySplit {
-        left: range_energy(chain, u, v, 0, k) + 0.5 * straddle,
-        right: range_energy(chain, u, v, k, n) + 0.5 * straddle,
+        left: range_energy(chain, u, v, 0, k)
+            + 0.5 * straddle
+            + left_wall
+            + chain.field_energy(u, 0, k),
+        right: range_energy(chain, u, v, k, n)
+            + 0.5 * straddle
+            + right_wall
+            + chain.field_energy(u, k, n),
     }
 }
 
@@ -98,6 +108,30 @@ mod tests {
         assert!((s.left - 0.52).abs() < 1e-14, "{s:?}");
         assert!((s.right - 2.53).abs() < 1e-14, "{s:?}");
         assert!((s.total() - c.energy(&u, &v)).abs() < 1e-14);
+    }
+
+    /// The defect: the split left out the walls' contact energy and the field's potential
+    /// energy, so `left + right` was not the total that `analyze` calls it a fraction of.
+    #[test]
+    fn split_counts_walls_and_the_field_on_their_sides() {
+        let mut c = chain(4, 2.0);
+        let wall = |p: f64| crate::model::Wall {
+            exponent: 2.0,
+            prefactor: 1.0,
+            precompression: p,
+            restitution: None,
+        };
+        // left wall overlap 0.1 − u0 = 0.3 -> 0.09; right wall 0.05 + u3 = 0.15 -> 0.0225
+        (c.left_wall, c.right_wall) = (Some(wall(0.1)), Some(wall(0.05)));
+        c.field = Some(vec![-1.0, -2.0, -3.0, -4.0]);
+        let u = [-0.2, 0.0, 0.0, 0.1];
+        let v = [1.0, 0.0, 0.0, 0.0];
+        let s = energy_split(&c, &u, &v, 2);
+        // left: 0.5 kinetic + 0.09 wall + field −(−1)(−0.2) = −0.2 (contact 0 open: u0 − u1 < 0)
+        // right: 0.0225 wall + field −(−4)(0.1) = 0.4 (abs 1e-14)
+        assert!((s.left - (0.5 + 0.09 - 0.2)).abs() < 1e-14, "{s:?}");
+        assert!((s.right - (0.0225 + 0.4)).abs() < 1e-14, "{s:?}");
+        assert!((s.total() - c.energy(&u, &v)).abs() < 1e-14, "{s:?}");
     }
 
     #[test]

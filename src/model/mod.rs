@@ -408,17 +408,40 @@ impl Chain {
                 self.overlap(c, u[c], u[c + 1]),
             );
         }
-        if let Some(w) = self.left_wall.as_ref().filter(|w| w.restitution.is_none()) {
-            e += contact_potential(w.exponent, w.prefactor, w.precompression - u[0]);
-        }
-        if let Some(w) = self.right_wall.as_ref().filter(|w| w.restitution.is_none()) {
-            let last = self.len() - 1;
-            e += contact_potential(w.exponent, w.prefactor, w.precompression + u[last]);
-        }
+        // two additions, in this order: the energies' bits are those of every earlier build
+        let (left, right) = self.wall_energies(u);
+        e += left;
+        e += right;
         if let Some(f) = &self.field {
             e -= f.iter().zip(u).map(|(w, x)| w * x).sum::<f64>();
         }
         e
+    }
+
+    /// The potential energies of the soft left and right walls' contacts (0 without one).
+    pub fn wall_energies(&self, u: &[f64]) -> (f64, f64) {
+        let energy = |w: &Option<Wall>, overlap: &dyn Fn(f64) -> f64| match w {
+            Some(w) if w.restitution.is_none() => {
+                contact_potential(w.exponent, w.prefactor, overlap(w.precompression))
+            }
+            _ => 0.0,
+        };
+        let last = u[self.len() - 1];
+        (
+            energy(&self.left_wall, &|p| p - u[0]),
+            energy(&self.right_wall, &|p| p + last),
+        )
+    }
+
+    /// The field's potential energy `−Σ W_i u_i` of the beads `lo..hi` (0 without a field).
+    pub fn field_energy(&self, u: &[f64], lo: usize, hi: usize) -> f64 {
+        self.field.as_ref().map_or(0.0, |f| {
+            -f[lo..hi]
+                .iter()
+                .zip(&u[lo..hi])
+                .map(|(w, x)| w * x)
+                .sum::<f64>()
+        })
     }
 
     /// Kinetic energy `½ Σ m_i v_i²`.
