@@ -325,3 +325,32 @@ fn hard_wall_bounces_are_wall_collisions_not_collisions_between_beads() {
         "{json}"
     );
 }
+
+/// The defect: for a dense-engine run (no event log) the summary said "not computed", but the
+/// per-frame table printed 0 collisions and a rate of 0 in every frame, and the JSON gave
+/// `"pair": 0, "wall": 0` and `"collisions": 0` per frame: unknown counts shown as zeros.
+#[test]
+fn dense_runs_show_unknown_collision_counts_as_unknown_not_zero() {
+    let d = tempfile::tempdir().unwrap();
+    run_gas(d.path(), &["--engine", "dense", "--until", "2"]);
+    let json = analyze(d.path(), &["--json"]);
+    assert_eq!(
+        (field(&json, "pair"), field(&json, "wall")),
+        ("null", "null"),
+        "{json}"
+    );
+    let gas = &json[json.find("\"gas\"").expect("gas part")..];
+    assert_eq!(gas.matches("\"collisions\": null").count(), 3, "{gas}");
+    assert!(!gas.contains("\"collisions\": 0"), "{gas}");
+    let table = analyze(d.path(), &["--frames"]);
+    let head = "kinetic temperature and collisions per frame";
+    let rows: Vec<&str> = table[table.find(head).unwrap()..]
+        .lines()
+        .skip(2)
+        .take(3)
+        .collect();
+    for r in &rows {
+        let cols: Vec<&str> = r.split_whitespace().collect();
+        assert_eq!(&cols[2..], ["-", "-"], "{table}");
+    }
+}

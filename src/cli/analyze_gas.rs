@@ -20,8 +20,9 @@ pub struct GasFrame {
     pub t: f64,
     /// Kinetic temperature.
     pub temperature: f64,
-    /// Bead–bead collisions since the previous frame (`(t_prev, t]`).
-    pub collisions: u64,
+    /// Bead–bead collisions since the previous frame (`(t_prev, t]`); `None` when the run logged
+    /// no events (the dense engine), not 0.
+    pub collisions: Option<u64>,
 }
 
 /// What `analyze` reports about collisions and, for a gas, temperatures.
@@ -68,7 +69,7 @@ pub fn report(snap: &Snapshot, frames: &[Frame], gas: bool) -> GasReport {
             .map(|(f, c)| GasFrame {
                 t: f.t,
                 temperature: kinetic_temperature(&chain.mass, &f.v),
-                collisions: c,
+                collisions: logged.then_some(c),
             })
             .collect();
         if let (Some(a), Some(b)) = (frames.first(), frames.last()) {
@@ -178,14 +179,15 @@ fn frames_table(o: &mut String, r: &GasReport) {
     );
     let mut prev: Option<f64> = None;
     for f in &r.frames {
-        let rate = match prev {
-            Some(p) if f.t > p => format!("{:.6e}", f.collisions as f64 / (f.t - p)),
+        let rate = match (prev, f.collisions) {
+            (Some(p), Some(c)) if f.t > p => format!("{:.6e}", c as f64 / (f.t - p)),
             _ => "-".into(),
         };
+        let count = f.collisions.map_or("-".into(), |c| c.to_string());
         let _ = writeln!(
             o,
             "{:>14.6e} {:>14.6e} {:>10} {:>14}",
-            f.t, f.temperature, f.collisions, rate
+            f.t, f.temperature, count, rate
         );
         prev = Some(f.t);
     }
@@ -217,11 +219,13 @@ fn velocity_json(s: &VelocityStats) -> String {
 /// The JSON members (each starting with `,\n  `) of the report.
 pub fn json(r: &GasReport) -> String {
     let c = &r.collisions;
+    // counts of a run that logged no events are unknown (null), not 0
+    let count = |x: u64| c.logged.then(|| x.to_string()).unwrap_or("null".into());
     let mut o = format!(
         ",\n  \"collisions\": {{\"logged\": {}, \"pair\": {}, \"wall\": {}, \"t_first\": {}, \"t_last\": {}, \"rate\": {}, \"rate_per_bead\": {}}}",
         c.logged,
-        c.pair,
-        c.wall,
+        count(c.pair),
+        count(c.wall),
         num(c.span.0),
         num(c.span.1),
         opt(c.rate),
@@ -236,7 +240,7 @@ pub fn json(r: &GasReport) -> String {
                 if i > 0 { "," } else { "" },
                 num(f.t),
                 num(f.temperature),
-                f.collisions
+                f.collisions.map_or("null".into(), |c| c.to_string())
             );
         }
         let _ = write!(
