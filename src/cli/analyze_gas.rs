@@ -220,7 +220,13 @@ fn velocity_json(s: &VelocityStats) -> String {
 pub fn json(r: &GasReport) -> String {
     let c = &r.collisions;
     // counts of a run that logged no events are unknown (null), not 0
-    let count = |x: u64| c.logged.then(|| x.to_string()).unwrap_or("null".into());
+    let count = |x: u64| {
+        if c.logged {
+            x.to_string()
+        } else {
+            "null".into()
+        }
+    };
     let mut o = format!(
         ",\n  \"collisions\": {{\"logged\": {}, \"pair\": {}, \"wall\": {}, \"t_first\": {}, \"t_last\": {}, \"rate\": {}, \"rate_per_bead\": {}}}",
         c.logged,
