@@ -544,3 +544,45 @@ fn run_export_inspect_scenes() {
         .collect();
     assert_eq!(names, want);
 }
+
+/// The defect: `export --events` wrote the event log as CSV whatever else was asked: CSV text
+/// into `ev.npy` with `--format npy` (numpy then failed on "pickled data"), into `.npz` files,
+/// and `--layout`/`--frame 999` were accepted (exit 0). They are refused now; nothing written.
+#[test]
+fn export_events_refuses_the_options_that_apply_to_frames() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    tiny_run(p);
+    let cases: [(&str, &[&str], &[&str]); 5] = [
+        (
+            "--events --format npy",
+            &["--format", "npy", "--out", "ev.npy"],
+            &["--events: the event log is written as CSV only, not npy (--format)"],
+        ),
+        (
+            "--events to .npz",
+            &["--out", "ev.npz"],
+            &["not npz (the --out extension of ev.npz)"],
+        ),
+        (
+            "--events --format npz to stdout",
+            &["--format", "npz"],
+            &["not npz (--format)"],
+        ),
+        (
+            "--events --layout wide",
+            &["--layout", "wide"],
+            &["--events: --layout applies to frames"],
+        ),
+        (
+            "--events --frame 999",
+            &["--frame", "999"],
+            &["--events: --frame applies to frames", "(--frame 999)"],
+        ),
+    ];
+    for (class, extra, needles) in cases {
+        let mut args = vec!["export", "run.snap", "--events"];
+        args.extend_from_slice(extra);
+        expect_bad(class, p, &args, needles);
+    }
+}

@@ -8,7 +8,7 @@ use beadchain::export::{self, ExportUnits, FrameSel};
 use beadchain::snapshot::Snapshot;
 use clap::ValueEnum;
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq)]
 pub enum Format {
@@ -82,10 +82,39 @@ fn export_kind(a: &ExportArgs) -> Result<(Format, Layout)> {
     } else {
         Layout::Long
     });
+    if a.events {
+        check_events_options(a, format)?;
+    }
     if format == Format::Npz && layout == Layout::Long && !a.events {
         bail!("--layout long: the npz format holds the wide layout only (arrays t, u, v and the chain's); use --layout wide, or npy/csv for the long table");
     }
     Ok((format, layout))
+}
+
+/// `--events` writes the whole event log as CSV: a binary format (`--format`, or the `--out`
+/// extension), a `--layout` or a `--frame` is refused, not ignored (CSV text was written into
+/// `ev.npy`, and `--frame 999` passed).
+fn check_events_options(a: &ExportArgs, format: Format) -> Result<()> {
+    if format != Format::Csv {
+        let by = match a.format {
+            Some(_) => "--format".to_string(),
+            None => format!(
+                "the --out extension of {}",
+                a.out.as_deref().unwrap_or(Path::new("")).display()
+            ),
+        };
+        bail!("--events: the event log is written as CSV only, not {} ({by}); write it to a .csv file or standard output", if format == Format::Npy { "npy" } else { "npz" });
+    }
+    if a.layout.is_some() {
+        bail!("--events: --layout applies to frames, not to the event log (one row per event)");
+    }
+    if a.frame != "all" {
+        bail!(
+            "--events: --frame applies to frames; the event log is exported whole (--frame {})",
+            a.frame
+        );
+    }
+    Ok(())
 }
 
 pub fn cmd_export(a: ExportArgs) -> Result<i32> {
