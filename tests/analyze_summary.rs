@@ -179,3 +179,70 @@ fn analyze_and_plot_energy_report_one_decay_rate() {
         "gamma: analyze {ga} ({line}) / plot {gp} ({p})"
     );
 }
+
+/// The defects (a review of `analyze` against values recomputed from `export`):
+/// - without `--interface`, the missing incoming energy said "… never reaches 10 beads before
+///   the interface" (there was none);
+/// - `--fit-from 3 --fit-to -5` (a reversed range the user set) said "the chain has 100 beads,
+///   too few for the fit range", and `--fit-from nan` "starts at position NaN, after its end";
+/// - `--json` had no leading-wave speed, which the text prints;
+/// - fixed-point numbers hid small values: an interface velocity ratio of 9e-7 read `0.000001`,
+///   a decay prefactor of 5e-128 `0.000000`.
+#[test]
+fn analyze_names_the_right_cause_and_shows_small_values_and_the_speed() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    // a chain at rest: no wave develops
+    let rest = "[chain]\nbeads = 5\n[run]\nuntil = 1.0\nevery = 0.5\n";
+    std::fs::write(p.join("rest.toml"), rest).unwrap();
+    let s = run_and_analyze(p, "rest.toml", "rest.snap", &[]);
+    assert!(
+        s.contains("the leading wave never reaches position 10)"),
+        "{s}"
+    );
+    assert!(!s.contains("interface"), "{s}");
+    let s = run_and_analyze(
+        p,
+        "striker",
+        "s.snap",
+        &["--fit-from", "3", "--fit-to", "-5"],
+    );
+    assert!(
+        s.contains("the fit range starts at position 3, after its end -5"),
+        "{s}"
+    );
+    let s = run_and_analyze(p, "striker", "s.snap", &["--fit-from", "nan"]);
+    assert!(
+        s.contains("the fit range's bounds must be numbers, got NaN to 90"),
+        "{s}"
+    );
+    let j = run_and_analyze(p, "striker", "s.snap", &["--json"]);
+    let text = run_and_analyze(p, "striker", "s.snap", &[]);
+    let first_num = |s: &str, after: &str| -> f64 {
+        let r = s
+            .split(after)
+            .nth(1)
+            .unwrap_or_else(|| panic!("no {after} in {s}"));
+        let end = r.find([' ', ',', '}']).unwrap_or(r.len());
+        r[..end].parse().unwrap_or_else(|_| panic!("{after}: {r}"))
+    };
+    let (t, js) = (
+        first_num(&text, "speed: "),
+        first_num(&j, "\"speed\": {\"value\": "),
+    );
+    // the text prints 7 digits: rel 1e-6, abs 0
+    assert!((t - js).abs() <= 1e-6 * js.abs(), "{t} vs {js}");
+    // a tiny reflection: the ratio in scientific notation (not 0.000001)
+    let s = run_and_analyze(
+        p,
+        "hertz_spheres_physical",
+        "h.snap",
+        &["--interface", "50"],
+    );
+    let line = s
+        .lines()
+        .find(|l| l.contains("|v_out/v_in|"))
+        .expect("ratio line");
+    let ratio = line.rsplit(" = ").next().unwrap();
+    assert!(ratio.ends_with("e-7"), "{line}");
+}

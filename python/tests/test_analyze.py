@@ -112,7 +112,8 @@ def test_analyze_names_why_values_are_missing():
     assert "fit_from/fit_to" in a["speed_error"] and "--fit" not in a["speed_error"]
     assert a["decay"] is None and a["decay_error"] == a["speed_error"]
     assert a["relative_change"] is None and "energy scale is 0" in a["relative_change_error"]
-    assert a["e_in"] is None and "never reaches 10 beads" in a["e_in_error"]
+    assert a["e_in"] is None and a["e_in_error"] == (
+        "the leading wave never reaches position 1 (k/2, at most 10) before the interface bead k = 2")
     assert a["interface"]["reflected_fraction"] is None
     assert a["interface"]["reflected_fraction_error"] == "the total energy is 0"
     assert len(a["track"]["t"]) == 0

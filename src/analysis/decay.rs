@@ -21,8 +21,15 @@ use std::fmt;
 pub const MIN_FIT_POINTS: usize = 3;
 
 /// The reason [`Summary::e_in`](super::Summary::e_in) gives when the leading wave never
-/// develops before the interface.
-pub const NO_INCOMING_WAVE: &str = "the leading wave never reaches 10 beads before the interface";
+/// develops (reaches position `developed`) before the interface bead, if there is one.
+fn no_incoming_wave(developed: f64, interface: Option<usize>) -> String {
+    match interface {
+        Some(k) => format!(
+            "the leading wave never reaches position {developed} (k/2, at most 10) before the interface bead k = {k}"
+        ),
+        None => format!("the leading wave never reaches position {developed}"),
+    }
+}
 
 /// The hint of the fit-range messages of `beadchain analyze` (Python's names it differently).
 const RANGE_DEFAULTS: &str = "default: positions 20 (or k + 10) to N - 10; set --fit-from/--fit-to";
@@ -74,12 +81,28 @@ pub enum FitError {
         /// Beads in the chain.
         n: usize,
     },
+    /// A bound of the range is not a number.
+    #[error(
+        "the fit range's bounds must be numbers, got {x0} to {x1} ({})",
+        RANGE_DEFAULTS
+    )]
+    NotANumber {
+        /// Start of the range.
+        x0: f64,
+        /// End of the range.
+        x1: f64,
+    },
     /// Nothing moves.
     #[error("the energy scale is 0 (the chain is at rest)")]
     AtRest,
-    /// No incoming wave before the interface.
-    #[error("{}", NO_INCOMING_WAVE)]
-    NoIncomingWave,
+    /// No incoming wave (before the interface, if there is one).
+    #[error("{}", no_incoming_wave(*developed, *interface))]
+    NoIncomingWave {
+        /// The position from which the wave counts as developed.
+        developed: f64,
+        /// The interface bead, if one was given.
+        interface: Option<usize>,
+    },
 }
 
 /// A range of leading-wave positions (in beads): `from ≤ x ≤ to`, or `from ≤ x < to` when

@@ -38,8 +38,6 @@ pub use super::decay::MIN_FIT_POINTS;
 /// Relative tolerance of the steady-state criterion applied to the final frame.
 pub const STEADY_REL: f64 = 1e-5;
 
-pub use super::decay::NO_INCOMING_WAVE;
-
 /// One frame: time, displacements `u` and velocities `v` (every bead).
 pub type FrameView<'a> = (f64, &'a [f64], &'a [f64]);
 
@@ -222,7 +220,8 @@ pub fn summarize(
         .fit_from
         .unwrap_or(k_if.map_or(20.0, |k| k as f64 + 10.0));
     let x1 = opts.fit_to.unwrap_or(n as f64 - 10.0);
-    let (decay, speed) = fits(&track, (x0, x1), e_ref, n);
+    let given = opts.fit_from.is_some() || opts.fit_to.is_some();
+    let (decay, speed) = fits(&track, (x0, x1), given, e_ref, n);
     Ok(Summary {
         n,
         frames: frames.len(),
@@ -234,7 +233,7 @@ pub fn summarize(
         fit_range: (x0, x1),
         decay,
         speed,
-        e_in: incoming_energy(&track, k_if).ok_or(FitError::NoIncomingWave),
+        e_in: incoming_energy(&track, k_if),
         fragmentation: fragmentation(chain, u1, v1, 0.0),
         steady: is_steady_state(chain, u1, v1, STEADY_REL),
         interface: k_if.map(|k| interface(chain, frames, k, &wave)),
@@ -244,7 +243,7 @@ pub fn summarize(
 
 /// Incoming-wave energy: the leading wave once developed (position >= 10 beads, or k/2), in
 /// the last frame before it reaches the interface `k` (or the first such frame without one).
-fn incoming_energy(track: &[TrackPoint], k_if: Option<usize>) -> Option<f64> {
+fn incoming_energy(track: &[TrackPoint], k_if: Option<usize>) -> Result<f64, FitError> {
     let developed = k_if.map_or(10.0, |k| (k as f64 / 2.0).min(10.0));
     let mut before = track
         .iter()
@@ -255,6 +254,10 @@ fn incoming_energy(track: &[TrackPoint], k_if: Option<usize>) -> Option<f64> {
         before.next()
     }
     .map(|p| p.energy)
+    .ok_or(FitError::NoIncomingWave {
+        developed,
+        interface: k_if,
+    })
 }
 
 /// The energy split at bead `k` in the final frame, the largest reflected pulse, and the
@@ -286,10 +289,14 @@ fn interface(
 }
 
 /// Why no fit can be made over `[x0, x1]` before looking at the points, if so.
-fn range_problem((x0, x1): (f64, f64), e_ref: f64, n: usize) -> Option<FitError> {
+fn range_problem((x0, x1): (f64, f64), given: bool, e_ref: f64, n: usize) -> Option<FitError> {
     // comparisons written so that NaN counts as "not ordered" / "not positive"
     let (ordered, end_inside, positive) = (x0 <= x1, x1 >= 0.0, e_ref > 0.0);
-    if !ordered && !end_inside {
+    if x0.is_nan() || x1.is_nan() {
+        Some(FitError::NotANumber { x0, x1 })
+    } else if !ordered && !end_inside && !given {
+        // the default range of a short chain (a range the user set that ends below 0 is
+        // reversed, not the chain's fault)
         Some(FitError::ChainTooShort { n })
     } else if !ordered {
         Some(FitError::Reversed { x0, x1, n })
@@ -305,10 +312,11 @@ fn range_problem((x0, x1): (f64, f64), e_ref: f64, n: usize) -> Option<FitError>
 fn fits(
     track: &[TrackPoint],
     (x0, x1): (f64, f64),
+    given: bool,
     e_ref: f64,
     n: usize,
 ) -> (Result<ExpFit, FitError>, Result<Speed, FitError>) {
-    if let Some(w) = range_problem((x0, x1), e_ref, n) {
+    if let Some(w) = range_problem((x0, x1), given, e_ref, n) {
         return (Err(w.clone()), Err(w));
     }
     let range = FitRange::inclusive(x0, x1);

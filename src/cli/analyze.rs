@@ -55,10 +55,21 @@ fn num(x: f64) -> String {
     }
 }
 
-/// `x` formatted, or "not computed: `why`".
+/// `x` with `prec` decimals, or in scientific notation with `prec − 1` when it is below 1e-3 in
+/// magnitude (and not 0): a fraction of 9e-7 read `0.000001`, a fit prefactor of 5e-128
+/// `0.000000`.
+fn fixed(x: f64, prec: usize) -> String {
+    if x != 0.0 && x.abs() < 1e-3 {
+        format!("{x:.p$e}", p = prec.saturating_sub(1))
+    } else {
+        format!("{x:.prec$}")
+    }
+}
+
+/// `x` formatted ([`fixed`]), or "not computed: `why`".
 fn or_why(x: Option<f64>, prec: usize, why: &str) -> String {
     match x {
-        Some(v) => format!("{v:.prec$}"),
+        Some(v) => fixed(v, prec),
         None => format!("not computed ({why})"),
     }
 }
@@ -242,8 +253,8 @@ fn leading_summary(o: &mut String, a: &Summary) {
         Ok(f) => {
             let _ = writeln!(
                 o,
-                "decay fit E/E_ref = a exp(-gamma x) over positions {x0} to {x1} ({} points): a = {:.6}, gamma = {:.6e} +- {:.2e} per bead, R^2 = {:.4}",
-                f.n, f.a, f.gamma, f.gamma_stderr, f.r2
+                "decay fit E/E_ref = a exp(-gamma x) over positions {x0} to {x1} ({} points): a = {}, gamma = {:.6e} +- {:.2e} per bead, R^2 = {:.4}",
+                f.n, fixed(f.a, 6), f.gamma, f.gamma_stderr, f.r2
             );
         }
         Err(e) => {
@@ -278,7 +289,7 @@ fn iface_summary(o: &mut String, a: &Summary, i: &InterfaceSplit) {
             None => "none (no left-moving pulse left of the interface)".into(),
         },
         match i.velocity_ratio() {
-            Some(r) => format!("{:.4e} / {:.4e} = {r:.6}", i.v_out, i.v_in),
+            Some(r) => format!("{:.4e} / {:.4e} = {}", i.v_out, i.v_in, fixed(r, 6)),
             None => "not computed (no incoming velocity before the interface)".into(),
         }
     );
@@ -305,8 +316,7 @@ fn frames_table(a: &Summary) -> String {
             p.pulse.width(),
             p.pulse.peak_velocity,
             p.energy,
-            a.fraction(p.energy)
-                .map_or("-".into(), |r| format!("{r:.6}"))
+            a.fraction(p.energy).map_or("-".into(), |r| fixed(r, 6))
         );
     }
     if a.track.is_empty() {
@@ -352,6 +362,19 @@ fn json(a: &Summary, gas: &str) -> String {
         }
         Err(e) => {
             let _ = write!(o, ",\n  \"decay_fit\": {{\"error\": \"{e}\"}}");
+        }
+    }
+    match &a.speed {
+        Ok(v) => {
+            let _ = write!(
+                o,
+                ",\n  \"speed\": {{\"value\": {}, \"points\": {}}}",
+                num(v.value),
+                v.points
+            );
+        }
+        Err(e) => {
+            let _ = write!(o, ",\n  \"speed\": {{\"error\": \"{e}\"}}");
         }
     }
     o.push_str(gas);
