@@ -284,3 +284,52 @@ fn sweep_meta_names_version_and_commit_and_another_builds_result_is_reused() {
         Some(format!("# beadchain {VERSION}").as_str())
     );
 }
+
+/// The defects: `run` and `export` took their command line from `std::env::args`, which panics
+/// on an argument that is not UTF-8 (`--out $'x\xff.snap'` aborted with a Rust panic), and
+/// joined the arguments unquoted, so `created_by` of `--out 'sp ace/o.snap'` could not be run
+/// again. Now each argument is one shell word.
+#[test]
+fn recorded_command_lines_are_shell_words_and_never_panic() {
+    use std::os::unix::ffi::OsStrExt;
+    let d = tempfile::tempdir().unwrap();
+    std::fs::create_dir(d.path().join("sp ace")).unwrap();
+    let out = "sp ace/it's.snap";
+    assert_ok(&bc(
+        d.path(),
+        &["run", "striker", "--until", "1", "-q", "--out", out],
+    ));
+    let s = Snapshot::open(&d.path().join(out)).unwrap();
+    let by = &s.header().created_by;
+    assert!(
+        by.ends_with(" run striker --until 1 -q --out 'sp ace/it'\\''s.snap'"),
+        "{by}"
+    );
+    // exported_by (in the npz's provenance entry, UTF-32 characters): the same quoting
+    assert_ok(&bc(d.path(), &["export", out, "--out", "w x.npz"]));
+    let z = parse_zip(&std::fs::read(d.path().join("w x.npz")).unwrap());
+    let npy = &z["provenance.npy"];
+    let hl = u16::from_le_bytes([npy[8], npy[9]]) as usize;
+    let json: String = npy[10 + hl..]
+        .chunks(4)
+        .map(|c| char::from_u32(u32::from_le_bytes([c[0], c[1], c[2], c[3]])).unwrap())
+        .collect();
+    assert!(
+        json.ends_with(r#" export 'sp ace/it'\\''s.snap' --out 'w x.npz'"}"#),
+        "{json}"
+    );
+    let bad = std::ffi::OsStr::from_bytes(b"x\xff.snap");
+    let o = Command::new(env!("CARGO_BIN_EXE_beadchain"))
+        .args(["run", "striker", "--until", "1", "-q", "--out"])
+        .arg(bad)
+        .current_dir(d.path())
+        .output()
+        .unwrap();
+    assert_ok(&o);
+    let s = Snapshot::open(&d.path().join(bad)).unwrap();
+    assert!(
+        s.header().created_by.ends_with(" --out 'x\u{fffd}.snap'"),
+        "{}",
+        s.header().created_by
+    );
+}

@@ -369,3 +369,40 @@ fn si_line(w: &mut dyn Write, scene: &Scene, out: &RunOutcome) -> Result<()> {
     )?;
     Ok(())
 }
+
+/// The command line as it was run, for provenance (`created_by`, `exported_by`): every argument
+/// quoted for a POSIX shell where it needs it (`run 'my scene.toml'`), so the line can be run
+/// again; an argument that is not UTF-8 is written lossily (U+FFFD). (`std::env::args` panicked
+/// on a non-UTF-8 `--out`, and the arguments were joined unquoted.)
+pub fn command_line() -> String {
+    std::env::args_os()
+        .map(|a| shell_quoted(&a.to_string_lossy()))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// `s` as one POSIX shell word: as it is when it holds only characters no shell treats
+/// specially, else in single quotes (an inner `'` written `'\''`).
+fn shell_quoted(s: &str) -> String {
+    let plain = |c: char| c.is_ascii_alphanumeric() || "_./:=@%+,-".contains(c);
+    if !s.is_empty() && s.chars().all(plain) {
+        s.to_string()
+    } else {
+        format!("'{}'", s.replace('\'', "'\\''"))
+    }
+}
+
+#[cfg(test)]
+mod command_line_tests {
+    use super::shell_quoted;
+
+    #[test]
+    fn words_are_quoted_only_where_a_shell_needs_it() {
+        assert_eq!(shell_quoted("--out"), "--out");
+        assert_eq!(shell_quoted("a/b_c-1.5e-3.snap"), "a/b_c-1.5e-3.snap");
+        assert_eq!(shell_quoted("my scene.toml"), "'my scene.toml'");
+        assert_eq!(shell_quoted("it's"), "'it'\\''s'");
+        assert_eq!(shell_quoted(""), "''");
+        assert_eq!(shell_quoted("a$b"), "'a$b'");
+    }
+}

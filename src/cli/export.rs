@@ -132,7 +132,7 @@ pub fn cmd_export(a: ExportArgs) -> Result<i32> {
         .frame
         .parse()
         .map_err(|e| anyhow::anyhow!("--frame {}: {e}", a.frame))?;
-    let exported_by = std::env::args().collect::<Vec<_>>().join(" ");
+    let exported_by = super::common::command_line();
     let write = |out: &mut dyn Write| -> Result<(), beadchain::snapshot::SnapshotError> {
         use beadchain::export::wide;
         match (a.events, format, layout) {

@@ -84,7 +84,7 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
     let n = scene.chain.len();
     let sel = (a.output).selection(&a.common.scene, n, scene.run.output.as_ref())?;
     check_run_files(&a, (&scene, (until_key, every_key)), &cfg, &sel, &out_path)?;
-    let created_by = std::env::args().collect::<Vec<_>>().join(" ");
+    let created_by = super::common::command_line();
     let mut header = Header::new(
         scene.clone(),
         cfg.engine,
