@@ -217,6 +217,21 @@ fn analyze_prints_a_physical_scenes_collision_rate_in_si() {
     let (rate, si) = (after("rate "), after("(SI: "));
     assert!(rate > 0.0, "{line}");
     assert!(close(si, rate / beta, 0.0, 1e-6), "{si} vs {}", rate / beta);
+    // The velocity distribution's mean and std in m/s beside them (`v/β`, rel 1e-6): the module
+    // docs promised them and they were missing.
+    let o = bc(d.path(), &["analyze", "h.snap", "--gas"]);
+    let s = String::from_utf8_lossy(&o.stdout).to_string();
+    let line = s
+        .lines()
+        .find(|l| l.starts_with("  last frame (t = "))
+        .expect(&s);
+    for key in ["mean ", "std "] {
+        let at = line.find(key).unwrap() + key.len();
+        let mut w = line[at..].split_whitespace();
+        let v: f64 = w.next().unwrap().trim_end_matches(',').parse().unwrap();
+        let si: f64 = w.next().unwrap().trim_start_matches('(').parse().unwrap();
+        assert!(close(si, v / beta, 0.0, 1e-6), "{key}{line}");
+    }
 }
 
 /// The `granular_gas` preset: T_kin at t = 0 is the scene's own `(1/N) Σ m (v − v_cm)²` (abs

@@ -157,11 +157,18 @@ fn gas_summary(o: &mut String, r: &GasReport, first: &VelocityStats, last: &Velo
             .excess_kurtosis
             .map_or("not computed (std 0)".into(), |k| format!("{k:.4}"));
         let hist: Vec<String> = s.histogram.iter().map(u64::to_string).collect();
+        // v/β in m/s beside a physical scene's velocities, as the module docs promise
+        let ms = |v: f64| {
+            r.units
+                .map_or(String::new(), |u| format!(" ({:.6e} m/s)", v / u.time))
+        };
         let _ = writeln!(
             o,
-            "  {what} frame (t = {t}): mean {:.6e}, std {:.6e}, excess kurtosis {kurt}, histogram [{}]",
+            "  {what} frame (t = {t}): mean {:.6e}{}, std {:.6e}{}, excess kurtosis {kurt}, histogram [{}]",
             s.mean,
+            ms(s.mean),
             s.std,
+            ms(s.std),
             hist.join(", ")
         );
     }

@@ -393,8 +393,8 @@ fn shell_quoted(s: &str) -> String {
 }
 
 #[cfg(test)]
-mod command_line_tests {
-    use super::shell_quoted;
+mod tests {
+    use crate::cli::common::shell_quoted;
 
     #[test]
     fn words_are_quoted_only_where_a_shell_needs_it() {
