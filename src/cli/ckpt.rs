@@ -162,8 +162,8 @@ fn locate(file: &Path, mark: &mut beadchain::snapshot::WriterMark) {
     }
 }
 
-/// `resume`'s output checks ([`super::select::check_frames_max`] and
-/// [`super::files::SizeLimit::check`] of `run`). The interval and the output selection (frame
+/// `resume`'s output checks: the frame cap (`run`'s is [`super::select::check_frames_max`])
+/// and [`super::files::SizeLimit::check`]. The interval and the output selection (frame
 /// cap included) are the unfinished output's own, so a refusal advises only what `resume` can
 /// change: an earlier `--until`, or the size limit. The end time is `--until` where given, else
 /// the original run's, in seconds too for a physical scene (the checkpoint does not record
@@ -203,8 +203,8 @@ fn check_resume_output(
         );
     }
     let n = ck.scene.chain.len();
-    limit.check_resume(
-        what,
+    limit.check(
+        (what, true),
         (n, sel.values_per_frame(n as u64).unwrap_or(u64::MAX)),
         (ck.engine.time(), cfg.until, cfg.every),
         ck.writer.offsets.len(),

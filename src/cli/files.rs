@@ -47,42 +47,31 @@ impl SizeLimit {
     /// Refuses a run of `n_beads` (frames of `values` stored numbers: `2 N`, or fewer with an
     /// output selection) from `t0` to `until` with interval `every` writing `frames_before`
     /// frames already, if its snapshot would exceed the limit. `what` names the file (scene or
-    /// checkpoint), `end` and `interval` the options or keys that set the end time and the interval.
+    /// checkpoint), `end` and `interval` the options or keys that set the end time and the
+    /// interval; `resume`'s refusal advises only what it can change (its interval and output
+    /// selection are the unfinished output's): an earlier `--until`, or the limit.
     pub fn check(
         &self,
-        what: &str,
+        (what, resume): (&str, bool),
         sizes: (usize, u64),
         span: (f64, f64, Option<f64>),
         frames_before: usize,
         (end, interval): (&GivenTime, &GivenTime),
     ) -> Result<()> {
-        if let Some(over) = self.over(sizes, span, frames_before, (end, interval)) {
-            bail!(
-                "{what}: {}: the output would be {over}: raise {}, lower {}, or pass --max-output-bytes N or --force",
-                interval.key,
-                interval.or_option(),
-                end.key,
-            );
-        }
-        Ok(())
-    }
-
-    /// [`SizeLimit::check`] for `resume`, whose interval and output selection are the
-    /// unfinished output's: only the end time (`--until`) and the limit can change.
-    pub fn check_resume(
-        &self,
-        what: &str,
-        sizes: (usize, u64),
-        span: (f64, f64, Option<f64>),
-        frames_before: usize,
-        (end, interval): (&GivenTime, &GivenTime),
-    ) -> Result<()> {
-        if let Some(over) = self.over(sizes, span, frames_before, (end, interval)) {
+        let Some(over) = self.over(sizes, span, frames_before, (end, interval)) else {
+            return Ok(());
+        };
+        if resume {
             bail!(
                 "{what}: the output would be {over}: pass an earlier --until, or --max-output-bytes N or --force (the run is unchanged and can still be resumed)"
             );
         }
-        Ok(())
+        bail!(
+            "{what}: {}: the output would be {over}: raise {}, lower {}, or pass --max-output-bytes N or --force",
+            interval.key,
+            interval.or_option(),
+            end.key,
+        )
     }
 
     /// `about B (F frames of N beads: END = T, every = DT), above the limit of L` when the

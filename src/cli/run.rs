@@ -221,7 +221,7 @@ fn check_run_files(
     super::select::check_frames_max(what, sel, span, cap_key, (&end, &interval))?;
     let n = scene.chain.len();
     a.limit.check(
-        what,
+        (what, false),
         (n, sel.values_per_frame(n as u64).unwrap_or(u64::MAX)),
         (0.0, cfg.until, cfg.every),
         0,
