@@ -232,6 +232,22 @@ fn analyze_names_the_right_cause_and_shows_small_values_and_the_speed() {
     );
     // the text prints 7 digits: rel 1e-6, abs 0
     assert!((t - js).abs() <= 1e-6 * js.abs(), "{t} vs {js}");
+    // only --fit-from given on a short chain: the default end N − 10 is what does not fit
+    let short = "[chain]\nbeads = 8\n[initial]\nstriker = 1.0\n[run]\nuntil = 10.0\nevery = 1.0\n";
+    std::fs::write(p.join("short.toml"), short).unwrap();
+    let s = run_and_analyze(p, "short.toml", "short.snap", &["--fit-from", "5"]);
+    assert!(
+        s.contains("the chain has 8 beads, too few for the fit range"),
+        "{s}"
+    );
+    // a huge fit prefactor in scientific notation, not 56 digits (the review's granular_gas)
+    let s = run_and_analyze(p, "granular_gas", "g.snap", &[]);
+    let a = s
+        .split(": a = ")
+        .nth(1)
+        .and_then(|r| r.split(',').next())
+        .expect("decay fit");
+    assert!(a.contains('e') && a.len() <= 14, "a = {a}");
     // a tiny reflection: the ratio in scientific notation (not 0.000001)
     let s = run_and_analyze(
         p,

@@ -339,6 +339,12 @@ fn hard_wall_bounces_are_wall_collisions_not_collisions_between_beads() {
         (6.0, 6.0),
         "{json}"
     );
+    // a wall event's rel_velocity is the bead's velocity, as a soft wall's: +1 into the right
+    // wall, −1 into the left one (abs 1e-12)
+    for e in s.events().iter().filter(|e| e.kind == EventKind::WallClose) {
+        let want = if e.contact == 1 { 1.0 } else { -1.0 };
+        assert!(close(e.rel_velocity, want, 1e-12, 0.0), "{e:?}");
+    }
 }
 
 /// The defect: for a dense-engine run (no event log) the summary said "not computed", but the

@@ -234,8 +234,19 @@ fn check_output(
         } else {
             format!("{values} stored values of {n} beads")
         };
+        // the keywords as given: a larger every_si= where the interval came in seconds
+        let ek = if o.every_si.is_some() {
+            "every_si"
+        } else {
+            "every"
+        };
+        let uk = if o.until_si.is_some() {
+            "until_si"
+        } else {
+            "until"
+        };
         return Err(SceneError::new_err(format!(
-            "{}: every: the output would be about {} ({} frames of {of}: {until_text}, {every_text}), above the limit of {}: use a larger every=, a smaller until=, fewer beads or fields (output={{\"beads\": ..., \"fields\": ...}}), or pass max_output_bytes=",
+            "{}: {ek}: the output would be about {} ({} frames of {of}: {until_text}, {every_text}), above the limit of {}: use a larger {ek}=, a smaller {uk}=, fewer beads or fields (output={{\"beads\": ..., \"fields\": ...}}), or pass max_output_bytes=",
             s.name,
             human_bytes(e.bytes),
             count_text(e.frames),

@@ -77,6 +77,8 @@ def test_output_refusals_name_the_times_as_given():
     msg = str(e.value)
     assert "frames of " in msg and ": until_si = 1.0000e-4 s = 110.40913187338107 computer units, " \
         "every_si = 1.0000e-8 s = " in msg, msg
+    assert msg.startswith("hertz_spheres_physical: every_si: the output would be about "), msg
+    assert "use a larger every_si=, a smaller until_si=, fewer beads" in msg, msg
     # computer units given: the plain key, with the seconds beside it
     with pytest.raises(bc.SceneError) as e:
         bc.run(phys, until=110.0, every=0.01, max_output_bytes=1000)

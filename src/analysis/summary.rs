@@ -220,8 +220,7 @@ pub fn summarize(
         .fit_from
         .unwrap_or(k_if.map_or(20.0, |k| k as f64 + 10.0));
     let x1 = opts.fit_to.unwrap_or(n as f64 - 10.0);
-    let given = opts.fit_from.is_some() || opts.fit_to.is_some();
-    let (decay, speed) = fits(&track, (x0, x1), given, e_ref, n);
+    let (decay, speed) = fits(&track, (x0, x1), opts.fit_to.is_some(), e_ref, n);
     Ok(Summary {
         n,
         frames: frames.len(),
@@ -289,14 +288,14 @@ fn interface(
 }
 
 /// Why no fit can be made over `[x0, x1]` before looking at the points, if so.
-fn range_problem((x0, x1): (f64, f64), given: bool, e_ref: f64, n: usize) -> Option<FitError> {
+fn range_problem((x0, x1): (f64, f64), to_given: bool, e_ref: f64, n: usize) -> Option<FitError> {
     // comparisons written so that NaN counts as "not ordered" / "not positive"
     let (ordered, end_inside, positive) = (x0 <= x1, x1 >= 0.0, e_ref > 0.0);
     if x0.is_nan() || x1.is_nan() {
         Some(FitError::NotANumber { x0, x1 })
-    } else if !ordered && !end_inside && !given {
-        // the default range of a short chain (a range the user set that ends below 0 is
-        // reversed, not the chain's fault)
+    } else if !ordered && !end_inside && !to_given {
+        // the default end `N − 10` of a short chain (an end the user set below 0 makes the
+        // range reversed, not the chain's fault)
         Some(FitError::ChainTooShort { n })
     } else if !ordered {
         Some(FitError::Reversed { x0, x1, n })
@@ -312,11 +311,11 @@ fn range_problem((x0, x1): (f64, f64), given: bool, e_ref: f64, n: usize) -> Opt
 fn fits(
     track: &[TrackPoint],
     (x0, x1): (f64, f64),
-    given: bool,
+    to_given: bool,
     e_ref: f64,
     n: usize,
 ) -> (Result<ExpFit, FitError>, Result<Speed, FitError>) {
-    if let Some(w) = range_problem((x0, x1), given, e_ref, n) {
+    if let Some(w) = range_problem((x0, x1), to_given, e_ref, n) {
         return (Err(w.clone()), Err(w));
     }
     let range = FitRange::inclusive(x0, x1);

@@ -55,11 +55,11 @@ fn num(x: f64) -> String {
     }
 }
 
-/// `x` with `prec` decimals, or in scientific notation with `prec − 1` when it is below 1e-3 in
-/// magnitude (and not 0): a fraction of 9e-7 read `0.000001`, a fit prefactor of 5e-128
-/// `0.000000`.
+/// `x` with `prec` decimals, or in scientific notation with `prec − 1` when its magnitude is
+/// below 1e-3 (and not 0) or at least 1e6: a fraction of 9e-7 read `0.000001`, a fit prefactor
+/// of 5e-128 `0.000000`, one of 3e55 a wall of 56 digits.
 fn fixed(x: f64, prec: usize) -> String {
-    if x != 0.0 && x.abs() < 1e-3 {
+    if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) {
         format!("{x:.p$e}", p = prec.saturating_sub(1))
     } else {
         format!("{x:.prec$}")

@@ -382,11 +382,24 @@ pub fn command_line() -> String {
 }
 
 /// `s` as one POSIX shell word: as it is when it holds only characters no shell treats
-/// specially, else in single quotes (an inner `'` written `'\''`).
+/// specially, else in single quotes (an inner `'` written `'\''`); with a control character,
+/// in bash's `$'…'` quoting (`$'n\nl.snap'`), so the recorded line stays one line and runs again.
 fn shell_quoted(s: &str) -> String {
     let plain = |c: char| c.is_ascii_alphanumeric() || "_./:=@%+,-".contains(c);
     if !s.is_empty() && s.chars().all(plain) {
         s.to_string()
+    } else if s.chars().any(char::is_control) {
+        let body: String = s
+            .chars()
+            .map(|c| match c {
+                '\'' => "\\'".to_string(),
+                '\\' => "\\\\".to_string(),
+                c if c.is_ascii_control() => format!("\\x{:02x}", c as u32),
+                c if c.is_control() => format!("\\u{:04x}", c as u32),
+                c => c.to_string(),
+            })
+            .collect();
+        format!("$'{body}'")
     } else {
         format!("'{}'", s.replace('\'', "'\\''"))
     }
@@ -404,5 +417,6 @@ mod tests {
         assert_eq!(shell_quoted("it's"), "'it'\\''s'");
         assert_eq!(shell_quoted(""), "''");
         assert_eq!(shell_quoted("a$b"), "'a$b'");
+        assert_eq!(shell_quoted("n\nl's.snap"), "$'n\\x0al\\'s.snap'");
     }
 }

@@ -199,7 +199,7 @@ fn check_destination(path: &Path) -> Result<(), SweepError> {
         return Err(SweepError::Io {
             file: path.display().to_string(),
             action: format!("is a symbolic link (to {})", target.display()),
-            reason: "refusing to replace it: give the target path itself".into(),
+            reason: "refusing to replace it: remove the link, or give the target path itself (or another OUT)".into(),
         });
     }
     if path.is_dir() {

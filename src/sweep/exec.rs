@@ -517,14 +517,16 @@ fn check_partial(
         line,
         message,
     };
-    let same_spec = |l: &str| l.split(" inputs=").next() == spec_line.split(" inputs=").next();
-    if old.spec_line != spec_line && same_spec(&old.spec_line) {
+    let spec_of = |l: &str| l.split(" inputs=").next().unwrap_or("").to_string();
+    let legacy = !old.spec_line.contains(" inputs=");
+    if old.spec_line != spec_line && !legacy && spec_of(&old.spec_line) == spec_of(spec_line) {
         return Err(bad(
             1,
-            "written before a file this sweep's scene reads changed (a CSV file: the runs' content keys differ), so its rows are not this sweep's results; delete it or choose another --out".into(),
+            format!("its runs' content keys differ from this sweep's: a file its scene reads changed (a CSV file), or another beadchain version wrote it (this is {}), so its rows are not this sweep's results; delete it or choose another --out", crate::provenance::VERSION),
         ));
     }
-    if old.spec_line != spec_line {
+    // a partial file of a build before the inputs hash: its spec line alone, as then
+    if spec_of(&old.spec_line) != spec_of(spec_line) {
         return Err(bad(
             1,
             format!(

@@ -38,8 +38,9 @@
 //! damped scene.
 //!
 //! **Event log.** A collision between beads is logged as `hard_collision` (the contact index);
-//! a bounce off a hard wall as `wall_close` with the bead index, as a soft wall's contact is
-//! (no `wall_open` follows: it lasts no time). It was logged as `hard_collision` with the bead
+//! a bounce off a hard wall as `wall_close` with the bead index and the bead's velocity, as a
+//! soft wall's contact is (no `wall_open` follows a bounce, which lasts no time; a collision
+//! that sticks holds the bead at the wall, and its release is a `wall_open`). It was logged as `hard_collision` with the bead
 //! index, which `analyze` counted as a collision between beads and which a reader could not
 //! tell from the contact between beads 0 and 1.
 
@@ -219,7 +220,7 @@ impl Hybrid<'_> {
         let k = self.ctx.n - 1 + side as usize;
         let stick = push > 0.0 && self.sticks(k, t, e0, w, push);
         let (e, floor) = self.tc_model(k, t, e0, push);
-        self.log(t, i, EventKind::WallClose, w, 0.0);
+        self.log(t, i, EventKind::WallClose, v, 0.0);
         let sep = if stick {
             0.0
         } else {
@@ -250,7 +251,7 @@ impl Hybrid<'_> {
         let k = self.ctx.n - 1 + side as usize;
         let stick = self.sticks(k, t, e0, w, push);
         self.st.last_hard[k] = t;
-        self.log(t, i, EventKind::WallClose, w, 0.0);
+        self.log(t, i, EventKind::WallClose, v, 0.0);
         let sep = if stick { 0.0 } else { e0 * w.max(0.0) };
         // a group a wall already holds is at rest and stays so (infinite mass: no loss)
         self.st.dissipated += collision_loss(self.group_mass(&g), f64::INFINITY, w, sep);
