@@ -261,13 +261,9 @@ fn check_output(
 /// seconds beside it in a physical scene (`until = 110.4 (1.0000e-4 s)`: the scene's own
 /// `until_si` or `until`).
 fn given_time(s: &LibScene, (key, si): (&str, bool), x: f64) -> String {
-    use beadchain::snapshot::size::short;
+    use beadchain::snapshot::size::{seconds_then_units, short};
     match (s.units, si) {
-        (Some(u), true) => format!(
-            "{key}_si = {:.4e} s = {} computer units",
-            x * u.time,
-            short(x)
-        ),
+        (Some(u), true) => format!("{key}_si = {}", seconds_then_units(x, u.time)),
         (Some(u), false) => format!("{key} = {} ({:.4e} s)", short(x), x * u.time),
         (None, _) => format!("{key} = {}", short(x)),
     }

@@ -178,7 +178,7 @@ impl<'a> GivenTime<'a> {
     pub fn shown(&self, x: f64) -> String {
         use beadchain::snapshot::size::short;
         match self.beta {
-            Some(b) => format!("{:.4e} s = {} computer units", x * b, short(x)),
+            Some(b) => beadchain::snapshot::size::seconds_then_units(x, b),
             None => short(x),
         }
     }

@@ -106,6 +106,12 @@ pub fn short(x: f64) -> String {
     }
 }
 
+/// A time `x` in computer units that was given in seconds, as the CLI's and Python's refusals
+/// show it: `1.0000e-4 s = 110.40913187338107 computer units` (`beta`: the time unit in s).
+pub fn seconds_then_units(x: f64, beta: f64) -> String {
+    format!("{:.4e} s = {} computer units", x * beta, short(x))
+}
+
 /// A run's estimated output above its limit ([`check_output_size`]): the caller words the
 /// message with its own option names (the CLI's `--every`, Python's `every=`).
 #[derive(Clone, Copy, Debug, PartialEq)]
