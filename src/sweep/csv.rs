@@ -155,6 +155,18 @@ pub fn write_result(
     columns: &str,
     rows: &BTreeMap<usize, String>,
 ) -> Result<bool, SweepError> {
+    write_result_via(out, spec_line, keys, columns, rows, write_atomic)
+}
+
+/// [`write_result`] with the atomic writer `write` (a failing one in the tests).
+fn write_result_via(
+    out: &Path,
+    spec_line: &str,
+    keys: &BTreeMap<usize, u64>,
+    columns: &str,
+    rows: &BTreeMap<usize, String>,
+    write: impl Fn(&Path, &[u8]) -> Result<(), SweepError>,
+) -> Result<bool, SweepError> {
     let mut table = render(spec_line, columns, rows);
     table.drain(..=spec_line.len());
     let meta = meta_path(out);
@@ -163,15 +175,15 @@ pub fn write_result(
     let new_meta = meta_text(spec_line, keys);
     let meta_changes = old_meta.as_deref() != Some(new_meta.as_bytes());
     if meta_changes {
-        write_atomic(&meta, new_meta.as_bytes())?;
+        write(&meta, new_meta.as_bytes())?;
     }
     let out_changes = std::fs::read(out).ok().as_deref() != Some(table.as_bytes());
     if out_changes {
-        if let Err(e) = write_atomic(out, table.as_bytes()) {
+        if let Err(e) = write(out, table.as_bytes()) {
             if meta_changes {
                 // best effort: the error above is the one to report
                 let _ = match &old_meta {
-                    Some(bytes) => write_atomic(&meta, bytes),
+                    Some(bytes) => write(&meta, bytes),
                     None => {
                         std::fs::remove_file(&meta).map_err(|e| io_err(&meta, "cannot remove", e))
                     }
@@ -450,4 +462,64 @@ pub fn merge(
         rows: rows.len(),
         missing,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A writer that fails for `OUT` (not for its sidecar), as a full disk or a lost directory
+    /// would after the sidecar was written.
+    fn failing_for(out: &Path) -> impl Fn(&Path, &[u8]) -> Result<(), SweepError> + '_ {
+        move |path: &Path, bytes: &[u8]| {
+            if path == out {
+                Err(SweepError::Io {
+                    file: path.display().to_string(),
+                    action: "cannot write".into(),
+                    reason: "injected failure".into(),
+                })
+            } else {
+                write_atomic(path, bytes)
+            }
+        }
+    }
+
+    fn result_rows() -> (BTreeMap<usize, u64>, BTreeMap<usize, String>) {
+        let keys = BTreeMap::from([(0, 0xabc), (1, 0xdef)]);
+        let rows = BTreeMap::from([(0, "0,1.5".to_string()), (1, "1,2.5".to_string())]);
+        (keys, rows)
+    }
+
+    #[test]
+    fn sidecar_is_put_back_when_the_result_cannot_be_written() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let out = dir.path().join("r.csv");
+        let (keys, rows) = result_rows();
+        // an earlier result: its sidecar and table
+        assert!(write_result(&out, "# sweep old", &keys, "run,x", &rows).expect("first write"));
+        let (meta_before, out_before) = (
+            std::fs::read(meta_path(&out)).expect("sidecar"),
+            std::fs::read(&out).expect("table"),
+        );
+        // a new result: other keys and rows
+        let keys2 = BTreeMap::from([(0, 0x123), (1, 0x456)]);
+        let rows2 = BTreeMap::from([(0, "0,9.5".to_string()), (1, "1,8.5".to_string())]);
+        let e = write_result_via(&out, "# sweep new", &keys2, "run,x", &rows2, failing_for(&out))
+            .expect_err("OUT cannot be written");
+        assert!(e.to_string().contains("injected failure"), "{e}");
+        assert_eq!(std::fs::read(meta_path(&out)).expect("sidecar"), meta_before);
+        assert_eq!(std::fs::read(&out).expect("table"), out_before);
+    }
+
+    #[test]
+    fn new_sidecar_is_removed_when_the_result_cannot_be_written() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let out = dir.path().join("r.csv");
+        let (keys, rows) = result_rows();
+        let e = write_result_via(&out, "# sweep new", &keys, "run,x", &rows, failing_for(&out))
+            .expect_err("OUT cannot be written");
+        assert!(e.to_string().contains("injected failure"), "{e}");
+        assert!(!meta_path(&out).exists(), "a sidecar without its table was left behind");
+        assert!(!out.exists());
+    }
 }

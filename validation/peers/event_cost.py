@@ -9,7 +9,11 @@ isolated equal-mass exchange), the final velocities' largest deviation from the 
 (all beads at rest but the last, which leaves at the striker's speed).
 
     python3 validation/peers/event_cost.py --old OLD_BINARY [--new target/release/beadchain]
-        [--rtol R] [--new-rtol R_NEW] [--scenes A,B]
+        [--rtol R] [--new-rtol R_NEW] [--scenes A,B] [--hard]
+
+--hard adds, per scene, the new binary on the same scene with `[hard] contacts = "all"`
+(instantaneous elastic collisions: beadchain's own event-driven limit, the cost of an event
+without any integration; its collision count differs, as a soft contact lasts a while).
 
 Scenes: validation/peers/scenes/*.toml (the issue's workloads) and the presets gapped_chain and
 granular_gas. No third-party packages.
@@ -66,6 +70,18 @@ def final_velocities(binary, snap):
     return last[1 + n:]
 
 
+def hard_variant(scene, d):
+    """The scene with every contact hard (a copy in `d`); refused where it sets [hard] itself."""
+    with open(scene) as f:
+        text = f.read()
+    if re.search(r"^\s*\[hard\]", text, re.M):
+        raise SystemExit(f"{scene}: already has a [hard] table; --hard adds its own")
+    out = os.path.join(d, os.path.basename(scene).removesuffix(".toml") + "_hard.toml")
+    with open(out, "w") as f:
+        f.write(text.rstrip("\n") + '\n[hard]\ncontacts = "all"\n')
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--old", required=True, help="the binary before (path)")
@@ -77,6 +93,8 @@ def main():
                          "error, where the new binary is more accurate at the same rtol)")
     ap.add_argument("--scenes", default=None, help="comma-separated subset (paths or presets)")
     ap.add_argument("--csv", default=None)
+    ap.add_argument("--hard", action="store_true",
+                    help="also run the new binary with [hard] contacts = \"all\" (the hard-contact limit)")
     a = ap.parse_args()
     scenes = a.scenes.split(",") if a.scenes else SCENES
     bins = [("old", a.old), ("new", a.new)]
@@ -91,16 +109,19 @@ def main():
                 sc = os.path.join(d, sc + ".toml")
                 with open(sc, "w") as f:
                     f.write(shown)
-            res = {k: [] for k, _ in bins}
+            runs = [(k, b, sc) for k, b in bins]
+            if a.hard:
+                runs.append(("hard", a.new, hard_variant(sc, d)))
+            res = {k: [] for k, _, _ in runs}
             for _ in range(a.repeat):
-                for k, b in bins:
-                    res[k].append(run_once(b, sc, rtols[k], os.path.join(d, f"{k}.bin")))
-            for k, b in bins:
+                for k, b, s in runs:
+                    res[k].append(run_once(b, s, rtols.get(k), os.path.join(d, f"{k}.bin")))
+            for k, b, _ in runs:
                 r = dict(res[k][-1])
                 r["time"] = statistics.median(x["time"] for x in res[k])
                 r["scene"] = os.path.basename(sc).removesuffix(".toml")
                 r["binary"] = k
-                r["rtol"] = rtols[k] or "scene's"
+                r["rtol"] = "-" if k == "hard" else (rtols[k] or "scene's")
                 r["exact_v_error"] = "-"
                 if r["scene"] == "gapped_10k_1.0" or r["scene"] == "gapped_chain":
                     v = final_velocities(b, os.path.join(d, f"{k}.bin"))
