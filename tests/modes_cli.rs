@@ -114,3 +114,57 @@ fn dispersion_of_a_dimer_prints_its_gap_and_draws_it() {
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(e.contains("no period found") && e.contains("--cell"), "{e}");
 }
+
+/// A free chain squeezed by two opposite forces: one rigid-translation mode (ω² ≈ 1e-16).
+const SQUEEZED: &str = "[chain]\nbeads = 8\nmass = [1.0, 2.0, 1.0, 0.5, 1.0, 3.0, 1.0, 1.2]\n\
+     [field]\nforce = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]\n[initial]\nequilibrium = true\n\
+     [run]\nuntil = 10.0\n";
+
+#[test]
+fn zero_mode_count_does_not_depend_on_the_window() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("s.toml"), SQUEEZED).unwrap();
+    for extra in [&[][..], &["--window", "0:1e-3"][..]] {
+        let mut args = vec!["modes", "s.toml"];
+        args.extend_from_slice(extra);
+        let o = bc(d.path(), &args);
+        assert_ok(&o);
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            text.contains("omega_max^2): 1\n"),
+            "{extra:?}: one zero mode expected\n{text}"
+        );
+    }
+}
+
+#[test]
+fn empty_window_says_no_modes_not_every_mode_at_zero() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("c.toml"), FIXED).unwrap();
+    // the closed-form band of FIXED tops out at 2·sqrt(K) ≈ 1.55: nothing above 5
+    let o = bc(d.path(), &["modes", "c.toml", "--window", "5:6"]);
+    assert_ok(&o);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("modes with omega in [5, 6]: 0"), "{text}");
+    assert!(
+        text.contains("density of states: no modes in the window")
+            && !text.contains("every mode at omega = 0"),
+        "{text}"
+    );
+}
+
+#[test]
+fn bins_out_of_range_are_refused_before_any_work() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("c.toml"), FIXED).unwrap();
+    for bins in ["0", "1000000000000000"] {
+        let o = bc(
+            d.path(),
+            &["modes", "c.toml", "--bins", bins, "--out", "m.npz"],
+        );
+        assert_eq!(o.status.code(), Some(2), "--bins {bins}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains("--bins"), "--bins {bins}: {err}");
+        assert!(!d.path().join("m.npz").exists());
+    }
+}

@@ -28,7 +28,9 @@ pub struct ModesArgs {
     /// Scene file or preset name.
     pub scene: String,
     /// Write the modes as .npz: omega, omega2, index, shapes (N, M), participation, dos_edges,
-    /// dos_counts, mass, overlap, stiffness, wall_stiffness, state.
+    /// dos_counts, mass, overlap, stiffness, wall_stiffness, state (dos_edges run from 0 to the
+    /// largest frequency, or from 0 to 1 where no mode has one: every mode at omega = 0, or
+    /// none in the --window).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Linearise about the static equilibrium or the initial state.
@@ -37,10 +39,10 @@ pub struct ModesArgs {
     /// Only the modes with angular frequency in LO:HI (computer units) [default: all].
     #[arg(long, value_name = "LO:HI")]
     pub window: Option<String>,
-    /// Bins of the density-of-states histogram (from 0 to the largest frequency)
-    /// [default: ceil(sqrt(N))].
-    #[arg(long)]
-    pub bins: Option<usize>,
+    /// Bins of the density-of-states histogram (from 0 to the largest frequency), 1 to
+    /// 1000000 [default: ceil(sqrt(N))].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    pub bins: Option<u32>,
     /// Print every mode (index, omega, participation ratio), not only the summary.
     #[arg(long)]
     pub list: bool,
@@ -139,13 +141,18 @@ pub fn cmd_modes(a: ModesArgs) -> Result<i32> {
         None => None,
     };
     let nb = lin.mass.len();
-    let bins = a.bins.unwrap_or((nb as f64).sqrt().ceil() as usize).max(1);
+    let bins = a
+        .bins
+        .map_or((nb as f64).sqrt().ceil() as usize, |b| b as usize)
+        .max(1);
     let (edges, counts) = density_of_states(&modes.omega, bins);
     summary(&scene, &lin, &modes, about, window)?;
     if let Some(line) = forces {
         outln!("{line}");
     }
-    if modes.omega.iter().all(|w| *w == 0.0) {
+    if modes.omega.is_empty() {
+        outln!("density of states: no modes in the window");
+    } else if modes.omega.iter().all(|w| *w == 0.0) {
         outln!("density of states: every mode at omega = 0");
     } else {
         outln!(
@@ -241,7 +248,7 @@ fn summary(
     if m.omega.is_empty() {
         return Ok(());
     }
-    let top = m.omega2.iter().fold(0.0f64, |t, x| t.max(x.abs()));
+    let top = m.omega2_max;
     let zeros = m.omega2.iter().filter(|x| x.abs() <= 1e-12 * top).count();
     outln!(
         "omega: lowest {:.6e}, highest {:.6e}; zero modes (|omega^2| <= 1e-12 omega_max^2): {zeros}",

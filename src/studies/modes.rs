@@ -159,6 +159,9 @@ pub struct Modes {
     pub shapes: Vec<Vec<f64>>,
     /// Participation ratio `(Σ x_i²)² / (N Σ x_i⁴)` of each mode.
     pub participation: Vec<f64>,
+    /// The largest `|ω²|` of all N modes, inside a window or not: the scale of "zero modes"
+    /// (a window must not change which modes count as zero).
+    pub omega2_max: f64,
 }
 
 /// Participation ratio `(Σ x_i²)² / (N Σ x_i⁴)` of displacements `x`.
@@ -192,6 +195,7 @@ pub fn solve(lin: &Linearized, window: Option<(f64, f64)>) -> Result<Modes, Stud
         omega: Vec::new(),
         shapes: Vec::new(),
         participation: Vec::new(),
+        omega2_max: (0..nb).fold(0.0f64, |t, j| t.max(s[j].abs())),
     };
     for j in 0..nb {
         let w2 = s[j];

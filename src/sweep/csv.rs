@@ -504,10 +504,20 @@ mod tests {
         // a new result: other keys and rows
         let keys2 = BTreeMap::from([(0, 0x123), (1, 0x456)]);
         let rows2 = BTreeMap::from([(0, "0,9.5".to_string()), (1, "1,8.5".to_string())]);
-        let e = write_result_via(&out, "# sweep new", &keys2, "run,x", &rows2, failing_for(&out))
-            .expect_err("OUT cannot be written");
+        let e = write_result_via(
+            &out,
+            "# sweep new",
+            &keys2,
+            "run,x",
+            &rows2,
+            failing_for(&out),
+        )
+        .expect_err("OUT cannot be written");
         assert!(e.to_string().contains("injected failure"), "{e}");
-        assert_eq!(std::fs::read(meta_path(&out)).expect("sidecar"), meta_before);
+        assert_eq!(
+            std::fs::read(meta_path(&out)).expect("sidecar"),
+            meta_before
+        );
         assert_eq!(std::fs::read(&out).expect("table"), out_before);
     }
 
@@ -516,10 +526,20 @@ mod tests {
         let dir = tempfile::tempdir().expect("temp dir");
         let out = dir.path().join("r.csv");
         let (keys, rows) = result_rows();
-        let e = write_result_via(&out, "# sweep new", &keys, "run,x", &rows, failing_for(&out))
-            .expect_err("OUT cannot be written");
+        let e = write_result_via(
+            &out,
+            "# sweep new",
+            &keys,
+            "run,x",
+            &rows,
+            failing_for(&out),
+        )
+        .expect_err("OUT cannot be written");
         assert!(e.to_string().contains("injected failure"), "{e}");
-        assert!(!meta_path(&out).exists(), "a sidecar without its table was left behind");
+        assert!(
+            !meta_path(&out).exists(),
+            "a sidecar without its table was left behind"
+        );
         assert!(!out.exists());
     }
 }
