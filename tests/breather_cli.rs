@@ -130,3 +130,67 @@ fn breather_collapsed_to_the_equilibrium_is_refused() {
         assert!(!d.path().join("b.toml").exists(), "omega {w}: wrote b.toml");
     }
 }
+
+/// A review's case: linear contacts (n = 2) have no amplitude-dependent frequency, so the seed is
+/// the linear mode itself, and the continuation's predictor divided by its zero shift ("non-finite
+/// state at t = 0"). A seed whose Newton tolerance is not small against its own velocities (an
+/// SI scene's velocities of 1e-9 against the default 1e-11) is refused before Newton.
+#[test]
+fn breather_without_a_frequency_shift_says_so_instead_of_a_non_finite_state() {
+    let d = tempfile::tempdir().unwrap();
+    let linear = DIMER.replace("beads = 12\n", "beads = 8\nexponent = 2.0\n");
+    std::fs::write(d.path().join("l.toml"), linear).unwrap();
+    let o = bc(d.path(), &["breather", "l.toml", "--frequency", "1.9"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("no frequency shift") && !err.contains("non-finite"),
+        "{err}"
+    );
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    // the seed's velocities omega·A ≈ 1.9e-8, the default --tol 1e-11 is 5e-4 of them
+    std::fs::write(d.path().join("c.toml"), DIMER).unwrap();
+    let o = bc(
+        d.path(),
+        &[
+            "breather",
+            "c.toml",
+            "--frequency",
+            "2.25",
+            "--seed-amplitude",
+            "1e-8",
+        ],
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("Newton's tolerance 1.0e-11 is not small against the seed's velocities")
+            && err.contains("lower --tol"),
+        "{err}"
+    );
+}
+
+/// `--out` in a directory that does not exist, or naming the scene file, is refused before the
+/// Newton and Floquet work (it was refused only after it, minutes for a long chain).
+#[test]
+fn breather_out_is_checked_before_the_computation() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("c.toml"), DIMER).unwrap();
+    for (out, want) in [
+        ("no/such/dir/b.toml", "directory no/such/dir does not exist"),
+        ("c.toml", "refusing to overwrite an input"),
+    ] {
+        let o = bc(
+            d.path(),
+            &["breather", "c.toml", "--frequency", "2.25", "--out", out],
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(o.status.code(), Some(2), "{out}: {err}");
+        assert!(err.contains(want), "{out}: {err}");
+        assert!(
+            !text.contains("seed:"),
+            "{out}: computed before refusing\n{text}"
+        );
+    }
+}

@@ -86,6 +86,10 @@ fn nearest_mode(sh: &Shooter, w: f64) -> Result<usize> {
 pub fn cmd_breather(a: BreatherArgs) -> Result<i32> {
     check_args(&a)?;
     let scene = load_scene(&a.scene)?;
+    if let Some(p) = &a.out {
+        let inputs = super::files::labelled_scene_inputs(&a.scene);
+        super::files::check_output_before_work(p, "--out", &inputs)?;
+    }
     let sh = Shooter::new(&scene, a.rtol).map_err(|e| anyhow!("{e}"))?;
     let k = match a.mode {
         Some(k) => k,
@@ -99,8 +103,13 @@ pub fn cmd_breather(a: BreatherArgs) -> Result<i32> {
         a.frequency
     );
     let start = sh.from_mode(k, a.seed_amplitude, a.tol).map_err(|e| {
+        let advice = if e.to_string().contains("did not converge") {
+            " (a smaller --seed-amplitude starts nearer the linear mode)"
+        } else {
+            ""
+        };
         anyhow!(
-            "{}: seed at amplitude {}: {e}",
+            "{}: seed at amplitude {}: {e}{advice}",
             scene.name,
             a.seed_amplitude
         )
@@ -119,7 +128,6 @@ pub fn cmd_breather(a: BreatherArgs) -> Result<i32> {
         report_floquet(&sh, b, a.list)?;
     }
     if let Some(p) = &a.out {
-        super::files::check_not_input(p, "--out", &super::files::labelled_scene_inputs(&a.scene))?;
         let text = beadchain::scene::show::to_toml(&sh.scene_of(b, a.periods, 20));
         super::files::clean_stale_temps(p);
         beadchain::snapshot::write_atomically(p, |w| {

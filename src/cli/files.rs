@@ -149,6 +149,32 @@ pub fn check_not_input(out: &Path, flag: &str, inputs: &[(&str, PathBuf)]) -> Re
     Ok(())
 }
 
+/// Checks, before a long computation, that the output `out` (written at its end) can be made:
+/// not an input ([`check_not_input`]), not a symbolic link or a directory, and in a directory
+/// that exists. What only the write can tell (permissions, a full disk) is still reported then.
+pub fn check_output_before_work(out: &Path, flag: &str, inputs: &[(&str, PathBuf)]) -> Result<()> {
+    check_not_input(out, flag, inputs)?;
+    beadchain::files::classify_output(out)?;
+    if out.is_dir() {
+        bail!(
+            "{}: {flag}: is a directory (give a file name)",
+            out.display()
+        );
+    }
+    let dir = match out.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        bail!(
+            "{}: {flag}: directory {} does not exist",
+            out.display(),
+            dir.display()
+        );
+    }
+    Ok(())
+}
+
 /// Scene inputs labelled for [`check_not_input`].
 pub fn labelled_scene_inputs(spec: &str) -> Vec<(&'static str, PathBuf)> {
     scene_inputs(spec)

@@ -125,7 +125,7 @@ pub fn cmd_modes(a: ModesArgs) -> Result<i32> {
     if let Some(p) = &a.out {
         let mut inputs = super::files::labelled_scene_inputs(&a.scene);
         inputs.extend(a.snapshot.iter().map(|s| ("snapshot", s.clone())));
-        super::files::check_not_input(p, "--out", &inputs)?;
+        super::files::check_output_before_work(p, "--out", &inputs)?;
     }
     let (u, about, forces) = state_of(&scene, a.about)?;
     let lin = linearize(&scene.chain, &u).map_err(|e| anyhow!("{}: {e}", scene.name))?;

@@ -242,7 +242,7 @@ impl Shooter {
             r = self.residual(&x[..nb], x[nb], c)?;
         }
         Err(err(format!(
-            "{}: Newton's method did not converge in 12 iterations at T = {:.9} (residual {:.3e} > {tol:.1e}); try a smaller frequency step",
+            "{}: Newton's method did not converge in 12 iterations at T = {:.9} (residual {:.3e} > {tol:.1e})",
             self.scene.name,
             x[nb],
             r[..nb].iter().fold(0.0f64, |m, v| m.max(v.abs()))
@@ -290,6 +290,15 @@ impl Shooter {
         if w <= 0.0 {
             return Err(err(format!(
                 "mode {k} has zero frequency: no breather from it"
+            )));
+        }
+        // Newton's residual is a velocity (max |v(T/2)|): a tolerance that is not small against
+        // the seed's own velocities, about ω·amp, accepts the linear mode as it is (no
+        // frequency shift, and the continuation's predictor divides by that shift)
+        if tol > SEED_TOL_FRACTION * w * amp {
+            return Err(err(format!(
+                "Newton's tolerance {tol:.1e} is not small against the seed's velocities (omega·amplitude = {:.3e}; at most {SEED_TOL_FRACTION:.0e} of it): lower --tol (tol=) or raise --seed-amplitude (seed_amplitude=) to the scene's scale",
+                w * amp
             )));
         }
         let b = (0..x.len())
@@ -393,6 +402,19 @@ pub fn continue_to(
         };
         let s_last = sq(w_last);
         let f = (sq(w) - s_last) / (s_last - prev.0);
+        // a shift at round-off (1e-12 of the frequency) is none: its square root would scale
+        // the predictor's step by up to 1e6
+        if !f.is_finite() || (w_last - edge).abs() <= 1e-12 * edge.abs() {
+            let why = if sh.scene.chain.exponent.iter().all(|&n| n == 2.0) {
+                "every contact is linear (n = 2): no amplitude changes the frequency"
+            } else {
+                "raise the seed amplitude or lower Newton's tolerance"
+            };
+            return Err(err(format!(
+                "continuation stopped at omega = {w_last:.6}: the branch has no frequency shift there (omega - omega_mode = {:.3e}), so it cannot be followed; {why}",
+                w_last - edge
+            )));
+        }
         let guess: Vec<f64> = (0..last.u.len())
             .map(|i| last.u[i] + f * (last.u[i] - prev.1[i]))
             .collect();
@@ -418,6 +440,10 @@ pub fn continue_to(
         }
     }
 }
+
+/// Largest Newton tolerance of a seed, as a fraction of its velocity scale `ω·amplitude`
+/// ([`Shooter::from_mode`]).
+pub const SEED_TOL_FRACTION: f64 = 1e-6;
 
 /// A solution whose amplitude is below this fraction of the seed's has collapsed onto the
 /// equilibrium (a fixed point of every period map), whatever Newton's residual says.
