@@ -3,6 +3,7 @@ leading wave's track, speed and decay fit, fragments, the interface split), Data
 
 from __future__ import annotations
 
+import operator
 import os
 from typing import Optional, Union
 
@@ -45,6 +46,14 @@ def analyze(run_or_path: Union[Run, str, os.PathLike], interface: Optional[int] 
     The numbers are those of ``beadchain analyze --json`` on the same frames. A run or file
     without every bead's ``u`` and ``v`` (an output selection) raises ``ValueError``.
     """
+    if interface is not None:
+        try:
+            interface = operator.index(interface)
+        except TypeError:
+            raise TypeError(f"interface: expected a bead index (an int), got "
+                            f"{type(interface).__name__}") from None
+        # a bead below 0 or past 2**63 is outside 1..N as 0 is: the library's ValueError
+        interface = min(max(interface, -1), 2**63 - 1)
     if isinstance(run_or_path, Run):
         r = run_or_path
         if r.beads is not None or r.u is None or r.v is None:

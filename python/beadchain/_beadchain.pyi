@@ -50,6 +50,7 @@ class Scene:
     def _with_overrides(
         self, text: str, overrides: Sequence[tuple[str, Any]], base_dir: str
     ) -> tuple[Scene, str]: ...
+    def _ran_source(self, text: str, until: bool, every: bool) -> Optional[str]: ...
 
 class Simulation:
     def __init__(

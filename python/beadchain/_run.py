@@ -9,8 +9,8 @@ from typing import Any, Callable, Iterable, NamedTuple, Optional
 import numpy as np
 
 from . import _beadchain
-from ._scene import (Scene, Units, _html_table, _masked_data, _need_units, _one_line,
-                     _scalar, _span)
+from ._scene import (Scene, Units, _count, _html_table, _masked_data, _need_units,
+                     _one_line, _scalar, _span)
 
 
 _UNREAD = object()
@@ -128,7 +128,8 @@ class Run:
         ``hard_restitution`` where present). Attributes: scene name and description, engine,
         method, rtol, atol (runs of :func:`run` and :func:`load`), until, every, the snapshot's
         metadata, ``stats_*``, and the unit scales ``units_beta``, ``units_m0``... of physical
-        scenes; only str, int and float values (netCDF-safe). Every variable has ``units`` in
+        scenes; only str, int and float values (netCDF-safe, netCDF3 too: an integer outside
+        32 bits as float64 where exact, else as decimal text). Every variable has ``units`` in
         its attributes (``"1"`` with ``unit_system = "computer"``: paper units).
 
         Eager: the variables are the Run's own arrays (no copy; a loaded snapshot's frames are
@@ -218,14 +219,18 @@ class Run:
         return self._units("t_si").time(self.t)
 
     @property
-    def u_si(self) -> np.ndarray:
-        """Displacements in metres (lengths are not rescaled; physical scenes only)."""
-        return self._units("u_si").displacement(self.u)
+    def u_si(self) -> Optional[np.ndarray]:
+        """Displacements in metres (lengths are not rescaled; physical scenes only); None when
+        the run does not store ``u`` (as :attr:`u`)."""
+        units = self._units("u_si")
+        return None if self.u is None else units.displacement(self.u)
 
     @property
-    def v_si(self) -> np.ndarray:
-        """Velocities in m/s (``v / beta``; physical scenes only)."""
-        return self._units("v_si").velocity(self.v)
+    def v_si(self) -> Optional[np.ndarray]:
+        """Velocities in m/s (``v / beta``; physical scenes only); None when the run does not
+        store ``v`` (as :attr:`v`)."""
+        units = self._units("v_si")
+        return None if self.v is None else units.velocity(self.v)
 
 
 def _progress_bar(name: str) -> Callable[[float, float], None]:
@@ -357,9 +362,21 @@ def run(
     finally:
         if bar is not None:
             bar.close()
-    ran = Scene._wrap(raw["scene"], scene._text)
+    ran = _ran_scene(scene, raw["scene"])
     keys = ("engine", "method", "rtol", "atol", "crate_version", "build_commit", "created_by")
     return Run(raw, ran, {k: raw[k] for k in keys})
+
+
+def _ran_scene(given: Scene, ran) -> Scene:
+    """The :class:`Scene` that ran (``ran``: ``given`` with ``[run]`` until/every as the run's
+    options set them), its source ``given``'s with those values written in, so that
+    ``source``, ``with_overrides`` and ``from_toml(source)`` are the scene that ran."""
+    text = given._text
+    before, after = given.run_settings, ran.run_settings
+    until, every = (before[k] != after[k] for k in ("until", "every"))
+    if text is not None and (until or every):
+        text = ran._ran_source(text, until, every)
+    return Scene._wrap(ran, text, given._dir)
 
 
 def _run_raw(scene, progress, engine, method, rtol, atol, every, until, out, record, max_steps,
@@ -368,9 +385,9 @@ def _run_raw(scene, progress, engine, method, rtol, atol, every, until, out, rec
         scene._s, engine=engine, method=method, rtol=_scalar("rtol", rtol),
         atol=_scalar("atol", atol), every=_scalar("every", every), until=_scalar("until", until),
         out=None if out is None else os.fspath(out), record=record,
-        max_steps=_scalar("max_steps", max_steps), observers=list(observers),
+        max_steps=_count("max_steps", max_steps), observers=list(observers),
         until_si=_scalar("until_si", until_si), every_si=_scalar("every_si", every_si),
-        max_output_bytes=_scalar("max_output_bytes", max_output_bytes), progress=progress,
+        max_output_bytes=_count("max_output_bytes", max_output_bytes), progress=progress,
     )
 
 
@@ -448,7 +465,7 @@ class Simulation:
             until=_scalar("until", until), record=record, observers=list(observers),
             until_si=_scalar("until_si", until_si), every_si=_scalar("every_si", every_si),
         )
-        self.scene = Scene._wrap(self._sim.scene, scene._text)
+        self.scene = _ran_scene(scene, self._sim.scene)
         self._chunks: list = []
 
     def _summary(self) -> list:
@@ -473,8 +490,11 @@ class Simulation:
         self._sim.pause_at(frames=frames, events=events)
 
     def advance(self, until: Optional[float] = None) -> Stop:
-        """Advances to ``until`` (default: the run's end time, at most that), or to the next
-        pause (:meth:`pause_at`); returns why it stopped (:class:`Stop`)."""
+        """Advances to ``until`` (default: the run's end time), or to the next pause
+        (:meth:`pause_at`); returns why it stopped (:class:`Stop`). ``until`` must be a time
+        from the engine clock (:attr:`time`: advancing to it returns at once) to the run's end
+        (:attr:`until`): NaN, infinities, later or earlier times raise :class:`SceneError` (a
+        ``ValueError``) naming the value and the range, and leave the simulation as it was."""
         reason, t, event = self._sim.advance(_scalar("until", until))
         return Stop(reason, t, event)
 
@@ -494,10 +514,22 @@ class Simulation:
         return State(*self._sim.state)
 
     def set_velocities(self, v) -> None:
-        """New velocities (N,) at the engine clock; the integration restarts there."""
+        """New velocities (N,) at the engine clock; the integration restarts there. ``v``: real
+        numbers, one per bead (an array of another shape, or of bools, complex numbers or
+        objects, raises TypeError as ``Scene(velocity=...)`` refuses them; a masked value or a
+        non-finite one SceneError)."""
+        key = f"{self.scene.name}: set_velocities: v"
         if isinstance(v, np.ma.MaskedArray):
-            v = _masked_data(f"{self.scene.name}: set_velocities: v", v)
-        self._sim.set_velocities(np.ascontiguousarray(v, dtype=np.float64))
+            v = _masked_data(key, v)
+        a = np.asarray(v)
+        n = self.scene.n_beads
+        if a.dtype.kind not in "iuf":
+            raise TypeError(f"{key}: expected real numbers (an array of shape ({n},)), got "
+                            f"dtype {a.dtype}")
+        if a.ndim != 1:
+            raise TypeError(f"{key}: expected an array of shape ({n},) (one velocity per bead), "
+                            f"got shape {a.shape}")
+        self._sim.set_velocities(np.ascontiguousarray(a, dtype=np.float64))
 
     def add_observer(self, f: Callable[[float, np.ndarray, np.ndarray], Any]) -> None:
         """Calls ``f(t, u, v)`` at every later frame."""

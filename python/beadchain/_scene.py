@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+import operator
 import os
 from dataclasses import dataclass
 from typing import Any, Mapping, Optional
@@ -13,10 +15,11 @@ from . import _beadchain
 # Keyword arguments of Scene(...) and the TOML table each belongs to (see docs/scenes.md).
 _KEYS = {
     "scene": ("name", "description", "seed"),
-    "chain": ("beads", "mass", "exponent", "prefactor", "precompression", "radius", "law",
-              "damping", "damping_si", "restitution", "impact_speed", "impact_speed_si"),
+    "chain": ("beads", "mass", "exponent", "prefactor", "precompression",
+              "precompression_force", "precompression_force_si", "radius", "law", "damping",
+              "damping_si", "restitution", "impact_speed", "impact_speed_si"),
     "initial": ("velocity", "displacement", "striker", "striker_right", "pulse", "velocity_si",
-                "striker_si", "striker_right_si", "solitary"),
+                "striker_si", "striker_right_si", "solitary", "equilibrium", "mode"),
     "field": ("force", "gravity", "force_si", "gravity_si"),
     "run": ("until", "every", "until_si", "every_si", "rtol", "atol", "method", "engine"),
 }
@@ -209,6 +212,32 @@ def _scalar(key: str, x: Any) -> Any:
     return x
 
 
+def _count(key: str, x: Any) -> Optional[int]:
+    """A count option (``max_steps=``, ``max_output_bytes=``, an index): None, or an integer
+    >= 0. A whole float (``1e6``) is taken as its integer and a NumPy 0-d array as its value;
+    another type raises TypeError, a negative, fractional or non-finite value ValueError, each
+    naming ``key``."""
+    x = _scalar(key, x)
+    if x is None:
+        return None
+    if isinstance(x, (bool, np.bool_)):
+        raise TypeError(f"{key}: expected an integer, got {x!r}")
+    if isinstance(x, (float, np.floating)):
+        if not (math.isfinite(x) and float(x).is_integer()):
+            raise ValueError(f"{key} = {x!r} must be a whole number >= 0")
+        x = int(x)
+    else:
+        try:
+            x = operator.index(x)
+        except TypeError:
+            raise TypeError(f"{key}: expected an integer, got {type(x).__name__}") from None
+    if x < 0:
+        raise ValueError(f"{key} = {x} must be >= 0")
+    if x >= 2**64:
+        raise ValueError(f"{key} = {x} must be below 2**64")
+    return x
+
+
 def _scene_from_state(state: bytes, text: Optional[str], base_dir: str = ".") -> "Scene":
     """Unpickles a :class:`Scene` (see ``Scene.__reduce__``)."""
     return Scene._wrap(_beadchain.Scene._from_state(state), text, base_dir)
@@ -231,8 +260,15 @@ def _toml_plain(key: str, v: Any) -> Any:
     return v
 
 
-def _looks_like_text(s: str) -> bool:
-    return "\n" in s or "=" in s or s.lstrip().startswith("[")
+def _is_file_name(s: str) -> bool:
+    """Whether ``Scene.from_toml``'s str argument names a file, not TOML text: one line that
+    names an existing file or ends in ``.toml`` (a path may hold ``=`` or start with ``[``),
+    or that has neither ``=`` nor a leading ``[`` (no TOML: a file, missing or not)."""
+    if "\n" in s or "\r" in s:
+        return False
+    if s.lower().endswith(".toml") or os.path.isfile(s):
+        return True
+    return "=" not in s and not s.lstrip().startswith("[")
 
 
 class Scene:
@@ -263,6 +299,8 @@ class Scene:
         tables: dict = {t: {} for t in (*_KEYS, *_TABLES)}
         origin = str(kwargs.get("name") or "scene")
         for k, v in kwargs.items():
+            if v is None and (k in _TABLES or k in _WHERE):
+                continue  # left out, as documented (units=None: no [units] table)
             if k in _TABLES:
                 if not isinstance(v, Mapping):
                     raise TypeError(f"Scene(): {k} must be a dict (the [{k}] table)")
@@ -271,7 +309,8 @@ class Scene:
                 tables[_WHERE[k]][k] = _plain(f"{origin}: [{_WHERE[k]}].{k}", v)
             else:
                 raise TypeError(f"Scene(): unexpected keyword {k!r}")
-        # Tables with no keys are left out; keys whose value is None are (their table stays).
+        # Keys whose value is None are left out (a table's too: walls={"left": None}), and so
+        # are tables with no keys.
         doc = {t: {k: _toml_plain(f"{origin}: [{t}].{k}", x) for k, x in items.items()
                    if x is not None}
                for t, items in tables.items() if items}
@@ -288,12 +327,15 @@ class Scene:
 
     @classmethod
     def from_toml(cls, path_or_text, name: Optional[str] = None) -> "Scene":
-        """A scene from a TOML file (path) or from TOML text. ``name`` names text in messages
-        (default ``"scene"``; it is also the default scene name)."""
+        """A scene from a TOML file (path) or from TOML text. A ``pathlib.Path`` (any
+        ``os.PathLike``) is always a file; a str is a file when it is one line that names an
+        existing file or ends in ``.toml`` (whatever characters the path holds, ``=`` or
+        ``[`` included) or has no ``=`` and no leading ``[``, else TOML text. ``name`` names
+        text in messages (default ``"scene"``; it is also the default scene name)."""
         if isinstance(path_or_text, os.PathLike) or (
-            isinstance(path_or_text, str) and not _looks_like_text(path_or_text)
+            isinstance(path_or_text, str) and _is_file_name(path_or_text)
         ):
-            path = os.fspath(path_or_text)
+            path = os.fsdecode(os.fspath(path_or_text))
             if not os.path.exists(path):
                 raise _beadchain.SceneError(f"{path}: cannot read scene file: no such file")
             with open(path, encoding="utf-8") as f:
@@ -440,7 +482,7 @@ class Scene:
         if isinstance(scene, os.PathLike) or (
             isinstance(scene, str) and scene.lower().endswith(".toml")
         ):
-            return cls.from_toml(os.fspath(scene))
+            return cls.from_toml(scene if isinstance(scene, os.PathLike) else str(scene))
         if isinstance(scene, str):
             if _beadchain._preset_toml(scene) is None:
                 near = _beadchain._nearest_presets(scene)

@@ -9,11 +9,11 @@ from typing import Any, Callable, Optional
 import numpy as np
 
 from . import _beadchain
-from ._scene import Scene
+from ._scene import Scene, _count
 
 
-def check(scene: Scene, method: Optional[str] = None, rtol: Optional[float] = None,
-          atol: Optional[float] = None, until: Optional[float] = None,
+def check(scene: Scene | str | os.PathLike, method: Optional[str] = None,
+          rtol: Optional[float] = None, atol: Optional[float] = None, until: Optional[float] = None,
           tol: Optional[float] = None) -> dict:
     """``beadchain check``: runs ``scene`` with the hybrid engine and with the dense reference
     and judges the difference against the scene's own sensitivity.
@@ -25,6 +25,7 @@ def check(scene: Scene, method: Optional[str] = None, rtol: Optional[float] = No
     ``pandas.DataFrame(result["criteria"])``), ``deviation`` and ``sensitivity`` (largest
     ``du``, ``dv`` and where).
     """
+    scene = Scene._coerce(scene, "check")
     return _beadchain.check(scene._s, method=method, rtol=rtol, atol=atol, until=until, tol=tol)
 
 
@@ -33,7 +34,7 @@ def sweep_run(path: str | os.PathLike, index: int) -> dict:
     ``beadchain sweep`` writes for it; the swept values as numbers (``int`` or ``float``, as the
     sweep file gives them). Each point is independent of the others, so this is a function to
     hand to an executor."""
-    return _beadchain._sweep_run(os.fspath(path), int(index))
+    return _beadchain._sweep_run(os.fspath(path), _count("sweep_run: index", index))
 
 
 def sweep_size(path: str | os.PathLike) -> int:
@@ -120,8 +121,9 @@ def sweep(path: str | os.PathLike, executor: Any = None,
     return table
 
 
-def accuracy(scene: Scene, engines: Optional[list] = None, methods: Optional[list] = None,
-             rtols: Optional[list] = None, verlet_steps: Optional[list] = None,
+def accuracy(scene: Scene | str | os.PathLike, engines: Optional[list] = None,
+             methods: Optional[list] = None, rtols: Optional[list] = None,
+             verlet_steps: Optional[list] = None,
              atol_ratio: Optional[float] = None, until: Optional[float] = None,
              repeat: Optional[int] = None, reference_rtol: Optional[float] = None,
              max_steps: Optional[int] = None) -> dict:
@@ -136,14 +138,15 @@ def accuracy(scene: Scene, engines: Optional[list] = None, methods: Optional[lis
     ``error``, ``energy_error``, ``wall_seconds``, ``steps``, ...: ``pandas.DataFrame(r["rows"])``),
     ``reference``, ``until``, ``tau`` and ``notes``. Writes no file.
     """
+    scene = Scene._coerce(scene, "accuracy")
     return _beadchain.accuracy(scene._s, engines=engines, methods=methods, rtols=rtols,
                                verlet_steps=verlet_steps, atol_ratio=atol_ratio, until=until,
-                               repeat=repeat, reference_rtol=reference_rtol,
-                               max_steps=max_steps)
+                               repeat=_count("repeat", repeat), reference_rtol=reference_rtol,
+                               max_steps=_count("max_steps", max_steps))
 
 
-def modes(scene: Scene, about: str = "equilibrium", window: Optional[tuple] = None,
-          bins: Optional[int] = None) -> dict:
+def modes(scene: Scene | str | os.PathLike, about: str = "equilibrium",
+          window: Optional[tuple] = None, bins: Optional[int] = None) -> dict:
     """``beadchain modes``: the linear modes of ``scene``'s chain about its static equilibrium
     (``about="initial"``: about its initial displacements), docs/studies.md.
 
@@ -154,12 +157,13 @@ def modes(scene: Scene, about: str = "equilibrium", window: Optional[tuple] = No
     boundary conditions in words), ``open_contacts`` and ``state``. ``window=(lo, hi)`` keeps
     the modes with ``lo <= omega <= hi``.
     """
+    scene = Scene._coerce(scene, "modes")
     w = None if window is None else (float(window[0]), float(window[1]))
     return _beadchain.modes(scene._s, about=about, window=w, bins=bins)
 
 
-def bands(scene: Scene, cell: Optional[int] = None, start: int = 0, points: int = 201,
-          about: str = "equilibrium") -> dict:
+def bands(scene: Scene | str | os.PathLike, cell: Optional[int] = None, start: int = 0,
+          points: int = 201, about: str = "equilibrium") -> dict:
     """``beadchain plot dispersion``'s band structure of ``scene``'s periodic chain: the unit
     cell of ``cell`` beads from bead ``start`` (default: the smallest period of the masses and
     contact stiffnesses) of the chain linearised about its static equilibrium
@@ -170,11 +174,12 @@ def bands(scene: Scene, cell: Optional[int] = None, start: int = 0, points: int 
     π), ``gaps`` (k × 2: the top of one band and the bottom of the next, where they do not
     overlap), and the cell's ``mass`` and ``stiffness``.
     """
+    scene = Scene._coerce(scene, "bands")
     return _beadchain.bands(scene._s, cell=cell, start=int(start), points=int(points),
                             about=about)
 
 
-def modal_energies(scene: Scene, run: Any, about: str = "equilibrium",
+def modal_energies(scene: Scene | str | os.PathLike, run: Any, about: str = "equilibrium",
                    window: Optional[tuple] = None) -> dict:
     """``beadchain modes SCENE --snapshot RUN.snap``: the energy of each linear mode of
     ``scene``'s chain (about its static equilibrium; ``about="initial"``: its initial
@@ -188,6 +193,7 @@ def modal_energies(scene: Scene, run: Any, about: str = "equilibrium",
     at rest, ``omega`` and ``index`` (M,). A run of another bead count raises
     :class:`SceneError` naming the file (or the run's scene).
     """
+    scene = Scene._coerce(scene, "modal_energies")
     w = None if window is None else (float(window[0]), float(window[1]))
     if isinstance(run, (str, os.PathLike)):
         return _beadchain._modal_energies_file(scene._s, os.fspath(run), about=about, window=w)
@@ -201,7 +207,7 @@ def modal_energies(scene: Scene, run: Any, about: str = "equilibrium",
         np.ascontiguousarray(run.v, dtype=float).ravel(), what, about=about, window=w)
 
 
-def breather(scene: Scene, frequency: float, mode: Optional[int] = None,
+def breather(scene: Scene | str | os.PathLike, frequency: float, mode: Optional[int] = None,
              seed_amplitude: float = 1e-3, step: float = 0.02, tol: float = 1e-11,
              rtol: float = 1e-12, floquet: bool = True, periods: float = 100.0) -> dict:
     """``beadchain breather``: a discrete breather of ``scene``'s chain at angular frequency
@@ -218,6 +224,7 @@ def breather(scene: Scene, frequency: float, mode: Optional[int] = None,
     |M ẋ − ẋ|/|ẋ| and |∇Hᵀ M − ∇Hᵀ|/|∇H|); ``scene``: the scene with the breather as its
     initial state, ``periods`` periods with the dense engine (``scene_toml``: its TOML).
     """
+    scene = Scene._coerce(scene, "breather")
     d = _beadchain.breather(scene._s, float(frequency), mode=mode,
                             seed_amplitude=float(seed_amplitude), step=float(step),
                             tol=float(tol), rtol=float(rtol), floquet=bool(floquet),
@@ -226,7 +233,7 @@ def breather(scene: Scene, frequency: float, mode: Optional[int] = None,
     return d
 
 
-def equilibrium(scene: Scene, force: Optional[float] = None) -> dict:
+def equilibrium(scene: Scene | str | os.PathLike, force: Optional[float] = None) -> dict:
     """The static equilibrium of ``scene``'s chain under its walls and field (as
     ``[initial] equilibrium = true``; ``force``: the left wall's force, as ``[walls] force``).
 
@@ -234,4 +241,5 @@ def equilibrium(scene: Scene, force: Optional[float] = None) -> dict:
     ``gaps`` (contacts without force), ``iterations`` and ``right_precompression``. An
     impossible balance raises :class:`SceneError`.
     """
+    scene = Scene._coerce(scene, "equilibrium")
     return _beadchain.equilibrium(scene._s, force=force)

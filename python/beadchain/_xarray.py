@@ -11,8 +11,9 @@
 
 Both routes build the dataset with the same function, so ``open_dataset(path,
 engine="beadchain")`` equals ``beadchain.load(path).to_xarray()`` (values, coordinates and
-attributes). Attributes hold only ``str``, ``int`` and ``float`` values (netCDF-safe): booleans
-as 0/1, dicts as JSON text; a value that is None is left out.
+attributes). Attributes hold only ``str``, ``int`` and ``float`` values (netCDF-safe, netCDF3
+included): booleans as 0/1, integers outside the 32-bit range as float64 (exact up to 2**53)
+or else as decimal text, dicts as JSON text; a value that is None is left out.
 """
 
 from __future__ import annotations
@@ -49,14 +50,19 @@ _UNITS_NOTE = (
 
 
 def _attr_value(v: Any) -> Any:
-    """``v`` as a netCDF-safe attribute value (str, int or float), or None to leave it out."""
+    """``v`` as a netCDF-safe attribute value (str, 32-bit int or float: netCDF3 too), or None
+    to leave it out."""
     if v is None:
         return None
     if isinstance(v, (bool, np.bool_)):
         return int(v)
     if isinstance(v, (int, np.integer)):
+        # netCDF3 (to_netcdf(engine="scipy")) stores 32-bit integers only: a larger one as the
+        # float64 that equals it (|v| <= 2**53), else as its decimal text; both lossless
         v = int(v)
-        return v if -(2**63) <= v < 2**63 else str(v)
+        if -(2**31) <= v < 2**31:
+            return v
+        return float(v) if abs(v) <= 2**53 else str(v)
     if isinstance(v, (float, np.floating)):
         return float(v)
     if isinstance(v, str):

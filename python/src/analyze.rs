@@ -14,12 +14,27 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
 
-fn options(interface: Option<usize>, fit_from: Option<f64>, fit_to: Option<f64>) -> SummaryOptions {
-    SummaryOptions {
+/// The options of a chain of `n` beads; an interface bead below 0 is refused as the library
+/// refuses every bead outside `1..N` (`ValueError("interface must be in 1..N")`).
+fn options(
+    (interface, n): (Option<i64>, usize),
+    fit_from: Option<f64>,
+    fit_to: Option<f64>,
+) -> PyResult<SummaryOptions> {
+    let interface = match interface.map(usize::try_from) {
+        None => None,
+        Some(Ok(k)) => Some(k),
+        Some(Err(_)) => {
+            return Err(PyValueError::new_err(
+                SummaryError::Interface { k: 0, n }.to_string(),
+            ))
+        }
+    };
+    Ok(SummaryOptions {
         interface,
         fit_from,
         fit_to,
-    }
+    })
 }
 
 /// The library's reasons name the CLI's options; Python's keywords are `fit_from`/`fit_to`.
@@ -175,7 +190,7 @@ pub fn _analyze<'py>(
     t: PyReadonlyArray1<'py, f64>,
     u: PyReadonlyArray1<'py, f64>,
     v: PyReadonlyArray1<'py, f64>,
-    interface: Option<usize>,
+    interface: Option<i64>,
     fit_from: Option<f64>,
     fit_to: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
@@ -191,7 +206,7 @@ pub fn _analyze<'py>(
             v.len()
         )));
     }
-    let opts = options(interface, fit_from, fit_to);
+    let opts = options((interface, n), fit_from, fit_to)?;
     let s = without_gil(py, || {
         let views: Vec<FrameView<'_>> = t
             .iter()
@@ -211,17 +226,18 @@ pub fn _analyze<'py>(
 pub fn _analyze_file(
     py: Python<'_>,
     path: PathBuf,
-    interface: Option<usize>,
+    interface: Option<i64>,
     fit_from: Option<f64>,
     fit_to: Option<f64>,
 ) -> PyResult<Bound<'_, PyDict>> {
     let snap_err =
         |e: beadchain::snapshot::SnapshotError| crate::SnapshotError::new_err(e.to_string());
-    let opts = options(interface, fit_from, fit_to);
     let (snap, s) = without_gil(py, || -> PyResult<(Snapshot, Summary)> {
         let snap = Snapshot::open(&path).map_err(snap_err)?;
         snap.require_full("analyze needs every bead and both fields (energies, leading wave)")
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let n = snap.header().scene.chain.len();
+        let opts = options((interface, n), fit_from, fit_to)?;
         let mut frames: Vec<Frame> = Vec::with_capacity(snap.frame_count());
         for k in 0..snap.frame_count() {
             frames.push(snap.frame(k).map_err(snap_err)?);

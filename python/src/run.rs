@@ -91,12 +91,46 @@ pub(crate) fn config(scene: &LibScene, o: &Options) -> PyResult<(LibScene, RunCo
     let mut s = scene.clone();
     s.run.until = cfg.until;
     s.run.every = cfg.every;
+    unrunnable(&s, &cfg, o)?;
     // the options first (their messages name them: `until = -1 must be …`), then the scene: one
     // read from a snapshot or a pickle of an older version was not validated again
     // (`Scene::unchecked`); it is here, before any output is written
     engine::check_config(&s, &cfg).map_err(|e| config_err(&s, e))?;
     beadchain::scene::validate(&s).map_err(crate::scene::scene_err)?;
     Ok((s, cfg))
+}
+
+/// An engine or method that cannot run the scene ([`engine::unrunnable`]), refused as the CLI
+/// refuses it (`beadchain::cli::common::check_config`) but naming Python's keywords
+/// (`engine="hybrid"`, not `--engine hybrid`): the keyword that chose it, or the scene's `[run]`
+/// key when no keyword did, with the way out.
+fn unrunnable(s: &LibScene, cfg: &RunConfig, o: &Options) -> PyResult<()> {
+    use beadchain::engine::Unrunnable;
+    let name = &s.name;
+    let msg = match engine::unrunnable(s, cfg) {
+        None => return Ok(()),
+        Some(Unrunnable::DenseOnHard) => {
+            let why = "cannot run this scene: it declares hard contacts or walls, which only the hybrid engine handles";
+            match o.engine {
+                Some(_) => format!("{name}: engine=\"dense\" {why}; pass engine=\"hybrid\""),
+                None => format!(
+                    "{name}: [run].engine: \"dense\" {why} (set engine = \"hybrid\" in the scene, or pass engine=\"hybrid\")"
+                ),
+            }
+        }
+        Some(Unrunnable::VerletOnDamped) => {
+            let why = "does not integrate velocity-dependent (damped) contacts";
+            match o.method {
+                Some(_) => format!(
+                    "{name}: method=\"verlet\" {why}; pass method=\"auto\", \"dop853\" or \"radau5\""
+                ),
+                None => format!(
+                    "{name}: [run].method: \"verlet\" {why} (set method = \"auto\", \"dop853\" or \"radau5\" in the scene, or pass method=)"
+                ),
+            }
+        }
+    };
+    Err(SceneError::new_err(msg))
 }
 
 fn config_err(scene: &LibScene, e: EngineError) -> PyErr {

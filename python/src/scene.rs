@@ -294,6 +294,34 @@ impl Scene {
         Ok((Self::new(s)?, text))
     }
 
+    /// The source of the scene that ran: `text` (the source of the scene given to `run()` or
+    /// `Simulation`) with this scene's `[run]` `until` (when `until`) and `every` (when
+    /// `every`) written in, in place of what the text gave (their `_si` twins removed: the
+    /// values are in computer units). None when the text is not TOML or cannot be written.
+    fn _ran_source(&self, text: &str, until: bool, every: bool) -> Option<String> {
+        use toml::Value;
+        let mut root: toml::Table = toml::from_str(text).ok()?;
+        let Value::Table(run) = root
+            .entry("run")
+            .or_insert_with(|| Value::Table(toml::Table::new()))
+        else {
+            return None;
+        };
+        let r = &self.scene.run;
+        if until {
+            run.remove("until_si");
+            run.insert("until".into(), Value::Float(r.until));
+        }
+        if every {
+            run.remove("every_si");
+            match r.every {
+                Some(x) => run.insert("every".into(), Value::Float(x)),
+                None => run.remove("every"),
+            };
+        }
+        toml::to_string(&root).ok()
+    }
+
     /// The scene as bytes for pickling (bincode of the resolved scene, its `[output]` selection
     /// and its warnings: every field exactly, whatever its contact law or origin).
     fn _state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {

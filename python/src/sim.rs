@@ -7,7 +7,7 @@ use crate::observe::Collector;
 use crate::run::{config, engine_err, frames_dict, stats, Options};
 use crate::scene::Scene;
 use crate::{without_gil, RunError, SceneError};
-use beadchain::engine::{self, Engine, PauseAt, RunConfig, Stop};
+use beadchain::engine::{self, Engine, EngineError, PauseAt, RunConfig, Stop};
 use beadchain::model::relative_energy_change;
 use beadchain::names::Named;
 use beadchain::scene::Scene as LibScene;
@@ -62,6 +62,17 @@ struct Reference {
     dissipated: f64,
 }
 
+/// A time as Python writes it (`nan`, `inf`, `-inf`; else as the CLI's messages do).
+fn py_time(x: f64) -> String {
+    if x.is_nan() {
+        "nan".into()
+    } else if x.is_infinite() {
+        if x > 0.0 { "inf" } else { "-inf" }.into()
+    } else {
+        short(x)
+    }
+}
+
 /// A simulation advanced step by step (see the Python `Simulation`).
 #[pyclass(module = "beadchain._beadchain", unsendable)]
 pub struct Simulation {
@@ -72,6 +83,35 @@ pub struct Simulation {
     reference: Option<Reference>,
     /// Energy added by `set_velocities` calls (new minus old total energy, summed).
     injected: f64,
+}
+
+impl Simulation {
+    /// Refuses an advance target that is not a time from the engine clock to the run's end
+    /// (`ValueError` naming it and the valid range; the simulation is left as it was).
+    fn check_target(&self, until: f64) -> PyResult<()> {
+        let (now, end) = (self.run.engine.time(), self.run.cfg.until);
+        let why = if until.is_nan() {
+            "is not a number".to_string()
+        } else if until.is_infinite() {
+            "is not finite".to_string()
+        } else if until > end {
+            format!("is beyond the run's end time {}", short(end))
+        } else if until < now {
+            format!(
+                "is before the engine clock t = {} (a simulation does not go back)",
+                short(now)
+            )
+        } else {
+            return Ok(());
+        };
+        Err(SceneError::new_err(format!(
+            "{}: advance: until = {} {why}; expected a time from t = {} (the engine clock) to {} (the run's end time)",
+            self.run.scene.name,
+            py_time(until),
+            short(now),
+            short(end)
+        )))
+    }
 }
 
 #[pymethods]
@@ -132,6 +172,9 @@ impl Simulation {
     /// `("reached", t, None)`, `("frame", t, None)` or `("event", t, {t, contact, kind,
     /// rel_velocity, peak_overlap})` when paused there ([`Simulation::pause_at`]), or
     /// `("requested", t, None)` (an observer raised or Ctrl-C: the exception is raised instead).
+    /// A target that is not a time from the engine clock to the run's end raises `SceneError`
+    /// (a `ValueError`) and changes nothing; only an engine failure leaves the simulation
+    /// failed.
     #[pyo3(signature = (until=None))]
     fn advance<'py>(
         &mut self,
@@ -146,10 +189,15 @@ impl Simulation {
             )));
         }
         let target = until.unwrap_or(self.run.cfg.until);
+        self.check_target(target)?;
         let Running { engine, obs, .. } = &mut self.run;
         let r = without_gil(py, || engine.advance(target, obs));
         let stop = r.map_err(|e| {
-            self.failed = Some((self.run.engine.time(), e.to_string()));
+            // a refused configuration leaves the state as it was: only an engine that failed
+            // while it ran stays failed
+            if !matches!(e, EngineError::Config(_) | EngineError::Checkpoint(_)) {
+                self.failed = Some((self.run.engine.time(), e.to_string()));
+            }
             engine_err(&self.run.scene, &mut self.run.obs, e)
         })?;
         if let Some(err) = self.run.obs.error.take() {

@@ -11,8 +11,9 @@ use beadchain::snapshot::Snapshot;
 use beadchain::studies::bands::{bands as lib_bands, cell_of};
 use beadchain::studies::equilibrium::equilibrium as lib_equilibrium;
 use beadchain::studies::modal::ModalBasis;
-use beadchain::studies::modes::{density_of_states, linearize, solve};
+use beadchain::studies::modes::{check_bins, density_of_states, linearize, solve, MAX_BINS};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -56,14 +57,25 @@ pub fn modes<'py>(
     scene: &Scene,
     about: &str,
     window: Option<(f64, f64)>,
-    bins: Option<usize>,
+    bins: Option<i64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let s = &scene.scene;
     let u = state_about(scene, about)?;
     let lin = linearize(&s.chain, &u).map_err(|e| err(scene, e))?;
     let m = solve(&lin, window).map_err(|e| err(scene, e))?;
     let nb = lin.mass.len();
-    let bins = bins.unwrap_or((nb as f64).sqrt().ceil() as usize).max(1);
+    let bins = match bins {
+        Some(b) => usize::try_from(b)
+            .ok()
+            .and_then(|b| check_bins(b).ok())
+            .ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "{}: bins = {b}: expected 1 to {MAX_BINS} bins",
+                    s.name
+                ))
+            })?,
+        None => (nb as f64).sqrt().ceil() as usize,
+    };
     let (edges, counts) = density_of_states(&m.omega, bins);
     let k = m.omega.len();
     let mut shapes = Vec::with_capacity(nb * k);

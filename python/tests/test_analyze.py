@@ -119,3 +119,17 @@ def test_analyze_names_why_values_are_missing():
     assert len(a["track"]["t"]) == 0
     for v in a.values():
         assert not (isinstance(v, float) and np.isnan(v))
+
+
+def test_wrong_exception_types_interface_negative(tmp_path):
+    # a negative (or huge) interface is outside 1..N as 0 is: the same ValueError, not
+    # OverflowError
+    p = tmp_path / "s.snap"
+    r = bc.run(bc.Scene.preset("striker"), out=p)
+    for k in (-1, -(2**70), 2**64, 2**70, np.int64(-3)):
+        for what in (r, p):
+            with pytest.raises(ValueError, match=r"^interface must be in 1\.\.100$"):
+                bc.analyze(what, interface=k)
+    with pytest.raises(TypeError, match="^interface: expected a bead index"):
+        bc.analyze(r, interface=1.5)
+    assert bc.analyze(r, interface=np.int64(50))["interface"]["k"] == 50

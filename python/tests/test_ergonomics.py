@@ -156,3 +156,29 @@ def test_stats_without_set_velocities_has_the_run_reference():
     assert st["t_reference"] == 0.0
     r = bc.run(bc.Scene(beads=50, striker=1.0, until=50.0))
     assert r.stats["relative_energy_error"] == st["relative_energy_error"]
+
+
+def test_scene_path_containing_equals_is_parsed_as_toml(tmp_path, monkeypatch):
+    text = bc.Scene(name="chain", beads=6, exponent=2.5, striker=1.0, until=3.0).source
+    ref = bc.Scene.from_toml(text)
+    for d in ("n=2.5", "[a]", "[x]=y"):
+        path = tmp_path / d / "scene.toml"
+        path.parent.mkdir()
+        path.write_text(text)
+        # a pathlib.Path is always a file; so is a str that ends in .toml
+        for p in (path, str(path)):
+            assert bc.Scene.from_toml(p) == ref
+            assert bc.run(p).scene == ref
+            assert bc.Simulation(p).scene == ref
+        # a str naming an existing file is that file, whatever its name
+        other = tmp_path / d / "beads=3"
+        other.write_text(text)
+        assert bc.Scene.from_toml(str(other)) == ref
+        assert bc.run(other).scene == ref
+        with pytest.raises(bc.SceneError, match="no such file"):
+            bc.run(path.parent / "missing=1.toml")
+    monkeypatch.chdir(tmp_path)  # relative: "[a]/scene.toml" starts with "["
+    assert bc.Scene.from_toml("[a]/scene.toml") == ref and bc.run("[a]/scene.toml").scene == ref
+    # TOML text is still text
+    assert bc.Scene.from_toml(text) == ref
+    assert bc.Scene.from_toml("[chain]\nbeads = 6\n[run]\nuntil = 3.0").n_beads == 6

@@ -90,3 +90,11 @@ def test_bands_of_the_dimer_match_the_closed_form_gap():
     assert np.max(np.abs(b["omega"] ** 2 - exact2)) <= 1e-12 * top ** 2
     with pytest.raises(bc.SceneError, match="a cell of 50 beads from bead 0 needs 50 contacts"):
         bc.bands(bc.Scene.preset("dimer_dispersion"), cell=50)
+
+
+def test_bins_out_of_range_raise_value_error_not_abort():
+    # a huge count aborted the interpreter on allocation; 0 became 1 silently; -1 overflowed
+    for bins in (10**15, 0, -1):
+        with pytest.raises(ValueError, match=rf"bins = {bins}: expected 1 to 1000000 bins"):
+            bc.modes("dimer_dispersion", bins=bins)
+    assert len(bc.modes("dimer_dispersion", bins=3)["dos_counts"]) == 3

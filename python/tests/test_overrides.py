@@ -126,3 +126,32 @@ def test_a_scene_without_source_starts_from_its_resolved_toml(tmp_path):
     t = s.with_overrides({"run.until": 10.0})
     assert t.until == 10.0 and t.n_beads == 100
     np.testing.assert_array_equal(t.v0, s.v0)
+
+
+def test_run_scene_carries_the_input_scenes_source(tmp_path, monkeypatch):
+    # Run.scene (and Simulation.scene) is the scene that ran: its source, its overrides and
+    # from_toml(source) carry the until/every the run's options gave it
+    s = bc.Scene(beads=8, exponent=2.5, striker=1.0, until=50.0)
+    for ran in (bc.run(s, until=5.0, every=1.0).scene,
+                bc.Simulation(s, until=5.0, every=1.0).scene):
+        assert ran.until == 5.0 and ran.run_settings["every"] == 1.0
+        t = ran.with_overrides({"scene.seed": 3})
+        assert t.seed == 3 and t.until == 5.0 and t.run_settings["every"] == 1.0
+        assert bc.Scene.from_toml(ran.source) == ran
+    assert bc.run(s).scene.source == s.source  # nothing changed: the text as it was
+    # a physical scene whose source gives until_si/every_si: the computer-unit values replace them
+    phys = bc.Scene.preset("hertz_spheres_physical")
+    for ran in (bc.run(phys, until=50.0, every=25.0).scene,
+                bc.Simulation(phys, until=50.0).scene,
+                bc.Simulation(phys, every_si=1e-5).scene):
+        assert bc.Scene.from_toml(ran.source) == ran
+        assert ran.with_overrides({"scene.seed": 3}).run_settings == ran.run_settings
+    # CSV files still resolve next to the scene file
+    (tmp_path / "m.csv").write_text("".join(f"{1.0 + i / 10}\n" for i in range(10)))
+    (tmp_path / "c.toml").write_text('[chain]\nmass = { file = "m.csv" }\nexponent = 2.5\n'
+                                     '[initial]\nstriker = 1.0\n[run]\nuntil = 5.0\n')
+    monkeypatch.chdir(tmp_path.parent)
+    ran = bc.run(tmp_path / "c.toml", until=2.0).scene
+    t = ran.with_overrides({"initial.striker": 0.5})
+    assert t.until == 2.0 and t.v0[0] == 0.5
+    np.testing.assert_array_equal(t.chain.mass, 1.0 + np.arange(10) / 10)

@@ -229,3 +229,52 @@ def test_hard_collision_losses_are_dissipated_energy(tmp_path):
         assert run.dissipated is not None and run.dissipated[-1] > 0.1 * e["total"][0]
         np.testing.assert_allclose(e["total"] + run.dissipated, e["total"][0],
                                    rtol=1e-9, atol=1e-12)
+
+
+def test_wrong_exception_types_negative_counts():
+    s = bc.Scene(beads=10, exponent=2.5, striker=1.0, until=5.0, every=1.0)
+    for key in ("max_steps", "max_output_bytes"):
+        with pytest.raises(ValueError, match=rf"^{key} = -1 must be >= 0$"):
+            bc.run(s, **{key: -1})
+        with pytest.raises(ValueError, match=rf"^{key} = {2**64} must be below 2\*\*64$"):
+            bc.run(s, **{key: 2**64})
+        with pytest.raises(ValueError, match=rf"^{key} = 1\.5 must be a whole number >= 0$"):
+            bc.run(s, **{key: 1.5})
+        for bad in ("10", True, [1]):
+            with pytest.raises(TypeError, match=rf"^{key}: expected an integer, got "):
+                bc.run(s, **{key: bad})
+    # a whole float is its integer (max_output_bytes=1e6), a NumPy integer or 0-d array too
+    ref = bc.run(s)
+    for limit in (1e6, np.int64(10**6), np.array(10**6), np.float32(1e6)):
+        np.testing.assert_array_equal(bc.run(s, max_output_bytes=limit).v, ref.v)
+    with pytest.raises(bc.SceneError, match="above the limit of"):
+        bc.run(s, max_output_bytes=1e2)
+    with pytest.raises(bc.RunError):
+        bc.run(s, max_steps=2.0)
+
+
+def test_dense_engine_on_hard_walls_message_names_cli_flag():
+    # the refusal names Python's keywords (engine="hybrid"), never the CLI's flags
+    hard = {"right": {"hard": True, "restitution": 0.8}}
+    s = bc.Scene(beads=5, striker=1.0, walls=hard, engine="dense", until=5.0)
+    for f in (bc.run, bc.Simulation):
+        with pytest.raises(bc.SceneError) as e:
+            f(s)
+        assert str(e.value) == (
+            'scene: [run].engine: "dense" cannot run this scene: it declares hard contacts or '
+            'walls, which only the hybrid engine handles (set engine = "hybrid" in the scene, '
+            'or pass engine="hybrid")')
+    assert bc.run(s, engine="hybrid").stats["t_end"] == 5.0
+    s = bc.Scene(beads=5, striker=1.0, walls=hard, until=5.0)
+    with pytest.raises(bc.SceneError) as e:
+        bc.run(s, engine="dense")
+    assert str(e.value) == (
+        'scene: engine="dense" cannot run this scene: it declares hard contacts or walls, which '
+        'only the hybrid engine handles; pass engine="hybrid"')
+    damped = bc.Scene(beads=5, striker=1.0, law="viscoelastic", damping=0.1, until=5.0)
+    for kw, want in (({}, '[run].method: "verlet"'), ({"method": "verlet"}, 'method="verlet"')):
+        scene = damped.with_overrides({"run.method": "verlet"}) if not kw else damped
+        with pytest.raises(bc.SceneError) as e:
+            bc.run(scene, **kw)
+        msg = str(e.value)
+        assert want in msg and "--" not in msg and "radau5" in msg, msg

@@ -5,6 +5,7 @@ and a source that ``with_overrides``, pickling and ``Chain.radius`` still read."
 import copy
 import math
 import pickle
+import re
 
 import numpy as np
 import pytest
@@ -180,3 +181,39 @@ def test_pickle_and_copy_of_a_kwargs_scene():
     for back in (pickle.loads(pickle.dumps(s)), copy.deepcopy(s)):
         assert back == s and back.source == s.source and back.warnings == s.warnings
         assert back.with_overrides({"scene.seed": 8}).seed == 8
+
+
+def _parser_keys(table):
+    """The keys the scene parser accepts in ``[table]`` (its unknown-key message lists them)."""
+    with pytest.raises(bc.SceneError) as e:
+        bc.Scene.from_toml(f"[{table}]\nnot_a_key = 1\n")
+    m = re.search(r"\[" + table + r"\]\.not_a_key: unknown key \(expected one of: ([^)]*)\)",
+                  str(e.value))
+    assert m, str(e.value)
+    return set(m.group(1).split(", "))
+
+
+def test_documented_scene_keys_rejected_by_scene_kwargs():
+    # every key the parser accepts is a keyword of Scene(...), in its table
+    from beadchain._scene import _KEYS
+    for table, keys in _KEYS.items():
+        assert set(keys) == _parser_keys(table), table
+    s = bc.Scene(beads=5, precompression_force=0.1, until=5.0)
+    assert s == bc.Scene.from_toml("[chain]\nbeads = 5\nprecompression_force = 0.1\n"
+                                   "[run]\nuntil = 5.0\n")
+    preset = bc.Scene.preset("dimer_dispersion")
+    kw = bc.Scene(name=preset.name, description=preset.description, beads=40,
+                  mass={"alternate": [1.0, 0.5]}, precompression_force=0.1,
+                  walls={"left": {}, "right": {}}, equilibrium=True,
+                  mode={"index": 20, "amplitude": 1e-4}, until=100.0, every=0.5)
+    assert kw == preset
+
+
+def test_wrong_exception_types_scene_units_none():
+    # keys whose value is None are left out, whole tables too
+    base = bc.Scene(beads=10, striker=1.0, until=5.0)
+    for table in ("units", "walls", "hard", "output"):
+        assert bc.Scene(beads=10, striker=1.0, until=5.0, **{table: None}) == base
+    assert "[units]" not in bc.Scene(beads=10, striker=1.0, until=5.0, units=None).source
+    with pytest.raises(TypeError, match="unexpected keyword 'unit'"):
+        bc.Scene(beads=10, striker=1.0, until=5.0, unit=None)

@@ -97,3 +97,68 @@ def test_pausing_at_every_frame_and_event_changes_nothing():
     for k in ("t", "contact", "rel_velocity", "peak_overlap"):
         np.testing.assert_array_equal([e[k] for e in events], whole.events[k])
     assert [e["kind"] for e in events] == list(whole.events["kind"])
+
+
+def test_bad_advance_argument_leaves_the_simulation_failed():
+    # a refused target (NaN, not finite, beyond the end, before the clock) is a ValueError
+    # naming it and the valid range; it changes nothing, and a later valid advance works
+    scene = bc.Scene(beads=10, exponent=2.5, striker=1.0, until=30.0)
+    sim = bc.Simulation(scene)
+    sim.advance(5.0)
+    for bad in (31.0, float("nan")):
+        with pytest.raises(ValueError):
+            sim.advance(bad)
+        assert sim.advance(5.0) == bc.Stop("reached", 5.0)  # not failed: it goes on
+    for bad, why in ((31.0, "until = 31 is beyond the run's end time 30"),
+                     (float("nan"), "until = nan is not a number"),
+                     (float("inf"), "until = inf is not finite"),
+                     (float("-inf"), "until = -inf is not finite"),
+                     (4.0, "until = 4 is before the engine clock t = 5"),
+                     (-1.0, "until = -1 is before the engine clock t = 5")):
+        with pytest.raises(ValueError) as e:
+            sim.advance(bad)
+        msg = str(e.value)
+        assert isinstance(e.value, bc.SceneError) and "\n" not in msg, msg
+        assert msg.startswith(f"scene: advance: {why}"), msg
+        assert msg.endswith("expected a time from t = 5 (the engine clock) to 30 (the run's "
+                            "end time)"), msg
+        assert sim.time == 5.0
+    # advancing to the clock itself returns at once (the default after the end does too)
+    assert sim.advance(5.0) == bc.Stop("reached", 5.0)
+    assert sim.advance(np.float64(10.0)) == bc.Stop("reached", 10.0)
+    ref = bc.Simulation(scene)
+    ref.advance(10.0)
+    np.testing.assert_array_equal(sim.state.u, ref.state.u)
+    np.testing.assert_array_equal(sim.state.v, ref.state.v)
+    assert sim.advance() == bc.Stop("reached", 30.0) and sim.advance() == bc.Stop("reached", 30.0)
+    fresh = bc.Simulation(scene)
+    with pytest.raises(ValueError, match=r"^scene: advance: until = -1 is before the engine "
+                                         r"clock t = 0 "):
+        fresh.advance(-1.0)
+    assert fresh.advance(1.0) == bc.Stop("reached", 1.0)
+
+
+def test_set_velocities_misleading_message_or_no_error():
+    sim = bc.Simulation(bc.Scene(beads=10, exponent=2.5, striker=1.0, until=30.0))
+    sim.advance(2.0)
+    before = sim.state
+    v = before.v.copy()
+    with pytest.raises(TypeError) as e:
+        sim.set_velocities(v.reshape(1, -1))
+    msg = str(e.value)
+    assert msg == ("scene: set_velocities: v: expected an array of shape (10,) (one velocity per "
+                   "bead), got shape (1, 10)"), msg
+    for bad, dtype in ((v + 1j, "complex128"), (v > 0, "bool"),
+                       (np.array(["0"] * 10), "<U1"), (np.array([None] * 10), "object")):
+        with pytest.raises(TypeError) as e:
+            sim.set_velocities(bad)
+        assert str(e.value) == ("scene: set_velocities: v: expected real numbers (an array of "
+                                f"shape (10,)), got dtype {dtype}"), str(e.value)
+    # the same dtypes Scene(...) refuses
+    for bad in (v + 1j, v > 0):
+        with pytest.raises((TypeError, ValueError)):
+            bc.Scene(beads=10, exponent=2.5, velocity=bad, until=30.0)
+    np.testing.assert_array_equal(sim.state.v, before.v)  # nothing was set
+    sim.set_velocities(list(v))          # a list of floats, ints: as before
+    sim.set_velocities(np.zeros(10, dtype=np.int32))
+    assert np.all(sim.state.v == 0.0)

@@ -118,3 +118,39 @@ def test_accuracy_rejects_bad_options():
         bc.accuracy(bc.Scene.preset("striker"), rtols=[2.0])
     with pytest.raises(bc.SceneError):
         bc.accuracy(bc.Scene.preset("striker"), methods=["euler"])
+
+
+def test_wrong_exception_types_sweep_run_negative_index():
+    with pytest.raises(ValueError, match=r"^sweep_run: index = -1 must be >= 0$"):
+        bc.sweep_run(GRID, -1)
+    with pytest.raises(bc.SceneError, match="run 9 does not exist"):
+        bc.sweep_run(GRID, 9.0)
+    with pytest.raises(ValueError, match=r"^max_steps = -1 must be >= 0$"):
+        bc.accuracy("striker", max_steps=-1)
+
+
+def test_study_functions_fail_on_a_preset_name(tmp_path):
+    # every study function takes a scene as run() does: a Scene, a preset name or a file
+    for f in (bc.check, bc.modes, bc.equilibrium, bc.bands, bc.accuracy):
+        with pytest.raises(bc.SceneError, match=r"^\w+: unknown preset 'strikr'; did you mean "
+                                                r"'striker'\?"):
+            f("strikr")
+    with pytest.raises(bc.SceneError, match="unknown preset 'strikr'"):
+        bc.breather("strikr", 2.25)
+    with pytest.raises(bc.SceneError, match="unknown preset 'strikr'"):
+        bc.modal_energies("strikr", tmp_path / "x.snap")
+    with pytest.raises(TypeError, match="^check: scene: expected a Scene, a preset name"):
+        bc.check(3)
+    check = bc.check("striker", until=20.0)
+    assert check == bc.check(bc.Scene.preset("striker"), until=20.0) and check["passed"]
+    dimer = bc.Scene.preset("dimer_dispersion")
+    np.testing.assert_array_equal(bc.modes("dimer_dispersion")["omega"], bc.modes(dimer)["omega"])
+    np.testing.assert_array_equal(bc.bands("dimer_dispersion")["gaps"], bc.bands(dimer)["gaps"])
+    col = bc.Scene.preset("gravity_column_at_rest")
+    np.testing.assert_array_equal(bc.equilibrium("gravity_column_at_rest")["u"],
+                                  bc.equilibrium(col)["u"])
+    path = tmp_path / "dimer.toml"
+    path.write_text(dimer.source)
+    r = bc.run(dimer, until=2.0, every=1.0)
+    np.testing.assert_array_equal(bc.modal_energies(path, r)["energy"],
+                                  bc.modal_energies(dimer, r)["energy"])

@@ -75,3 +75,19 @@ def test_si_force_keys_reach_python():
     assert np.array_equal(plain.chain.precompression, c.precompression)
     with pytest.raises(bc.SceneError, match="precompression_force_si"):
         bc.Scene.from_toml(body.format(key="precompression_force_si = 1.0"))
+
+
+def test_si_of_a_field_not_stored_is_none():
+    # Run.u_si / Run.v_si are None where Run.u / Run.v are (an [output] selection of fields)
+    s = bc.Scene.preset("hertz_spheres_physical")
+    beta = s.units.beta
+    r = bc.run(s.with_overrides({"output.fields": "v"}), until=100.0, every=50.0)
+    assert r.u is None and r.u_si is None
+    np.testing.assert_array_equal(r.v_si, r.v / beta)
+    r = bc.run(s.with_overrides({"output.fields": "u"}), until=100.0, every=50.0)
+    assert r.v is None and r.v_si is None
+    np.testing.assert_array_equal(r.u_si, r.u)
+    # a dimensionless scene still raises, stored or not
+    d = bc.run(bc.Scene(beads=5, striker=1.0, until=2.0, output={"fields": "v"}))
+    with pytest.raises(bc.SceneError, match="dimensionless"):
+        d.u_si

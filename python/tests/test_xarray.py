@@ -49,6 +49,7 @@ def _assert_attrs_netcdf_safe(ds):
     for attrs in [ds.attrs, *(ds[k].attrs for k in ds.variables)]:
         for k, v in attrs.items():
             assert type(v) in (str, int, float), (k, v)
+            assert type(v) is not int or -(2**31) <= v < 2**31, (k, v)  # netCDF3: int32
 
 
 # --- to_xarray ----------------------------------------------------------------------------
@@ -339,3 +340,23 @@ def test_to_xarray_of_simulation_frames():
     _assert_same_values(ds, bc.run(_striker()).to_xarray())   # pieces = one run, bit for bit
     assert "engine" not in ds.attrs   # a Simulation's Run carries no engine settings
     _assert_attrs_netcdf_safe(ds)
+
+
+def test_to_xarray_attrs_not_netcdf3_safe(tmp_path):
+    # netCDF3 (scipy) stores 32-bit integers only: a larger one is the float64 that equals it
+    # (up to 2**53), else its decimal text; both give the integer back exactly
+    engine = _netcdf_engine("scipy")
+    for seed, want in ((2**31 - 1, 2**31 - 1), (2**31, float(2**31)), (2**40, float(2**40)),
+                       (2**53, float(2**53)), (2**53 + 1, str(2**53 + 1)),
+                       (2**63 - 1, str(2**63 - 1))):
+        r = bc.run(bc.Scene(beads=5, exponent=2.5, striker=1.0, until=3.0, seed=seed))
+        ds = r.to_xarray()
+        got = ds.attrs["seed"]
+        assert type(got) is type(want) and got == want, (seed, got)
+        assert int(got) == seed
+        _assert_attrs_netcdf_safe(ds)
+        path = tmp_path / f"s{seed}.nc"
+        ds.to_netcdf(path, engine=engine)
+        with xr.open_dataset(path, engine=engine) as back:
+            xr.testing.assert_identical(back, ds)
+            assert int(back.attrs["seed"]) == seed

@@ -41,7 +41,7 @@ pub struct ModesArgs {
     pub window: Option<String>,
     /// Bins of the density-of-states histogram (from 0 to the largest frequency), 1 to
     /// 1000000 [default: ceil(sqrt(N))].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=beadchain::studies::modes::MAX_BINS as i64))]
     pub bins: Option<u32>,
     /// Print every mode (index, omega, participation ratio), not only the summary.
     #[arg(long)]

@@ -277,7 +277,22 @@ pub fn bisection_eigenvalues(d: &[f64], e: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// Density of states: `bins` equal bins of `ω` from 0 to the largest frequency; returns the
+/// Most bins of a density-of-states histogram (`beadchain modes --bins`, Python's `bins=`).
+pub const MAX_BINS: usize = 1_000_000;
+
+/// `bins` when it is a histogram's bin count (1 to [`MAX_BINS`]), else the one-line reason.
+pub fn check_bins(bins: usize) -> Result<usize, StudyError> {
+    if (1..=MAX_BINS).contains(&bins) {
+        Ok(bins)
+    } else {
+        Err(StudyError::new(format!(
+            "bins = {bins}: expected 1 to {MAX_BINS} bins"
+        )))
+    }
+}
+
+/// Density of states: `bins` equal bins of `ω` from 0 to the largest frequency (0 to 1
+/// where none is above 0); returns the
 /// `bins + 1` edges and the number of modes in each bin.
 pub fn density_of_states(omega: &[f64], bins: usize) -> (Vec<f64>, Vec<f64>) {
     let bins = bins.max(1);
