@@ -393,6 +393,33 @@ fn mode_key_errors_name_the_key() {
     );
 }
 
+/// A review's case: on a chain without precompression every mode is at ω = 0 and "mode 3" was
+/// whatever vector the eigensolver returned, added without a word. A mode that shares its
+/// frequency is refused; a chain whose contacts all have stiffness has no such mode.
+#[test]
+fn a_mode_without_a_defined_shape_is_refused() {
+    let parse = |chain: &str| {
+        beadchain::scene::parse_str(
+            &format!("[chain]\nbeads = 6\n{chain}[initial]\nmode = {{ index = 3, amplitude = 0.1 }}\n[run]\nuntil = 1.0\n"),
+            std::path::Path::new("."),
+            "m.toml",
+        )
+    };
+    let e = parse("").expect_err("a sonic vacuum's mode 3").to_string();
+    assert!(
+        e.starts_with("m.toml: [initial].mode.index: mode 3 shares its frequency")
+            && e.contains("contacts without stiffness (5 of 5)"),
+        "{e}"
+    );
+    // one open contact splits the chain into two parts of 3 (each a rigid translation at 0)
+    let e = parse("precompression = [0.01, 0.01, 0.0, 0.01, 0.01]\n")
+        .map(|_| ())
+        .expect_err("two zero modes");
+    let e = e.to_string();
+    assert!(e.contains("(1 of 5)"), "{e}");
+    parse("precompression = 0.01\n").expect("a precompressed chain's mode 3");
+}
+
 #[test]
 fn a_light_mass_impurity_has_a_localised_mode_above_the_band() {
     // A light bead m' = m/4 in a uniform chain (40 beads between walls of the same law): one

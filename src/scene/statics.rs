@@ -191,6 +191,14 @@ fn at_rest(
             "`[initial] equilibrium = true` sets the displacements; remove `displacement`",
         ));
     }
+    if t.initial.solitary.is_some() {
+        // the wave's overlaps are displacements: the balance at rest would replace them and
+        // keep the wave's velocities, a state that is not the wave
+        return Err(ctx.err(
+            "[initial].solitary",
+            "`[initial] equilibrium = true` sets the displacements at rest, which would drop the wave's overlaps; a solitary wave travels on a chain without precompression: remove `equilibrium` (or `solitary`)",
+        ));
+    }
     let e = equilibrium(&scene.chain, &scene.u0, force)
         .map_err(|e| ctx.err("[initial].equilibrium", e.to_string()))?;
     if let (Some(dr), Some(w)) = (e.right_precompression, scene.chain.right_wall.as_mut()) {
@@ -221,10 +229,34 @@ fn add_mode(ctx: &Ctx, m: ModeKeys, scene: &mut Scene) -> Result<(), SceneError>
     }
     let lin = linearize(&scene.chain, &scene.u0).map_err(|e| ctx.err(k, e.to_string()))?;
     let modes = solve(&lin, None).map_err(|e| ctx.err(k, e.to_string()))?;
+    if let Some(i) = degenerate_with(&modes.omega2, modes.omega2_max, j) {
+        return Err(ctx.err(
+            "[initial].mode.index",
+            format!(
+                "mode {j} shares its frequency (omega^2 = {:.3e}) with mode {i}, so its shape is not defined (any mix of the two is a mode): the chain's contacts without stiffness ({} of {}) split it into parts that vibrate alone; precompress it (`precompression` or `equilibrium` under a force)",
+                modes.omega2[j],
+                lin.open_contacts().len(),
+                nb.saturating_sub(1)
+            ),
+        ));
+    }
     let x = &modes.shapes[j];
     let big = x.iter().fold(0.0f64, |b, v| b.max(v.abs()));
     for (u, xi) in scene.u0.iter_mut().zip(x) {
         *u += amp * xi / big;
     }
     Ok(())
+}
+
+/// A neighbour of mode `j` with the same `ω²` (within `1e-12` of the largest, `top`): a
+/// degenerate eigenvalue, whose eigenvector the solver picks arbitrarily in the shared space.
+/// The tridiagonal `K` of a chain whose contacts all have stiffness has simple eigenvalues, so
+/// this happens only where contacts without stiffness split the chain (a sonic vacuum: every
+/// mode at `ω = 0`).
+fn degenerate_with(omega2: &[f64], top: f64, j: usize) -> Option<usize> {
+    let tol = 1e-12 * top;
+    [j.checked_sub(1), Some(j + 1)]
+        .into_iter()
+        .flatten()
+        .find(|&i| i < omega2.len() && (omega2[i] - omega2[j]).abs() <= tol)
 }

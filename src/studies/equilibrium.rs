@@ -212,6 +212,21 @@ pub fn equilibrium(
         el.total = total_delta;
     }
     let u = displacements(chain, &el, &delta, u_ref, right_precompression);
+    if !el.law.iter().any(|l| l.hard) {
+        let scale = el.scale.max(max_abs(&force));
+        match (right_precompression, &chain.right_wall) {
+            (Some(dr), Some(w)) => {
+                // the right wall where the imposed force places it
+                let mut placed = chain.clone();
+                placed.right_wall = Some(crate::model::Wall {
+                    precompression: dr,
+                    ..w.clone()
+                });
+                check_held(&placed, &u, &delta, scale)?
+            }
+            _ => check_held(chain, &u, &delta, scale)?,
+        }
+    }
     let contact_force = force[el.first..el.first + nb - 1].to_vec();
     let gaps = (0..nb - 1).filter(|&c| contact_force[c] == 0.0).collect();
     Ok(Equilibrium {
@@ -225,6 +240,41 @@ pub fn equilibrium(
         iterations,
         right_precompression,
     })
+}
+
+/// Largest `|x|`.
+fn max_abs(x: &[f64]) -> f64 {
+    x.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+}
+
+/// The displacements `u` hold the balance: the net force on every bead, recomputed from `u`
+/// (its overlaps `Δ_c + u_c − u_{c+1}`), is at most `1e-6` of the force scale `scale`. Where an
+/// exponent near 1 makes the overlaps `(F/(n a))^{1/(n−1)}` smaller than the rounding of the
+/// displacements they are summed into (n = 1.01: `1e-40` against `u ≈ 0.1`), they are lost,
+/// and the state at rest is refused rather than returned unbalanced.
+fn check_held(chain: &Chain, u: &[f64], delta: &[f64], scale: f64) -> Result<(), StudyError> {
+    if scale <= 0.0 {
+        return Ok(());
+    }
+    let mut acc = vec![0.0; u.len()];
+    chain.accel(0, u, &mut acc);
+    let (bead, worst) = acc
+        .iter()
+        .zip(&chain.mass)
+        .map(|(a, m)| (a * m).abs())
+        .enumerate()
+        .fold((0, 0.0f64), |b, (i, f)| if f > b.1 { (i, f) } else { b });
+    if worst <= 1e-6 * scale {
+        return Ok(());
+    }
+    let smallest = delta
+        .iter()
+        .filter(|d| **d > 0.0)
+        .fold(f64::INFINITY, |m, d| m.min(*d));
+    Err(StudyError::new(format!(
+        "the state at rest cannot be held by the displacements: the balance's overlaps (down to {smallest:.3e}) are below the rounding of the displacements (up to {:.3e}), so bead {bead} is left with a net force {worst:.3e} (force scale {scale:.3e}); an exponent near 1 needs overlaps (F/(n a))^(1/(n-1)) too small to represent",
+        max_abs(u)
+    )))
 }
 
 /// The message of a negative force at element `e`.

@@ -40,8 +40,10 @@ use std::f64::consts::PI;
 /// n = 8, 256 at n = 20. The round-off of the spectral second derivative in
 /// [`UnitProfile::advance_delay_residual`] grows as `M²`.
 pub const PER_BEAD: usize = 32;
-/// Finest grid tried (steep profiles, large `n`: `S^p` is sharply peaked).
-const MAX_PER_BEAD: usize = 256;
+/// Finest grid tried (steep profiles, large `n`: `S^p` is sharply peaked). It was 256, where
+/// the tail of n = 24, 26, 30 stayed at 1.0–1.1e-15, just above [`RESOLVED`], and those waves
+/// were refused while n = 21, 22, 28 were not; 1024 resolves them (n up to 40 tried).
+const MAX_PER_BEAD: usize = 1024;
 /// Largest grid (points) tried when the period doubles (`n` near 2: wide profiles).
 const MAX_GRID: usize = 1 << 17;
 /// The grid resolves `S^p` when its spectrum over the upper half of the wavenumbers stays below
