@@ -168,3 +168,26 @@ fn bins_out_of_range_are_refused_before_any_work() {
         assert!(!d.path().join("m.npz").exists());
     }
 }
+
+#[test]
+fn dispersion_start_beyond_the_chain_is_named() {
+    let d = tempfile::tempdir().unwrap();
+    let o = bc(
+        d.path(),
+        &[
+            "plot",
+            "dispersion",
+            "dimer_dispersion",
+            "--start",
+            "100000",
+            "--out",
+            "x.png",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("the cell's first bead 100000 is not before the last contact"),
+        "{err}"
+    );
+}

@@ -8,7 +8,7 @@ use crate::scene::Scene;
 use crate::SceneError;
 use beadchain::analysis::modal::{project_frames, project_snapshot, ModalEnergies, ModalError};
 use beadchain::snapshot::Snapshot;
-use beadchain::studies::bands::{bands as lib_bands, cell_of};
+use beadchain::studies::bands::{bands as lib_bands, cell_of, MAX_POINTS};
 use beadchain::studies::equilibrium::equilibrium as lib_equilibrium;
 use beadchain::studies::modal::ModalBasis;
 use beadchain::studies::modes::{check_bins, density_of_states, linearize, solve, MAX_BINS};
@@ -215,19 +215,25 @@ pub fn _modal_energies_file<'py>(
 pub fn bands<'py>(
     py: Python<'py>,
     scene: &Scene,
-    cell: Option<usize>,
-    start: usize,
-    points: usize,
+    cell: Option<i64>,
+    start: i64,
+    points: i64,
     about: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
-    if points < 2 {
-        return Err(pyo3::exceptions::PyValueError::new_err(format!(
-            "points: expected at least 2 wavenumbers, got {points}"
-        )));
-    }
+    let count = |name: &str, x: i64, lo: usize, hi: usize| {
+        usize::try_from(x)
+            .ok()
+            .filter(|x| (lo..=hi).contains(x))
+            .ok_or_else(|| PyValueError::new_err(format!("{name}: expected {lo} to {hi}, got {x}")))
+    };
+    let points = count("points", points, 2, MAX_POINTS)?;
+    let start = count("start", start, 0, usize::MAX)?;
+    let cell = cell.map(|c| count("cell", c, 1, usize::MAX)).transpose()?;
     let u = state_about(scene, about)?;
     let lin = linearize(&scene.scene.chain, &u).map_err(|e| err(scene, e))?;
-    let c = cell_of(&lin, cell, start).map_err(|e| err(scene, e))?;
+    // the library names the CLI's option
+    let c = cell_of(&lin, cell, start)
+        .map_err(|e| err(scene, e.to_string().replace("(--cell)", "(cell=)")))?;
     let b = lib_bands(&c, points);
     let nb = b.omega.len();
     let omega: Vec<f64> = b.omega.concat();

@@ -98,3 +98,18 @@ def test_bins_out_of_range_raise_value_error_not_abort():
         with pytest.raises(ValueError, match=rf"bins = {bins}: expected 1 to 1000000 bins"):
             bc.modes("dimer_dispersion", bins=bins)
     assert len(bc.modes("dimer_dispersion", bins=3)["dos_counts"]) == 3
+
+
+def test_bands_arguments_out_of_range_raise_value_error_not_abort():
+    # points=10**15 aborted the interpreter on allocation; negative cell/start overflowed
+    for kw, msg in ((dict(points=10**15), "points: expected 2 to 100000"),
+                    (dict(cell=-1), "cell: expected 1 to"),
+                    (dict(start=-1), "start: expected 0 to")):
+        with pytest.raises(ValueError, match=msg):
+            bc.bands("dimer_dispersion", **kw)
+    with pytest.raises(bc.SceneError, match="first bead 100000 is not before the last contact"):
+        bc.bands("dimer_dispersion", start=100000)
+    # the library's advice names Python's keyword
+    s = bc.Scene(beads=6, mass=[1.0, 2.0, 3.0, 4.0, 5.0, 6.0], precompression=0.01, until=1.0)
+    with pytest.raises(bc.SceneError, match=r"give the cell size \(cell=\)"):
+        bc.bands(s)

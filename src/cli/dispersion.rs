@@ -22,7 +22,7 @@ pub struct DispersionArgs {
     #[arg(long, default_value_t = 0)]
     start: usize,
     /// Wavenumbers sampled from 0 to pi.
-    #[arg(long, default_value_t = 201, value_parser = clap::value_parser!(u32).range(2..=100_000))]
+    #[arg(long, default_value_t = 201, value_parser = clap::value_parser!(u32).range(2..=beadchain::studies::bands::MAX_POINTS as i64))]
     points: u32,
     /// Linearise about the static equilibrium or the initial state.
     #[arg(long, value_enum, default_value = "equilibrium")]

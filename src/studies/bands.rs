@@ -33,6 +33,11 @@ pub struct Cell {
 /// contacts `start..`.
 pub fn cell_of(lin: &Linearized, period: Option<usize>, start: usize) -> Result<Cell, StudyError> {
     let nc = lin.stiffness.len();
+    if start >= nc {
+        return Err(StudyError::new(format!(
+            "the cell's first bead {start} is not before the last contact (the chain has {nc} contacts, 0..{nc})"
+        )));
+    }
     let p = match period {
         Some(0) => return Err(StudyError::new("the cell needs at least 1 bead, got 0")),
         Some(p) => p,
@@ -45,10 +50,9 @@ pub fn cell_of(lin: &Linearized, period: Option<usize>, start: usize) -> Result<
                 ))
             })?,
     };
-    if start + p > nc {
+    if start.checked_add(p).is_none_or(|end| end > nc) {
         return Err(StudyError::new(format!(
-            "a cell of {p} beads from bead {start} needs {} contacts; the chain has {nc}",
-            start + p
+            "a cell of {p} beads from bead {start} needs contacts up to {start} + {p}; the chain has {nc}"
         )));
     }
     Ok(Cell {
@@ -120,6 +124,9 @@ impl Bands {
             .collect()
     }
 }
+
+/// Most wavenumbers a band structure samples (`plot dispersion --points`, Python's `points=`).
+pub const MAX_POINTS: usize = 100_000;
 
 /// The band structure of `cell` at `points ≥ 2` wavenumbers from 0 to π.
 pub fn bands(cell: &Cell, points: usize) -> Bands {
