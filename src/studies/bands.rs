@@ -52,7 +52,8 @@ pub fn cell_of(lin: &Linearized, period: Option<usize>, start: usize) -> Result<
     };
     if start.checked_add(p).is_none_or(|end| end > nc) {
         return Err(StudyError::new(format!(
-            "a cell of {p} beads from bead {start} needs contacts up to {start} + {p}; the chain has {nc}"
+            "a cell of {p} beads from bead {start} needs {} contacts; the chain has {nc}",
+            start.saturating_add(p)
         )));
     }
     Ok(Cell {
