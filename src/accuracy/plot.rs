@@ -8,9 +8,9 @@
 //! `ab_glyph` renderer (no system font discovery), and the font file is read at run time from
 //! `$BEADCHAIN_FONT` or the first of [`FONT_CANDIDATES`] that exists (see [`crate::plot::font`]).
 //! Without one the plots are drawn without any text (lines and markers only; the CSV holds the
-//! numbers) and [`write_plots`] says so.
+//! numbers) and [`render_plots`] says so.
 
-use super::{AccuracyError, AccuracyReport};
+use super::AccuracyReport;
 use crate::integrate::Method;
 use crate::names::Named;
 use crate::plot::layout::{draw_legend, label_and_draw_mesh};
@@ -19,7 +19,6 @@ use crate::plot::{de, DrawError};
 use crate::scene::Engine;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::path::Path;
 
 pub use crate::plot::font::FONT_CANDIDATES;
 use crate::plot::font::{font_available, FAMILY};
@@ -182,29 +181,23 @@ where
     Ok(())
 }
 
-/// Writes the SVG and PNG plots. Returns whether text was drawn (a font was found).
-pub fn write_plots(report: &AccuracyReport, svg: &Path, png: &Path) -> Result<bool, AccuracyError> {
+/// The SVG text and PNG bytes of the plot, and whether text was drawn (a font was found);
+/// nothing is written ([`super::report`] writes them with the CSV, all or none).
+pub fn render_plots(report: &AccuracyReport) -> Result<(String, Vec<u8>, bool), String> {
     let text = font_available();
     let size = (900, 650);
+    let mut svg = String::new();
     {
-        let root = SVGBackend::new(svg, size).into_drawing_area();
-        draw(&root, report, text).map_err(|e| AccuracyError::Plot {
-            path: svg.to_path_buf(),
-            msg: e.to_string(),
-        })?;
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        draw(&root, report, text).map_err(|e| format!("svg: {e}"))?;
     }
     // rendered in memory and encoded with the `png` crate (plotters' own file encoder needs the
     // `image` crate, left out of the build: see Cargo.toml)
-    let plot_err = |msg: String| AccuracyError::Plot {
-        path: png.to_path_buf(),
-        msg,
-    };
     let mut buf = vec![0u8; size.0 as usize * size.1 as usize * 3];
     {
         let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
-        draw(&root, report, text).map_err(|e| plot_err(e.to_string()))?;
+        draw(&root, report, text).map_err(|e| format!("png: {e}"))?;
     }
-    let bytes = crate::plot::encode_png(&buf, size).map_err(|e| plot_err(e.to_string()))?;
-    std::fs::write(png, bytes).map_err(|e| plot_err(e.to_string()))?;
-    Ok(text)
+    let png = crate::plot::encode_png(&buf, size).map_err(|e| format!("png: {e}"))?;
+    Ok((svg, png, text))
 }

@@ -5,7 +5,7 @@
 use super::{plot, AccuracyError, AccuracyReport, CSV_HEADER};
 use crate::names::Named;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The CSV text (header [`CSV_HEADER`], one line per row; numbers in shortest round-trip form).
 pub fn to_csv(report: &AccuracyReport) -> String {
@@ -80,7 +80,7 @@ pub fn format_table(report: &AccuracyReport) -> String {
     for r in &report.rows {
         let knob = match r.verlet_dt {
             Some(_) => format!("{}τ", r.rtol),
-            None => format!("{:.0e}", r.rtol),
+            None => format!("{:e}", r.rtol),
         };
         if let Some(f) = &r.failure {
             let _ = writeln!(
@@ -140,25 +140,66 @@ fn write_file(path: &Path, bytes: &[u8]) -> Result<(), AccuracyError> {
     })
 }
 
-/// Writes the CSV and the plots into `dir` (created if needed).
+/// The files of the study in `dir`: CSV, SVG and PNG.
+pub(super) fn output_paths(dir: &Path) -> [PathBuf; 3] {
+    ["accuracy.csv", "accuracy.svg", "accuracy.png"].map(|f| dir.join(f))
+}
+
+/// Each output file can be replaced (not a directory, not a symbolic link): checked before the
+/// study runs and again before anything is written.
+pub(super) fn check_outputs(dir: &Path) -> Result<(), AccuracyError> {
+    for p in output_paths(dir) {
+        let refused = |why: String| AccuracyError::Io {
+            path: p.clone(),
+            source: std::io::Error::other(why),
+        };
+        if let Err(e) = crate::files::classify_output(&p) {
+            return Err(refused(e.to_string()));
+        }
+        if p.is_dir() {
+            return Err(refused("is a directory".into()));
+        }
+    }
+    Ok(())
+}
+
+/// Writes the CSV and the plots into `dir` (created if needed): all rendered first, then each
+/// written atomically; when one cannot be written, the ones written before it are put back as
+/// they were (removed where they did not exist), so a failed study leaves no output of its own.
 pub(super) fn write_outputs(report: &mut AccuracyReport, dir: &Path) -> Result<(), AccuracyError> {
     std::fs::create_dir_all(dir).map_err(|source| AccuracyError::Io {
         path: dir.to_path_buf(),
         source,
     })?;
-    let csv = dir.join("accuracy.csv");
-    write_file(&csv, to_csv(report).as_bytes())?;
-    report.files.push(csv);
-    let svg = dir.join("accuracy.svg");
-    let png = dir.join("accuracy.png");
-    let with_text = plot::write_plots(report, &svg, &png)?;
+    check_outputs(dir)?;
+    let paths = output_paths(dir);
+    let (svg, png, with_text) = plot::render_plots(report).map_err(|msg| AccuracyError::Plot {
+        path: paths[1].clone(),
+        msg,
+    })?;
+    let contents = [to_csv(report).into_bytes(), svg.into_bytes(), png];
+    let before: Vec<Option<Vec<u8>>> = paths.iter().map(|p| std::fs::read(p).ok()).collect();
+    for (k, (p, bytes)) in paths.iter().zip(&contents).enumerate() {
+        if let Err(e) = write_file(p, bytes) {
+            for (q, old) in paths.iter().zip(&before).take(k) {
+                // best effort: the error above is the one to report
+                let _ = match old {
+                    Some(b) => write_file(q, b),
+                    None => std::fs::remove_file(q).map_err(|source| AccuracyError::Io {
+                        path: q.clone(),
+                        source,
+                    }),
+                };
+            }
+            return Err(e);
+        }
+    }
     if !with_text {
         report.notes.push(format!(
             "no font file found (BEADCHAIN_FONT, {}): the plots are drawn without text",
             plot::FONT_CANDIDATES.join(", ")
         ));
     }
-    report.files.push(svg);
-    report.files.push(png);
+    report.files.extend(paths);
     Ok(())
 }

@@ -61,6 +61,10 @@ pub struct AccuracyArgs {
 pub fn cmd_accuracy(a: AccuracyArgs) -> Result<i32> {
     use beadchain::accuracy::{accuracy_study, format_table, AccuracyOptions};
     let scene = load_scene(&a.scene)?;
+    let inputs = super::files::labelled_scene_inputs(&a.scene);
+    for f in ["accuracy.csv", "accuracy.svg", "accuracy.png"] {
+        super::files::check_not_input(&a.out.join(f), "--out", &inputs)?;
+    }
     let opts = AccuracyOptions {
         engines: a.engines.clone(),
         methods: a.methods.clone(),

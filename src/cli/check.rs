@@ -26,6 +26,9 @@ pub fn cmd_check(a: CheckArgs) -> Result<i32> {
     super::common::warn_implausible(&scene, p.material.as_ref(), p.until_key, &base, &a.common);
     let given = (false, a.common.method.is_some());
     super::common::check_config(&a.common.scene, &scene, &base, given)?;
+    if let Some(t) = a.tol.filter(|t| !(t.is_finite() && *t > 0.0)) {
+        anyhow::bail!("--tol {t}: expected a finite relative deviation > 0");
+    }
     let tol = a.tol.unwrap_or(1000.0 * base.rtol);
     compare(&scene, &base, tol, a.common.quiet)
 }

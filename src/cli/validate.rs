@@ -30,7 +30,12 @@ pub fn cmd_validate(args: ValidateArgs) -> Result<i32> {
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir).with_context(|| format!("{}", dir.display()))?;
         let path = dir.join("quick.md");
-        std::fs::write(&path, &table).with_context(|| format!("{}", path.display()))?;
+        // atomically, and never through a symbolic link (the rule of every output)
+        super::files::clean_stale_temps(&path);
+        beadchain::snapshot::write_atomically(&path, |w| {
+            w.write_all(table.as_bytes())
+                .map_err(beadchain::snapshot::SnapshotError::Output)
+        })?;
         outln!("wrote {}", path.display());
     }
     let failed = checks.iter().filter(|c| !c.pass()).count();

@@ -22,7 +22,7 @@ pub mod stepper;
 pub use checkpoint::Control;
 pub use config::{check_config, reaches_until, unrunnable, RunConfig, RunOverrides, Unrunnable};
 pub(crate) use observe::poll_stop;
-pub use observe::{Observer, Observers, Recorder};
+pub use observe::{Amplitude, Observer, Observers, Recorder, AMPLITUDE_FRAMES};
 pub use start::{restore, start};
 pub use stepper::{Engine, PauseAt, State, Stop};
 
@@ -158,6 +158,19 @@ impl Deviation {
             rel_u: if umax > 0.0 { du.0 / umax } else { du.0 },
             rel_v: if vmax > 0.0 { dv.0 / vmax } else { dv.0 },
             scale: (umax, vmax),
+        }
+    }
+
+    /// The same deviation relative to scales of at least the motion `amp` over the run (the
+    /// final state alone can be back near the initial one: [`Amplitude`]).
+    pub fn over_motion(self, amp: &Amplitude) -> Self {
+        let (length, velocity) = (self.scale.0.max(amp.length), self.scale.1.max(amp.velocity));
+        let rel = |d: f64, s: f64| if s > 0.0 { d / s } else { d };
+        Self {
+            rel_u: rel(self.du.0, length),
+            rel_v: rel(self.dv.0, velocity),
+            scale: (length, velocity),
+            ..self
         }
     }
 

@@ -83,6 +83,51 @@ impl Observer for Observers<'_> {
     }
 }
 
+/// Frames [`Amplitude`] samples a run at (every `until / AMPLITUDE_FRAMES`).
+pub const AMPLITUDE_FRAMES: f64 = 256.0;
+
+/// The amplitude of a run's motion: the largest `|u_i − u_i(0)|` and `|v_i|` over its initial
+/// state and frames (run it with [`Amplitude::every`]), the scale a final-state error is
+/// relative to ([`super::Deviation::over_motion`]). The final state alone is no scale: a
+/// breather run for whole periods ends where it started, and its errors relative to that read
+/// 1e10× too large (`beadchain check dimer_gap_breather`).
+#[derive(Clone, Debug)]
+pub struct Amplitude {
+    u0: Vec<f64>,
+    /// Largest `|u_i(t) − u_i(0)|`.
+    pub length: f64,
+    /// Largest `|v_i(t)|`.
+    pub velocity: f64,
+}
+
+impl Amplitude {
+    /// Before a run from `(u0, v0)`.
+    pub fn new(u0: &[f64], v0: &[f64]) -> Self {
+        Self {
+            u0: u0.to_vec(),
+            length: 0.0,
+            velocity: v0.iter().fold(0.0f64, |m, x| m.max(x.abs())),
+        }
+    }
+
+    /// The output interval of a run to `until` sampled for its amplitude.
+    pub fn every(until: f64) -> f64 {
+        until / AMPLITUDE_FRAMES
+    }
+}
+
+impl Observer for Amplitude {
+    fn frame(&mut self, _t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
+        let du = u
+            .iter()
+            .zip(&self.u0)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        self.length = self.length.max(du);
+        self.velocity = v.iter().fold(self.velocity, |m, x| m.max(x.abs()));
+        Ok(())
+    }
+}
+
 /// Collects frames and the event log in memory (tests, small runs).
 #[derive(Default, Debug, Clone)]
 pub struct Recorder {
