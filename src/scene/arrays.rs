@@ -104,17 +104,35 @@ impl Len {
     }
 }
 
+/// The chain length a per-contact `[chain] damping` (`damping_si`) array or file gives, the
+/// last candidate of [`chain_length`] (read here only when no other key gives it).
+fn damping_length(ctx: &Ctx, t: &Tables) -> Result<Option<(usize, String)>, SceneError> {
+    for (k, v) in [
+        ("[chain].damping", &t.chain.damping),
+        ("[chain].damping_si", &t.chain.damping_si),
+    ] {
+        if let Some(l) = opt_spec(ctx, k, v)?.as_ref().and_then(Spec::explicit_len) {
+            return Ok(Some((l + 1, k.to_string())));
+        }
+    }
+    Ok(None)
+}
+
 /// Number of beads: `[chain].beads`, else the first explicit array; at least 2, at most
 /// [`MAX_BEADS`].
 pub(super) fn chain_length(ctx: &Ctx, t: &Tables, s: &Specs) -> Result<Len, SceneError> {
     let (nb, nkey) = match &t.chain.beads {
         Some(v) => (index(ctx, "[chain].beads", v)?, "[chain].beads".to_string()),
         None => {
-            let cands: [(&str, &Option<Spec>, usize); 12] = [
+            let cands: [(&str, &Option<Spec>, usize); 16] = [
                 ("[chain].mass", &s.mass, 0),
                 ("[chain].radius", &s.radius, 0),
                 ("[units].radius", &s.units_radius, 0),
                 ("[units].density", &s.density, 0),
+                ("[units].young", &s.young, 0),
+                ("[units].poisson", &s.poisson, 0),
+                ("[units].viscosity_shear", &s.viscosity_shear, 0),
+                ("[units].viscosity_bulk", &s.viscosity_bulk, 0),
                 ("[chain].exponent", &s.exponent, 1),
                 ("[chain].prefactor", &s.prefactor, 1),
                 ("[chain].precompression", &s.precompression, 1),
@@ -131,6 +149,7 @@ pub(super) fn chain_length(ctx: &Ctx, t: &Tables, s: &Specs) -> Result<Len, Scen
                         .and_then(Spec::explicit_len)
                         .map(|l| (l + off, k.to_string()))
                 })
+                .map_or_else(|| damping_length(ctx, t), |found| Ok(Some(found)))?
                 .ok_or_else(|| {
                     ctx.err(
                         "[chain].beads",

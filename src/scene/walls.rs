@@ -86,9 +86,8 @@ fn wall(
         (Some(a), _, _, _) => a,
         (None, Some(a), Some(sc), _) => sc.prefactor(a),
         (None, None, Some(sc), Some(mat)) => {
-            let yw = opt_num(ctx, "[units].wall_young", &u.wall_young)?.unwrap_or(mat.young[bead]);
-            let sw =
-                opt_num(ctx, "[units].wall_poisson", &u.wall_poisson)?.unwrap_or(mat.poisson[bead]);
+            let (yw, sw) = wall_material(ctx, u)?;
+            let (yw, sw) = (yw.unwrap_or(mat.young[bead]), sw.unwrap_or(mat.poisson[bead]));
             let dd = units::hertz_d(mat.young[bead], mat.poisson[bead], yw, sw);
             sc.prefactor(units::hertz_wall_prefactor(mat.radius[bead], dd))
         }
@@ -106,4 +105,27 @@ fn wall(
         precompression,
         restitution,
     })
+}
+
+/// `[units] wall_young` (> 0) and `wall_poisson` (in (−1, 0.5]), checked as the beads' `young`
+/// and `poisson` are (they were taken as given: a negative modulus made a plausible prefactor).
+fn wall_material(
+    ctx: &Ctx,
+    u: &UnitsKeys,
+) -> Result<(Option<f64>, Option<f64>), SceneError> {
+    let young = opt_num(ctx, "[units].wall_young", &u.wall_young)?;
+    if let Some(y) = young.filter(|y| !(y.is_finite() && *y > 0.0)) {
+        return Err(ctx.err(
+            "[units].wall_young",
+            format!("must be a finite modulus > 0 (Pa), got {y}"),
+        ));
+    }
+    let poisson = opt_num(ctx, "[units].wall_poisson", &u.wall_poisson)?;
+    if let Some(p) = poisson.filter(|p| !(*p > -1.0 && *p <= 0.5)) {
+        return Err(ctx.err(
+            "[units].wall_poisson",
+            format!("must be in (-1, 0.5], got {p}"),
+        ));
+    }
+    Ok((young, poisson))
 }
