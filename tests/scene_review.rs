@@ -18,16 +18,31 @@ fn parse(text: &str) -> Result<beadchain::scene::Scene, String> {
 fn wall_material_is_checked_as_the_beads_is() {
     let wall = "[chain]\nbeads = 3\n[walls]\nleft = {}\n[run]\nuntil = 1.0\n";
     for (key, want) in [
-        ("wall_young = -1e13", "[units].wall_young: must be a finite modulus > 0 (Pa), got"),
-        ("wall_young = 0.0", "[units].wall_young: must be a finite modulus > 0"),
-        ("wall_poisson = -3.0", "[units].wall_poisson: must be in (-1, 0.5], got -3"),
-        ("wall_poisson = 0.9", "[units].wall_poisson: must be in (-1, 0.5], got 0.9"),
+        (
+            "wall_young = -1e13",
+            "[units].wall_young: must be a finite modulus > 0 (Pa), got",
+        ),
+        (
+            "wall_young = 0.0",
+            "[units].wall_young: must be a finite modulus > 0",
+        ),
+        (
+            "wall_poisson = -3.0",
+            "[units].wall_poisson: must be in (-1, 0.5], got -3",
+        ),
+        (
+            "wall_poisson = 0.9",
+            "[units].wall_poisson: must be in (-1, 0.5], got 0.9",
+        ),
     ] {
         let e = parse(&format!("{STEEL}{key}\n{wall}")).expect_err(key);
         assert!(e.starts_with("s.toml: ") && e.contains(want), "{key}: {e}");
     }
     // in range: accepted
-    parse(&format!("{STEEL}wall_young = 2e11\nwall_poisson = 0.25\n{wall}")).expect("steel wall");
+    parse(&format!(
+        "{STEEL}wall_young = 2e11\nwall_poisson = 0.25\n{wall}"
+    ))
+    .expect("steel wall");
 }
 
 #[test]

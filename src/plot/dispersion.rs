@@ -34,6 +34,7 @@ pub fn dispersion(bands: &Bands, title: &str, size: (u32, u32)) -> LineChart {
         y_desc: "angular frequency omega (computer units)".to_string(),
         series,
         log_y: false,
+        x_span: None,
         size,
     }
 }

@@ -202,6 +202,7 @@ pub fn energy(snap: &Snapshot, opts: &EnergyOptions) -> Result<EnergyPlot, PlotE
             y_desc: "energy ratio E_wave / E_0 (dimensionless)".into(),
             series,
             log_y: opts.log,
+            x_span: None,
             size: opts.size,
         },
         fits,

@@ -68,6 +68,9 @@ pub struct LineChart {
     pub series: Vec<Series>,
     /// Logarithmic y axis.
     pub log_y: bool,
+    /// The x axis exactly, not padded around the data (a time axis: from the first to the last
+    /// frame, no negative time; one frame interval around a single frame).
+    pub x_span: Option<(f64, f64)>,
     /// Image size.
     pub size: (u32, u32),
 }
@@ -93,7 +96,7 @@ impl LineChart {
             .collect()
     }
 
-    /// Axis ranges with a 5 % margin (unit ranges around a single value).
+    /// Axis ranges with a 5 % margin (unit ranges around a single value; `x_span` as given).
     fn ranges(&self) -> ((f64, f64), (f64, f64)) {
         let (mut x0, mut x1, mut y0, mut y1) = (
             f64::INFINITY,
@@ -120,7 +123,11 @@ impl LineChart {
                 (lo - d, hi + d)
             }
         };
-        (pad(x0, x1, 0.02), pad(y0, y1, 0.06))
+        let x = self
+            .x_span
+            .filter(|(a, b)| a.is_finite() && b.is_finite() && b > a)
+            .unwrap_or_else(|| pad(x0, x1, 0.02));
+        (x, pad(y0, y1, 0.06))
     }
 }
 

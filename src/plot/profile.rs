@@ -63,6 +63,7 @@ pub fn profile(snap: &Snapshot, opts: &ProfileOptions) -> Result<Profile, PlotEr
         y_desc: un.velocity_label(),
         series,
         log_y: false,
+        x_span: None,
         size: opts.size,
     })
 }

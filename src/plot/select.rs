@@ -144,8 +144,9 @@ pub fn require_frames(snap: &Snapshot) -> Result<(), PlotError> {
 }
 
 impl TimeRange {
-    /// Indices of the frames with `t0 ≤ t ≤ t1` (frame times ascending). A window outside the
-    /// run, reversed, or holding no frame is an error naming the times and the run's span.
+    /// Indices of the frames with `t0 ≤ t ≤ t1` (frame times ascending; an end within 16 ulp of
+    /// the run's times of a frame takes it in). A window outside the run, reversed, or holding
+    /// no frame is an error naming the times and the run's span.
     pub fn frames(&self, times: &[f64]) -> Result<Range<usize>, PlotError> {
         let (first, last) = match (times.first(), times.last()) {
             (Some(&a), Some(&b)) => (a, b),
@@ -161,14 +162,17 @@ impl TimeRange {
         if t0 > t1 {
             return Err(PlotError::Input(format!("{text} is empty (T0 > T1)")));
         }
-        if t0 > last || t1 < first {
+        // a frame stored at k·every carries rounding (0.7000000000000001, 4.9999999999999996e-5
+        // s): within 16 ulp of the run's times of an end, it is at that end (closed interval)
+        let slack = 16.0 * f64::EPSILON * first.abs().max(last.abs());
+        if t0 > last + slack || t1 < first - slack {
             return Err(PlotError::Input(format!(
                 "{text} is outside the run ({})",
                 span(times)
             )));
         }
-        let lo = times.partition_point(|&t| t < t0);
-        let hi = times.partition_point(|&t| t <= t1);
+        let lo = times.partition_point(|&t| t < t0 - slack);
+        let hi = times.partition_point(|&t| t <= t1 + slack);
         if lo >= hi {
             return Err(PlotError::Input(format!(
                 "{text} holds no frame ({})",

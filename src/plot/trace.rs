@@ -33,6 +33,14 @@ pub fn trace(snap: &Snapshot, opts: &TraceOptions) -> Result<Trace, PlotError> {
     // the window is in the axis units: frames are selected by their displayed times
     let times: Vec<f64> = snap.frame_times().iter().map(|t| t * un.time).collect();
     let frames = opts.t.frames(&times)?;
+    let x_span = match (times[frames.start], times[frames.end - 1]) {
+        (a, b) if b > a => (a, b),
+        // one frame: one frame interval around it (as `plot spacetime`)
+        (a, _) => {
+            let half = 0.5 * snap.header().scene.run.every.unwrap_or(1.0) * un.time;
+            (a - half, a + half)
+        }
+    };
     let mut pts: Vec<Vec<(f64, f64)>> = vec![Vec::with_capacity(frames.len()); opts.beads.len()];
     let mut f = Frame::default();
     for k in frames {
@@ -57,6 +65,7 @@ pub fn trace(snap: &Snapshot, opts: &TraceOptions) -> Result<Trace, PlotError> {
         y_desc: un.velocity_label(),
         series,
         log_y: false,
+        x_span: Some(x_span),
         size: opts.size,
     })
 }

@@ -87,7 +87,10 @@ fn wall(
         (None, Some(a), Some(sc), _) => sc.prefactor(a),
         (None, None, Some(sc), Some(mat)) => {
             let (yw, sw) = wall_material(ctx, u)?;
-            let (yw, sw) = (yw.unwrap_or(mat.young[bead]), sw.unwrap_or(mat.poisson[bead]));
+            let (yw, sw) = (
+                yw.unwrap_or(mat.young[bead]),
+                sw.unwrap_or(mat.poisson[bead]),
+            );
             let dd = units::hertz_d(mat.young[bead], mat.poisson[bead], yw, sw);
             sc.prefactor(units::hertz_wall_prefactor(mat.radius[bead], dd))
         }
@@ -109,10 +112,7 @@ fn wall(
 
 /// `[units] wall_young` (> 0) and `wall_poisson` (in (−1, 0.5]), checked as the beads' `young`
 /// and `poisson` are (they were taken as given: a negative modulus made a plausible prefactor).
-fn wall_material(
-    ctx: &Ctx,
-    u: &UnitsKeys,
-) -> Result<(Option<f64>, Option<f64>), SceneError> {
+fn wall_material(ctx: &Ctx, u: &UnitsKeys) -> Result<(Option<f64>, Option<f64>), SceneError> {
     let young = opt_num(ctx, "[units].wall_young", &u.wall_young)?;
     if let Some(y) = young.filter(|y| !(y.is_finite() && *y > 0.0)) {
         return Err(ctx.err(
