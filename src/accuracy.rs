@@ -367,10 +367,9 @@ pub fn accuracy_study(
 ) -> Result<AccuracyReport, AccuracyError> {
     check_options(opts)?;
     if scene.chain.has_hard() {
-        return Err(AccuracyError::Options(format!(
-            "{}: the reference is the dense engine (Radau IIA), which has no hard contacts or walls; this scene cannot be studied here (`beadchain check` compares hard scenes against the hybrid engine's other method family)",
-            scene.name
-        )));
+        return Err(AccuracyError::Options(
+            "the reference is the dense engine (Radau IIA), which has no hard contacts or walls; this scene cannot be studied here (`check` compares hard scenes against the hybrid engine's other method family)".into(),
+        ));
     }
     if let Some(dir) = &opts.out_dir {
         report::check_outputs(dir)?;

@@ -285,3 +285,30 @@ fn accuracy_refuses_hard_scenes_with_the_reason() {
     );
     assert!(!d.path().join("t").exists());
 }
+
+/// The review of the fixes above: an `--out` that is a file (or a dangling link) was found only
+/// after every run ("writing notadir: File exists").
+#[test]
+fn accuracy_out_that_is_not_a_directory_is_refused_before_the_runs() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("notadir"), "hi\n").unwrap();
+    let o = bc(
+        d.path(),
+        &[
+            "accuracy",
+            "striker",
+            "--rtols",
+            "1e-6,1e-8",
+            "--out",
+            "notadir",
+            "-q",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stdout(&o));
+    assert!(stderr(&o).contains("not a directory"), "{}", stderr(&o));
+    assert!(
+        !stdout(&o).contains("engine"),
+        "ran before refusing: {}",
+        stdout(&o)
+    );
+}

@@ -63,3 +63,13 @@ fn trace_time_axis_is_the_frames_span_or_one_interval_around_one_frame() {
         "one frame at 0: {a}..{b} (every 0.1)"
     );
 }
+
+/// The review of the fix above: `plot profile --times` (the nearest frame) kept the exact end
+/// test, so `--times 0.0075` was "outside the run (frames at t = 0 .. 0.007499999999999999)".
+#[test]
+fn profile_time_at_the_runs_end_takes_the_rounded_last_frame() {
+    use beadchain::plot::select::nearest_frame;
+    let times = [0.0, 0.0015, 0.003, 0.0045, 0.006, 0.007499999999999999];
+    assert_eq!(nearest_frame(&times, 0.0075).expect("the last frame"), 5);
+    assert!(nearest_frame(&times, 0.0076).is_err());
+}

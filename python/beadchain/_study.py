@@ -3,6 +3,7 @@ order, or through any ``concurrent.futures``-style executor)."""
 
 from __future__ import annotations
 
+import operator
 import os
 from typing import Any, Callable, Optional
 
@@ -145,6 +146,17 @@ def accuracy(scene: Scene | str | os.PathLike, engines: Optional[list] = None,
                                max_steps=_count("max_steps", max_steps))
 
 
+def _int_arg(key: str, x: Any) -> Optional[int]:
+    """``x`` as an integer the extension takes: a ValueError naming ``key`` beyond 62 bits (the
+    extension's 64-bit argument raised an unnamed OverflowError)."""
+    if x is None:
+        return None
+    x = operator.index(x)
+    if not -2**62 <= x <= 2**62:
+        raise ValueError(f"{key} = {x}: out of range")
+    return x
+
+
 def modes(scene: Scene | str | os.PathLike, about: str = "equilibrium",
           window: Optional[tuple] = None, bins: Optional[int] = None) -> dict:
     """``beadchain modes``: the linear modes of ``scene``'s chain about its static equilibrium
@@ -159,7 +171,7 @@ def modes(scene: Scene | str | os.PathLike, about: str = "equilibrium",
     """
     scene = Scene._coerce(scene, "modes")
     w = None if window is None else (float(window[0]), float(window[1]))
-    return _beadchain.modes(scene._s, about=about, window=w, bins=bins)
+    return _beadchain.modes(scene._s, about=about, window=w, bins=_int_arg("bins", bins))
 
 
 def bands(scene: Scene | str | os.PathLike, cell: Optional[int] = None, start: int = 0,
@@ -175,7 +187,8 @@ def bands(scene: Scene | str | os.PathLike, cell: Optional[int] = None, start: i
     overlap), and the cell's ``mass`` and ``stiffness``.
     """
     scene = Scene._coerce(scene, "bands")
-    return _beadchain.bands(scene._s, cell=cell, start=int(start), points=int(points),
+    return _beadchain.bands(scene._s, cell=_int_arg("cell", cell), start=_int_arg("start", start),
+                            points=_int_arg("points", points),
                             about=about)
 
 

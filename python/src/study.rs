@@ -47,6 +47,11 @@ pub fn check<'py>(
         max_steps: None,
     };
     let (s, cfg) = config(&scene.scene, &o)?;
+    if let Some(t) = tol.filter(|t| !(t.is_finite() && *t > 0.0)) {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "tol = {t}: expected a finite relative deviation > 0"
+        )));
+    }
     let tol = tol.unwrap_or(1000.0 * cfg.rtol);
     let rep = without_gil(py, || lib_check(&s, &s, &cfg, tol))
         .map_err(|e| RunError::new_err(format!("{}: check run failed: {e}", s.name)))?;

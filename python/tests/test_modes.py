@@ -113,3 +113,20 @@ def test_bands_arguments_out_of_range_raise_value_error_not_abort():
     s = bc.Scene(beads=6, mass=[1.0, 2.0, 3.0, 4.0, 5.0, 6.0], precompression=0.01, until=1.0)
     with pytest.raises(bc.SceneError, match=r"give the cell size \(cell=\)"):
         bc.bands(s)
+
+
+def test_study_integers_beyond_64_bits_raise_value_error_naming_them():
+    # bins=2**70 raised an unnamed OverflowError ("Python int too large to convert to C long")
+    for kw in (dict(bins=2**70),):
+        with pytest.raises(ValueError, match="bins = "):
+            bc.modes("dimer_dispersion", **kw)
+    for key in ("points", "cell", "start"):
+        with pytest.raises(ValueError, match=f"{key} = "):
+            bc.bands("dimer_dispersion", **{key: 2**70})
+
+
+def test_check_tol_must_be_finite_and_positive():
+    # tol=inf made the trajectory bound infinite (a check that cannot fail), as the CLI refuses
+    for tol in (float("inf"), float("nan"), -1.0, 0.0):
+        with pytest.raises(ValueError, match="tol = "):
+            bc.check("striker", until=5.0, tol=tol)

@@ -148,16 +148,31 @@ pub(super) fn output_paths(dir: &Path) -> [PathBuf; 3] {
 /// Each output file can be replaced (not a directory, not a symbolic link): checked before the
 /// study runs and again before anything is written.
 pub(super) fn check_outputs(dir: &Path) -> Result<(), AccuracyError> {
+    let refused = |p: &Path, why: String| AccuracyError::Io {
+        path: p.to_path_buf(),
+        source: std::io::Error::other(why),
+    };
+    // the directory itself: absent (made), or a directory (a file or a dangling link is not)
+    if std::fs::symlink_metadata(dir).is_ok() && !dir.is_dir() {
+        return Err(refused(
+            dir,
+            "the output directory is not a directory".into(),
+        ));
+    }
     for p in output_paths(dir) {
-        let refused = |why: String| AccuracyError::Io {
-            path: p.clone(),
-            source: std::io::Error::other(why),
-        };
-        if let Err(e) = crate::files::classify_output(&p) {
-            return Err(refused(e.to_string()));
+        if let Err(crate::files::OutputError::Symlink { target, .. }) =
+            crate::files::classify_output(&p)
+        {
+            return Err(refused(
+                &p,
+                format!(
+                    "is a symbolic link (to {}); refusing to replace it",
+                    target.display()
+                ),
+            ));
         }
         if p.is_dir() {
-            return Err(refused("is a directory".into()));
+            return Err(refused(&p, "is a directory".into()));
         }
     }
     Ok(())

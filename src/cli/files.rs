@@ -154,7 +154,15 @@ pub fn check_not_input(out: &Path, flag: &str, inputs: &[(&str, PathBuf)]) -> Re
 /// that exists. What only the write can tell (permissions, a full disk) is still reported then.
 pub fn check_output_before_work(out: &Path, flag: &str, inputs: &[(&str, PathBuf)]) -> Result<()> {
     check_not_input(out, flag, inputs)?;
-    beadchain::files::classify_output(out)?;
+    if let Err(beadchain::files::OutputError::Symlink { target, .. }) =
+        beadchain::files::classify_output(out)
+    {
+        bail!(
+            "{}: {flag}: is a symbolic link (to {}); refusing to replace it: give the target path itself",
+            out.display(),
+            target.display()
+        );
+    }
     if out.is_dir() {
         bail!(
             "{}: {flag}: is a directory (give a file name)",

@@ -189,7 +189,9 @@ pub fn nearest_frame(times: &[f64], t: f64) -> Result<usize, PlotError> {
         (Some(&a), Some(&b)) => (a, b),
         _ => return Err(PlotError::Input("the snapshot holds no frame".into())),
     };
-    if !t.is_finite() || t < first || t > last {
+    // the slack of TimeRange::frames: a frame stored with rounding is at the run's end
+    let slack = 16.0 * f64::EPSILON * first.abs().max(last.abs());
+    if !t.is_finite() || t < first - slack || t > last + slack {
         return Err(PlotError::Input(format!(
             "time {t} is outside the run ({})",
             span(times)

@@ -233,10 +233,15 @@ fn add_mode(ctx: &Ctx, m: ModeKeys, scene: &mut Scene) -> Result<(), SceneError>
         return Err(ctx.err(
             "[initial].mode.index",
             format!(
-                "mode {j} shares its frequency (omega^2 = {:.3e}) with mode {i}, so its shape is not defined (any mix of the two is a mode): the chain's contacts without stiffness ({} of {}) split it into parts that vibrate alone; precompress it (`precompression` or `equilibrium` under a force)",
+                "mode {j} shares its frequency (omega^2 = {:.3e}) with mode {i}, so its shape is not defined (any mix of the two is a mode){}",
                 modes.omega2[j],
-                lin.open_contacts().len(),
-                nb.saturating_sub(1)
+                match lin.open_contacts().len() {
+                    0 => "; symmetric parts of the chain (e.g. two identical impurities) vibrate alike: break the symmetry, or start from a mix of both modes with `displacement`".to_string(),
+                    k => format!(
+                        ": the chain's contacts without stiffness ({k} of {}) split it into parts that vibrate alone; precompress it (`precompression` or `equilibrium` under a force)",
+                        nb.saturating_sub(1)
+                    ),
+                }
             ),
         ));
     }
@@ -250,9 +255,9 @@ fn add_mode(ctx: &Ctx, m: ModeKeys, scene: &mut Scene) -> Result<(), SceneError>
 
 /// A neighbour of mode `j` with the same `ω²` (within `1e-12` of the largest, `top`): a
 /// degenerate eigenvalue, whose eigenvector the solver picks arbitrarily in the shared space.
-/// The tridiagonal `K` of a chain whose contacts all have stiffness has simple eigenvalues, so
-/// this happens only where contacts without stiffness split the chain (a sonic vacuum: every
-/// mode at `ω = 0`).
+/// The tridiagonal `K` of a connected chain has simple eigenvalues in exact arithmetic, but
+/// contacts without stiffness split it (a sonic vacuum: every mode at `ω = 0`), and symmetric
+/// parts far apart (two identical impurities) give pairs equal to round-off.
 fn degenerate_with(omega2: &[f64], top: f64, j: usize) -> Option<usize> {
     let tol = 1e-12 * top;
     [j.checked_sub(1), Some(j + 1)]

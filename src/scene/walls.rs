@@ -34,6 +34,8 @@ pub(super) fn walls(
     d: &WallDefaults,
 ) -> Result<[Option<(Wall, WallKeys)>; 2], SceneError> {
     let Len { nb, nc } = d.len;
+    // checked whether or not a wall takes its prefactor from them
+    wall_material(ctx, &t.units)?;
     let mut walls = [None, None];
     let sides = [("left", &t.walls.left), ("right", &t.walls.right)];
     for ((side, v), slot) in sides.into_iter().zip(walls.iter_mut()) {

@@ -35,7 +35,8 @@ pub fn cell_of(lin: &Linearized, period: Option<usize>, start: usize) -> Result<
     let nc = lin.stiffness.len();
     if start >= nc {
         return Err(StudyError::new(format!(
-            "the cell's first bead {start} is not before the last contact (the chain has {nc} contacts, 0..{nc})"
+            "the cell's first bead {start} (start) is past the last contact: the chain has {nc} contacts, 0..={}",
+            nc.saturating_sub(1)
         )));
     }
     let p = match period {
