@@ -187,7 +187,7 @@ fn dispersion_start_beyond_the_chain_is_named() {
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
-        err.contains("the cell's first bead 100000 is not before the last contact"),
+        err.contains("the cell's first bead 100000 (start) is past the last contact"),
         "{err}"
     );
 }

@@ -107,7 +107,7 @@ def test_bands_arguments_out_of_range_raise_value_error_not_abort():
                     (dict(start=-1), "start: expected 0 to")):
         with pytest.raises(ValueError, match=msg):
             bc.bands("dimer_dispersion", **kw)
-    with pytest.raises(bc.SceneError, match="first bead 100000 is not before the last contact"):
+    with pytest.raises(bc.SceneError, match=r"first bead 100000 \(start\) is past the last contact"):
         bc.bands("dimer_dispersion", start=100000)
     # the library's advice names Python's keyword
     s = bc.Scene(beads=6, mass=[1.0, 2.0, 3.0, 4.0, 5.0, 6.0], precompression=0.01, until=1.0)
