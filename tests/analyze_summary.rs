@@ -248,7 +248,30 @@ fn analyze_names_the_right_cause_and_shows_small_values_and_the_speed() {
         .and_then(|r| r.split(',').next())
         .expect("decay fit");
     assert!(a.contains('e') && a.len() <= 14, "a = {a}");
-    // a tiny reflection: the ratio in scientific notation (not 0.000001)
+    // a tiny reflection: the ratio in scientific notation (not 0.000001), both where the
+    // frames resolve the peaks (every 5 time units) and in the refusal where they do not (the
+    // preset's every 22)
+    let o = bc(
+        p,
+        &[
+            "run",
+            "hertz_spheres_physical",
+            "--every",
+            "5",
+            "--out",
+            "h5.snap",
+            "-q",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0));
+    let a = bc(p, &["analyze", "h5.snap", "--interface", "50"]);
+    let s = String::from_utf8(a.stdout).unwrap();
+    let line = s
+        .lines()
+        .find(|l| l.contains("|v_out/v_in|"))
+        .expect("ratio line");
+    let ratio = line.split(" = ").nth(2).unwrap().split(' ').next().unwrap();
+    assert!(ratio.ends_with("e-7"), "{line}");
     let s = run_and_analyze(
         p,
         "hertz_spheres_physical",
@@ -259,6 +282,7 @@ fn analyze_names_the_right_cause_and_shows_small_values_and_the_speed() {
         .lines()
         .find(|l| l.contains("|v_out/v_in|"))
         .expect("ratio line");
-    let ratio = line.rsplit(" = ").next().unwrap();
-    assert!(ratio.ends_with("e-7"), "{line}");
+    assert!(line.contains("not resolved by the frames"), "{line}");
+    assert!(line.contains("the ratio is 9.04"), "{line}");
+    assert!(line.contains("e-7 and too low"), "{line}");
 }

@@ -36,7 +36,10 @@ def analyze(run_or_path: Union[Run, str, os.PathLike], interface: Optional[int] 
     ``interface`` (None, or a dict: ``k``, ``t``, ``energy_left``, ``energy_right``,
     ``energy_total``, ``reflected_fraction``, ``transmitted_fraction``,
     ``reflected_wave_energy``, ``reflected_first``/``reflected_last`` (None without a
-    reflected pulse), ``v_in``, ``v_out``, ``velocity_ratio``). A value that cannot be
+    reflected pulse), ``v_in``, ``v_out``, ``velocity_ratio`` (None, with
+    ``velocity_ratio_error``, where the frames do not resolve the two peaks: a pulse passing
+    a bead in fewer than 3 frames), ``velocity_ratio_sampling_error`` (the error the frames'
+    sampling leaves in a resolved ratio, estimated)). A value that cannot be
     computed is None and ``<key>_error`` says why (``<key>_error`` is None when the value is
     there); no NaN stands for a missing value. ``track``: the leading wave per frame, equal-length
     NumPy columns ``t``, ``position``, ``energy``, ``peak_velocity``, ``peak_bead``, ``first``,

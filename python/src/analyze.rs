@@ -90,8 +90,12 @@ fn interface_dict<'py>(py: Python<'py>, i: &InterfaceSplit) -> PyResult<Bound<'p
     d.set_item("reflected_last", i.reflected.map(|p| p.last))?;
     d.set_item("v_in", i.v_in)?;
     d.set_item("v_out", i.v_out)?;
-    let no_in = "no incoming velocity before the interface";
-    set_result(&d, "velocity_ratio", &opt_result(i.velocity_ratio(), no_in))?;
+    let ratio = i.velocity_ratio();
+    set_result(&d, "velocity_ratio", &ratio)?;
+    d.set_item(
+        "velocity_ratio_sampling_error",
+        ratio.ok().map(|_| i.velocity.sampling_error()),
+    )?;
     Ok(d)
 }
 

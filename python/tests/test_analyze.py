@@ -88,6 +88,23 @@ def test_analyze_interface_split_sums_to_the_total(cli, tmp_path):
     assert a["fit_from"] == 60.0
 
 
+def test_analyze_velocity_ratio_of_unresolved_peaks_is_none_with_the_reason(cli, tmp_path):
+    """The defect: |v_out/v_in| was the ratio of the largest samples however sparse the frames
+    (0.600 with a frame every 200 time units on interface_3.0_2.5, 0.727 every 10)."""
+    p = tmp_path / "i.snap"
+    r = bc.run(bc.Scene.preset("interface_3.0_2.5"), every=200.0, out=p)
+    i = bc.analyze(r, interface=50)["interface"]
+    assert i["velocity_ratio"] is None and i["velocity_ratio_sampling_error"] is None
+    assert i["velocity_ratio_error"].startswith("not resolved by the frames: v_in")
+    j = _cli_json(cli, p, "--interface", "50")["interface"]
+    assert j["velocity_ratio"] is None and j["velocity_ratio_error"] == i["velocity_ratio_error"]
+    r = bc.run(bc.Scene.preset("interface_3.0_2.5"), every=10.0)
+    i = bc.analyze(r, interface=50)["interface"]
+    # resolved: 0.726984 (abs 1e-6), sampling error about 1e-6
+    assert i["velocity_ratio"] == pytest.approx(0.726984, rel=0, abs=1e-6)
+    assert 0.0 <= i["velocity_ratio_sampling_error"] < 1e-5 and i["velocity_ratio_error"] is None
+
+
 def test_analyze_bad_interface_raises_the_clis_error(cli, tmp_path):
     p = tmp_path / "s.snap"
     r = bc.run(bc.Scene.preset("striker"), out=p)

@@ -48,7 +48,9 @@ pub mod window;
 
 pub use decay::{decay_fit, FitError, FitRange};
 pub use fit::{fit_exponential, least_squares, ExpFit, LinearFit};
-pub use interface::{energy_split, velocity_ratio, EnergySplit, VelocityRatio};
+pub use interface::{
+    energy_split, velocity_ratio, EnergySplit, PeakWatch, RatioError, SampledPeak, VelocityRatio,
+};
 pub use state::{
     final_fragments, fragmentation, is_steady_state, Fragment, Fragmentation, SteadyStateStop,
 };

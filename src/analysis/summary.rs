@@ -21,7 +21,8 @@
 //! - **Final state**: open gaps and fragments ([`fragmentation`]), the steady-state criterion of
 //!   appendix A ([`is_steady_state`], relative tolerance [`STEADY_REL`]).
 //! - **Interface** `k` (Sec. 3.2, 5.1): the energy split at bead `k` in the final frame, the
-//!   largest reflected (left-moving) pulse left of `k` there, and `|v_out/v_in|` over all frames.
+//!   largest reflected (left-moving) pulse left of `k` there, and `|v_out/v_in|` over all frames,
+//!   given only where the frames resolve both peaks ([`super::VelocityRatio::checked`]).
 //!
 //! What cannot be computed is an `Err` naming the reason (never a NaN): a fit range that is
 //! empty or reversed, too few points, a chain at rest, a leading wave that never develops.
@@ -29,7 +30,7 @@
 use super::decay::{decay_fit, points_in, too_few, FitError, FitRange};
 use super::{
     detect_pulses, energy_split, fragmentation, is_steady_state, track_leading, velocity_ratio,
-    wave_energy, ExpFit, Fragmentation, Pulse, TrackPoint, WaveOptions,
+    wave_energy, ExpFit, Fragmentation, Pulse, RatioError, TrackPoint, VelocityRatio, WaveOptions,
 };
 use crate::model::Chain;
 
@@ -108,6 +109,8 @@ pub struct InterfaceSplit {
     pub v_in: f64,
     /// Largest backward speed before the interface over all frames.
     pub v_out: f64,
+    /// The two peaks as the frames sampled them ([`VelocityRatio::checked`]).
+    pub velocity: VelocityRatio,
 }
 
 impl InterfaceSplit {
@@ -121,9 +124,10 @@ impl InterfaceSplit {
         ratio(self.right, self.left + self.right)
     }
 
-    /// `|v_out / v_in|`, None when there is no incoming velocity.
-    pub fn velocity_ratio(&self) -> Option<f64> {
-        ratio(self.v_out, self.v_in.abs())
+    /// `|v_out / v_in|`; an error when there is no incoming velocity or the frames do not
+    /// resolve the two peaks ([`VelocityRatio::checked`]).
+    pub fn velocity_ratio(&self) -> Result<f64, RatioError> {
+        self.velocity.checked()
     }
 }
 
@@ -269,7 +273,7 @@ fn interface(
 ) -> InterfaceSplit {
     let (t, u, v) = frames[frames.len() - 1];
     let s = energy_split(chain, u, v, k);
-    let vr = velocity_ratio(frames.iter().map(|f| f.2), k, (k / 2).min(20), 3);
+    let vr = velocity_ratio(frames.iter().map(|f| (f.0, f.2)), k, (k / 2).min(20), 3);
     // reflected solitary wave: the largest left-moving pulse left of k in the final frame
     let reflected = detect_pulses(v, wave)
         .into_iter()
@@ -284,6 +288,7 @@ fn interface(
         reflected_energy: reflected.map_or(0.0, |p| wave_energy(chain, u, v, p.first, p.last)),
         v_in: vr.v_in,
         v_out: vr.v_out,
+        velocity: vr,
     }
 }
 

@@ -289,8 +289,14 @@ fn iface_summary(o: &mut String, a: &Summary, i: &InterfaceSplit) {
             None => "none (no left-moving pulse left of the interface)".into(),
         },
         match i.velocity_ratio() {
-            Some(r) => format!("{:.4e} / {:.4e} = {}", i.v_out, i.v_in, fixed(r, 6)),
-            None => "not computed (no incoming velocity before the interface)".into(),
+            Ok(r) => format!(
+                "{:.4e} / {:.4e} = {} (error from the frames' sampling of the peaks: about {:.0e})",
+                i.v_out,
+                i.v_in,
+                fixed(r, 6),
+                i.velocity.sampling_error()
+            ),
+            Err(e) => format!("not computed ({e})"),
         }
     );
 }
@@ -346,9 +352,11 @@ fn json(a: &Summary, gas: &str) -> String {
         let r = |x: Option<f64>| x.map_or("null".into(), num);
         let _ = write!(
             o,
-            ",\n  \"interface\": {{\"k\": {}, \"t\": {}, \"energy_left\": {}, \"energy_right\": {}, \"reflected_fraction\": {}, \"reflected_wave_energy\": {}, \"v_in\": {}, \"v_out\": {}, \"velocity_ratio\": {}}}",
+            ",\n  \"interface\": {{\"k\": {}, \"t\": {}, \"energy_left\": {}, \"energy_right\": {}, \"reflected_fraction\": {}, \"reflected_wave_energy\": {}, \"v_in\": {}, \"v_out\": {}, \"velocity_ratio\": {}, \"velocity_ratio_error\": {}, \"velocity_ratio_sampling_error\": {}}}",
             i.k, num(i.t), num(i.left), num(i.right), r(i.left_fraction()), num(i.reflected_energy),
-            num(i.v_in), num(i.v_out), r(i.velocity_ratio())
+            num(i.v_in), num(i.v_out), r(i.velocity_ratio().ok()),
+            i.velocity_ratio().err().map_or("null".into(), |e| format!("\"{e}\"")),
+            r(i.velocity_ratio().ok().map(|_| i.velocity.sampling_error()))
         );
     }
     let (x0, x1) = a.fit_range;

@@ -119,8 +119,8 @@ pub fn impurity_example(
     let (w, _) = run_watched(&sc, k, stop_at, 1e-8)?;
     let (t, u, v) = &w.last;
     Ok(ImpurityExample {
-        pulses: census(&sc.chain, u, v, w.v_in, k, k + s, 0.01),
-        v_in: w.v_in,
+        pulses: census(&sc.chain, u, v, w.velocity().v_in, k, k + s, 0.01),
+        v_in: w.velocity().v_in,
         t_stop: *t,
         seconds: t0.elapsed().as_secs_f64(),
     })

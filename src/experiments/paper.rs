@@ -12,7 +12,10 @@
 //! the time per bead of the slower medium apart, measured by [`time_per_bead`].
 
 use crate::analysis::wave::{detect_pulses, leading_pulse, wave_energy, WaveOptions};
-use crate::analysis::{energy_split, fit_exponential, least_squares, ExpFit, Pulse};
+use crate::analysis::{
+    energy_split, fit_exponential, least_squares, ExpFit, PeakWatch, Pulse, RatioError,
+    VelocityRatio,
+};
 use crate::engine::{self, Control, EngineError, Observer, RunConfig};
 use crate::model::Chain;
 use crate::scene::{self, Engine, Scene, SceneError};
@@ -31,6 +34,9 @@ pub enum PaperError {
     /// The leading wave never reached the probe beads (or too few points to fit its decay).
     #[error("no travelling wave found ({0})")]
     NoWave(f64),
+    /// `|v_out/v_in|` could not be measured on the frames.
+    #[error("|v_out/v_in|: {0}")]
+    Ratio(#[from] RatioError),
 }
 
 /// A physical (Table 1 steel, striker 0.11 m/s) scene; `exponent` is a TOML value.
@@ -58,10 +64,8 @@ pub struct Watch {
     opts: WaveOptions,
     /// `(t, peak bead, energy, peak velocity)` of the leading pulse per frame.
     pub track: Vec<(f64, usize, f64, f64)>,
-    /// Largest forward velocity of beads `min(k/2, 20)..k−3` (incoming peak).
-    pub v_in: f64,
-    /// Largest backward speed there (reflected peak).
-    pub v_out: f64,
+    /// Incoming and reflected peaks of beads `min(k/2, 20)..k−3` ([`PeakWatch`]).
+    pub peaks: PeakWatch,
     /// Widest run of beads `k..k+20` within 25 % of their max (time, width), over the 24 frames
     /// after the transmitted side starts moving.
     pub plateau: Option<(f64, usize)>,
@@ -72,6 +76,11 @@ pub struct Watch {
 }
 
 impl Watch {
+    /// The incoming and reflected peaks so far.
+    pub fn velocity(&self) -> VelocityRatio {
+        self.peaks.result()
+    }
+
     /// A watch for interface/impurity bead `k`, stopping at `stop_at`.
     pub fn new(chain: Chain, k: usize, stop_at: usize) -> Self {
         Watch {
@@ -80,8 +89,7 @@ impl Watch {
             k,
             opts: WaveOptions::default(),
             track: Vec::new(),
-            v_in: 0.0,
-            v_out: 0.0,
+            peaks: PeakWatch::new(k, (k / 2).min(20), 3),
             plateau: None,
             frames_seen: 0,
             last: (0.0, vec![], vec![]),
@@ -93,11 +101,7 @@ impl Watch {
 impl Observer for Watch {
     fn frame(&mut self, t: f64, u: &[f64], v: &[f64]) -> Result<(), EngineError> {
         let k = self.k.min(v.len());
-        let lo = (k / 2).min(20);
-        for &x in v.get(lo..k.saturating_sub(3)).unwrap_or(&[]) {
-            self.v_in = self.v_in.max(x);
-            self.v_out = self.v_out.max(-x);
-        }
+        self.peaks.push(t, v);
         if let Some(p) = leading_pulse(v, &self.opts) {
             let e = wave_energy(&self.chain, u, v, p.first, p.last);
             self.track.push((t, p.peak_bead, e, p.peak_velocity));
@@ -107,7 +111,7 @@ impl Observer for Watch {
         }
         if k >= 6 && k + 20 < v.len() && self.frames_seen < 24 {
             let top = v[k..k + 20].iter().cloned().fold(0.0, f64::max);
-            if self.frames_seen > 0 || top > 0.05 * self.v_in {
+            if self.frames_seen > 0 || top > 0.05 * self.velocity().v_in {
                 self.frames_seen += 1;
                 let (mut run, mut best) = (0, 0);
                 for &x in &v[k..k + 20] {
@@ -214,13 +218,13 @@ pub fn interface_run(
     let sp = energy_split(&s.chain, u, v, k);
     let pulses = detect_pulses(v, &WaveOptions::default())
         .into_iter()
-        .filter(|p| p.peak_velocity.abs() > 0.01 * w.v_in)
+        .filter(|p| p.peak_velocity.abs() > 0.01 * w.velocity().v_in)
         .map(|p| (p, wave_energy(&s.chain, u, v, p.first, p.last) / sp.total()))
         .collect();
     Ok(InterfaceResult {
         left_fraction: sp.left / sp.total(),
-        v_in: w.v_in,
-        v_out: w.v_out,
+        v_in: w.velocity().v_in,
+        v_out: w.velocity().v_out,
         pulses,
         plateau: w.plateau,
         t_stop: *t,
@@ -236,7 +240,7 @@ pub fn impurity_ratio(n: f64, s: usize, dn: f64) -> Result<(f64, RunInfo), Paper
     let ex = format!("{{ base = {n}, impurity = {{ at = 50, s = {s}, value = {ni} }} }}");
     let sc = physical_scene(100, &ex, 0, tb * 2000.0, tb / 5.0)?;
     let (w, info) = run_watched(&sc, 50, 88, 1e-8)?;
-    Ok((w.v_out / w.v_in, info))
+    Ok((w.velocity().checked()?, info))
 }
 
 /// Decay fit of the leading-wave energy for `n = n̄ + ε r` from contact 20 on (eq. 19), `beads`

@@ -15,6 +15,7 @@ use crate::analysis::{
 };
 use crate::engine::{self, EngineError, Observer, RunConfig};
 use crate::experiments::paper::Watch;
+use crate::scene::Engine;
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -161,12 +162,13 @@ pub fn run_one(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<Str
             out.t_end = o.t_end;
             out.energy_error = o.relative_energy_error();
             out.steps = Some(o.stats.steps);
-            out.events = Some(o.events_total());
+            // the dense engine logs no events: no count, rather than a count of 0
+            out.events = (cfg.engine != Engine::Dense).then(|| o.events_total());
             (o.u, o.v)
         }
         Err(e) => return Err(e.into()),
     };
-    let mut problem = None;
+    let mut problems = Vec::new();
     if let Some(k) = m.interface {
         let sp = energy_split(chain, &u, &v, k);
         out.left_fraction = Some(sp.left / sp.total());
@@ -174,16 +176,19 @@ pub fn run_one(spec: &SweepSpec, run: &RunPoint) -> Result<(Measured, Option<Str
     if let Some(d) = m.decay {
         match decay_fit(&watch, &d) {
             Ok(f) => out.gamma = Some((f.gamma, f.gamma_stderr)),
-            Err(err) => problem = Some(format!("decay fit: {err}")),
+            Err(err) => problems.push(format!("decay fit: {err}")),
         }
     }
     if m.impurity.is_some() {
-        out.v_ratio = Some(watch.v_out / watch.v_in);
+        match watch.velocity().checked() {
+            Ok(r) => out.v_ratio = Some(r),
+            Err(err) => problems.push(format!("v_ratio: {err}")),
+        }
     }
     if let Some(g) = m.fragments {
         out.fragments = Some(fragmentation(chain, &u, &v, g).fragments.len());
     }
-    Ok((out, problem))
+    Ok((out, (!problems.is_empty()).then(|| problems.join("; "))))
 }
 
 /// The leading wave's decay `E/E0 = a exp(−γ x)` over the tracked positions from `d.from`

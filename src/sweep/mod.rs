@@ -53,8 +53,10 @@
 //!
 //! **Columns**: `run` (0-based index), one column per grid/point/seed key (the value as given;
 //! numbers in `{:e}` form), `status` (`ok` or the error), `t_end` (the stop or end time),
-//! `energy_error` (`|E_end − E_0|/|E_0|`), `steps` (accepted integrator steps), `events` (hybrid
-//! engine events: contact closings/openings, collisions), then the `[measure]` columns:
+//! `energy_error` (the balance error `|E_end + E_d − E_0| / max(|E_0|, S)`,
+//! [`crate::engine::RunOutcome::relative_energy_error`]: `E_d` dissipated, `S` the energy
+//! scale), `steps` (accepted integrator steps), `events` (hybrid engine events: contact
+//! closings/openings, collisions; empty for the dense engine), then the `[measure]` columns:
 //! - `left_fraction` (`interface = K`): energy of beads `0..K` over the total at the final frame,
 //!   [`crate::analysis::energy_split`]. It contains the striker's rebound; the paper's reflected
 //!   energy (Fig. 7) is `left_fraction − left_fraction(n2 = n1)` (the uniform run of the grid).
@@ -63,7 +65,10 @@
 //!   jump by more than `jump` between frames (as [`crate::experiments::paper::decay_gamma`], Sec. 5.2,
 //!   Fig. 20).
 //! - `v_ratio` (`impurity = K`): `|v_out/v_in|` of beads `min(K/2, 20)..K−3` over all frames
-//!   (Sec. 5.1, Fig. 18; [`crate::experiments::paper::Watch`]).
+//!   (Sec. 5.1, Fig. 18; [`crate::experiments::paper::Watch`]); empty, with the row's status
+//!   an error, when that window is empty (`K ≤ 6`) or the frames do not resolve the peaks
+//!   ([`crate::analysis::VelocityRatio::checked`]: a pulse that passes a bead in fewer than 3
+//!   frames).
 //! - `fragments`: number of fragments of the final state ([`crate::analysis::fragmentation`]).
 //! - `wall_seconds` only with `--timing` (otherwise identical inputs give identical bytes).
 //!

@@ -235,24 +235,66 @@ fn check_claims(
     seeds: &Option<(String, Vec<Value>)>,
     e: &KeyErr,
 ) -> Result<(), SweepError> {
-    let mut claims: Vec<(&str, &str)> = Vec::new();
-    claims.extend(set.iter().map(|(k, _)| (k.as_str(), "[set]")));
-    claims.extend(grid.iter().map(|(k, _)| (k.as_str(), "[grid]")));
-    for p in points {
-        claims.extend(p.iter().map(|(k, _)| (k.as_str(), "[[point]]")));
+    // (key, section, point, order in which a run writes it): keys of different points never
+    // clash; a run writes [set], then the grid's, the points' and the seeds' columns
+    let mut claims: Vec<(&str, &str, usize, (u8, usize))> = Vec::new();
+    let mut point_cols: Vec<&str> = Vec::new();
+    claims.extend(
+        set.iter()
+            .enumerate()
+            .map(|(i, (k, _))| (k.as_str(), "[set]", 0, (0, i))),
+    );
+    claims.extend(
+        grid.iter()
+            .enumerate()
+            .map(|(i, (k, _))| (k.as_str(), "[grid]", 0, (1, i))),
+    );
+    for (j, p) in points.iter().enumerate() {
+        for (k, _) in p {
+            let col = match point_cols.iter().position(|c| c == k) {
+                Some(c) => c,
+                None => {
+                    point_cols.push(k);
+                    point_cols.len() - 1
+                }
+            };
+            claims.push((k.as_str(), "[[point]]", j, (2, col)));
+        }
     }
     if let Some((k, _)) = seeds {
-        claims.push((k.as_str(), "[seeds]"));
+        claims.push((k.as_str(), "[seeds]", 0, (3, 0)));
     }
-    for (i, (k, by)) in claims.iter().enumerate() {
-        if let Some((_, first)) = claims[..i].iter().find(|(o, b)| o == k && b != by) {
+    for (i, &(k, by, j, at)) in claims.iter().enumerate() {
+        for &(o, first, p, o_at) in &claims[..i] {
+            let same_run = first != by || p == j;
+            let message = if o == k && first != by {
+                format!("also set in {first}")
+            } else if !same_run || o == k {
+                continue;
+            } else if (part_of(o, k) && o_at < at) || (part_of(k, o) && at < o_at) {
+                // the whole is written after its part, which it replaces
+                let (whole, part) = if part_of(o, k) { (k, o) } else { (o, k) };
+                format!(
+                    "overlaps {first}.\"{o}\": \"{whole}\" is written after \"{part}\" and \
+                     replaces it"
+                )
+            } else {
+                continue;
+            };
             return Err(e(
                 &format!("{by}.\"{k}\""),
-                format!("also set in {first} (each key may be set in one place only)"),
+                format!("{message} (each key may be set in one place only)"),
             ));
         }
     }
     Ok(())
+}
+
+/// Whether dotted key `part` names a part of the value `whole` names
+/// (`chain.exponent.random.eps` of `chain.exponent`).
+fn part_of(part: &str, whole: &str) -> bool {
+    part.strip_prefix(whole)
+        .is_some_and(|rest| rest.starts_with('.'))
 }
 
 /// Why the base scene of a sweep cannot be had.
