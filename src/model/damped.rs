@@ -81,6 +81,22 @@ impl Chain {
         }
     }
 
+    /// The force of damped contact `c` at overlap `delta > 0` and rate `rate` before its clip
+    /// at 0 (`F_el + F_d`, [`super::law`]): negative where the law clips it. `None` for a
+    /// conservative chain or `delta ≤ 0`.
+    pub fn unclipped_force(&self, c: usize, delta: f64, rate: f64) -> Option<f64> {
+        let d = self.damping.as_ref()?;
+        if !(delta > 0.0) {
+            return None;
+        }
+        let (f_el, k) = super::contact_force_stiffness(self.exponent[c], self.prefactor[c], delta);
+        let g = d.contact[c];
+        Some(match d.law {
+            DampingLaw::Viscoelastic => f_el + g * k * rate,
+            DampingLaw::LinearDashpot => f_el + g * rate,
+        })
+    }
+
     /// [`Chain::accel_v`] plus the Jacobian blocks: `kd[c] = ∂F_c/∂δ`, `kv[c] = ∂F_c/∂δ̇` for
     /// the range's contacts, `[m−1]`/`[m]` the left/right wall (each of length `m + 1`). A
     /// conservative chain leaves `kv` untouched.
