@@ -112,6 +112,33 @@ pub struct Hybrid<'a> {
     ws: Workspace,
 }
 
+/// The peak overlaps at `t = 0`: each soft contact's and soft wall's overlap where it is
+/// closed (positive), else 0. A contact that starts closed and only opens reaches its largest
+/// overlap at the start, which no step's maximum covers ([`Hybrid::update_peaks`] takes each
+/// step's interior and end).
+fn initial_peaks(chain: &crate::model::Chain, u0: &[f64]) -> Vec<f64> {
+    let n = chain.len();
+    let mut peak = vec![0.0; n + 1];
+    for c in 0..n.saturating_sub(1) {
+        if chain.hard_restitution(c).is_none() {
+            let pre = chain.precompression.as_ref().map_or(0.0, |p| p[c]);
+            peak[c] = (pre + u0[c] - u0[c + 1]).max(0.0);
+        }
+    }
+    let soft = |w: &Option<crate::model::Wall>| {
+        w.as_ref()
+            .filter(|w| w.restitution.is_none())
+            .map(|w| w.precompression)
+    };
+    if let (Some(p), Some(&u)) = (soft(&chain.left_wall), u0.first()) {
+        peak[n - 1] = (p - u).max(0.0);
+    }
+    if let (Some(p), Some(&u)) = (soft(&chain.right_wall), u0.last()) {
+        peak[n] = (p + u).max(0.0);
+    }
+    peak
+}
+
 impl<'a> Hybrid<'a> {
     fn new(scene: &'a Scene, cfg: &'a RunConfig) -> Self {
         let chain = &scene.chain;
@@ -138,7 +165,7 @@ impl<'a> Hybrid<'a> {
                 free: vec![Free::default(); n],
                 version: vec![0; n],
                 spare_slots: Vec::new(),
-                peak: vec![0.0; n + 1],
+                peak: initial_peaks(chain, &scene.u0),
                 stats: Stats::default(),
                 events: Vec::new(),
                 counts: EventCounts::default(),
