@@ -229,9 +229,13 @@ fn sweep_rows_measure_and_are_deterministic_across_jobs() {
     );
     assert!(!partial_path(&a).exists());
     let f = read_result(&a, false).unwrap();
-    assert_eq!(
-        f.spec_line,
-        format!("# beadchain sweep spec={:016x} runs=16", s.hash)
+    assert!(
+        f.spec_line.starts_with(&format!(
+            "# beadchain sweep spec={:016x} runs=16 inputs=",
+            s.hash
+        )),
+        "{}",
+        f.spec_line
     );
     let cols = split_fields(&f.columns).unwrap();
     assert_eq!(
@@ -481,9 +485,12 @@ fn sweep_csv_header_is_the_first_line_and_values_are_written_as_given() {
     // The spec line is in the sidecar, and merge/resume read it from there.
     // (then one content key per row: tests/sweep_content.rs)
     let meta = read(&dir.path().join("p.csv.meta"));
-    assert_eq!(
-        meta.lines().next().unwrap(),
-        format!("# beadchain sweep spec={:016x} runs=16", s.hash)
+    assert!(
+        meta.lines().next().unwrap().starts_with(&format!(
+            "# beadchain sweep spec={:016x} runs=16 inputs=",
+            s.hash
+        )),
+        "{meta}"
     );
     // line 2: the provenance of the build that wrote it (tests/provenance.rs)
     assert!(

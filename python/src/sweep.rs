@@ -5,7 +5,7 @@
 use crate::{without_gil, SceneError};
 use beadchain::sweep::content::reusable_rows;
 use beadchain::sweep::csv::{self, field, split_fields};
-use beadchain::sweep::exec::{format_row, run_one};
+use beadchain::sweep::exec::{format_row, partial_spec_line, run_one};
 use beadchain::sweep::expand::format_value;
 use beadchain::sweep::{RunPoint, SweepSpec};
 use pyo3::prelude::*;
@@ -149,7 +149,7 @@ pub fn _sweep_write(path: &str, out: &str, rows: Vec<String>) -> PyResult<bool> 
     }
     let keys: BTreeMap<usize, u64> = all.iter().map(|(r, k)| (r.index, *k)).collect();
     let rows: BTreeMap<usize, String> = rows.into_iter().enumerate().collect();
-    let line = csv::spec_line(spec.hash, all.len());
+    let line = partial_spec_line(&csv::spec_line(spec.hash, all.len()), &all);
     csv::write_result(Path::new(out), &line, &keys, &header(&spec), &rows)
         .map_err(|e| pyo3::exceptions::PyOSError::new_err(e.to_string()))
 }

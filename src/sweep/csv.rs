@@ -239,9 +239,9 @@ impl ResultFile {
     /// The total number of runs of the sweep, from the spec line.
     pub fn total_runs(&self) -> Option<usize> {
         self.spec_line
-            .rsplit("runs=")
-            .next()
-            .and_then(|s| s.trim().parse().ok())
+            .split(' ')
+            .find_map(|w| w.strip_prefix("runs="))
+            .and_then(|s| s.parse().ok())
     }
 }
 
@@ -408,8 +408,23 @@ pub fn merge(
                 first.display()
             ),
         };
-        if r.spec_line != head.spec_line {
+        let spec_of = |l: &str| l.split(" inputs=").next().unwrap_or("").to_string();
+        let inputs = |l: &str| l.split(" inputs=").nth(1).map(str::to_string);
+        if spec_of(&r.spec_line) != spec_of(&head.spec_line) {
             return Err(mismatch("spec line"));
+        }
+        let (a, b) = (inputs(&r.spec_line), inputs(&head.spec_line));
+        if a.is_some() && b.is_some() && a != b {
+            return Err(SweepError::Csv {
+                file: s.display().to_string(),
+                line: 1,
+                message: format!(
+                    "its runs' content keys differ from {}'s: a file the scene reads (a CSV \
+                     file) changed between the shards, or another beadchain version ran one; \
+                     run that shard again",
+                    first.display()
+                ),
+            });
         }
         if r.columns != head.columns {
             return Err(mismatch("column header"));

@@ -282,6 +282,7 @@ pub fn run_sweep(
         mine,
     } = plan(spec, opts)?;
     csv::check_destinations(&opts.out)?;
+    check_other_shards(opts, &spec_line, &mine)?;
     let (partial, done, resumed, skipped) =
         rows_done(spec, opts, keyed, &mine, &partial_line, &columns)?;
     let mut pending: Vec<&RunPoint> = mine
@@ -294,7 +295,7 @@ pub fn run_sweep(
     let rows = run_pending(spec, opts, &pending, &partial, done, mine.len(), progress)?;
     let failed = rows.values().filter(|r| is_error_row(r)).count();
     let complete = rows.len() == mine.len();
-    let written = complete && finish(opts, &partial, &spec_line, &keys, &columns, &rows)?;
+    let written = complete && finish(opts, &partial, &partial_line, &keys, &columns, &rows)?;
     Ok(SweepSummary {
         runs: mine.len(),
         resumed,
@@ -306,11 +307,12 @@ pub fn run_sweep(
     })
 }
 
-/// Line 1 of `OUT.partial`: the spec line and a hash of the content keys of every run of the
-/// sweep (`inputs=HASH`; every shard's alike). The spec hash covers the sweep file and the base
-/// scene's text only; the keys also see the CSV files the scene reads, so rows written before
-/// such a file changed are not resumed as if they were this sweep's.
-fn partial_spec_line(spec_line: &str, all: &[(RunPoint, u64)]) -> String {
+/// Line 1 of `OUT.partial` and of `OUT.meta`: the spec line and a hash of the content keys of
+/// every run of the sweep (`inputs=HASH`; every shard's alike). The spec hash covers the sweep
+/// file and the base scene's text only; the keys also see the CSV files the scene reads, so
+/// rows written before such a file changed are not resumed as if they were this sweep's, and
+/// `merge` refuses shards run on different inputs.
+pub fn partial_spec_line(spec_line: &str, all: &[(RunPoint, u64)]) -> String {
     let text: String = all
         .iter()
         .map(|(r, k)| format!("{}:{k:016x};", r.index))
@@ -328,6 +330,44 @@ struct Plan {
     partial_line: String,
     columns: String,
     mine: Vec<RunPoint>,
+}
+
+/// A shard's `--out` that holds the result of this same sweep (its spec line) with rows of
+/// runs outside the shard (the whole sweep's result, another shard's) is refused before
+/// anything runs: writing the shard's rows there would drop them.
+fn check_other_shards(
+    opts: &SweepOptions,
+    spec_line: &str,
+    mine: &[RunPoint],
+) -> Result<(), SweepError> {
+    let Some(shard) = opts.shard else {
+        return Ok(());
+    };
+    let Ok(old) = csv::read_result(&opts.out, false) else {
+        return Ok(());
+    };
+    let same_sweep = old.spec_line.split(" inputs=").next() == Some(spec_line);
+    let others: Vec<usize> = old
+        .rows
+        .keys()
+        .copied()
+        .filter(|i| mine.binary_search_by_key(i, |r| r.index).is_err())
+        .collect();
+    match (same_sweep, others.first()) {
+        (true, Some(first)) => Err(SweepError::Csv {
+            file: opts.out.display().to_string(),
+            line: 0,
+            message: format!(
+                "it holds {} rows of this sweep that shard {}/{} does not run (run {first} \
+                 first); writing the shard's result there would drop them: give the shard its \
+                 own --out (and `beadchain merge` the shards)",
+                others.len(),
+                shard.k,
+                shard.m
+            ),
+        }),
+        _ => Ok(()),
+    }
 }
 
 /// Checks every run of the sweep ([`SweepSpec::check_all_keyed`]) and keeps this shard's.

@@ -1,0 +1,96 @@
+//! `beadchain sweep --shard` and `merge`: shards run on different inputs are not merged, and a
+//! shard does not overwrite rows of other runs of its sweep (found by a review of the sweep
+//! commands).
+
+mod common;
+use common::bc;
+
+const SCENE: &str =
+    "[scene]\nname = \"mscene\"\n[chain]\nbeads = 20\nmass = { file = \"mass.csv\" }\n\
+                     [initial]\nstriker = 1.0\n[run]\nuntil = 10.0\nevery = 1.0\n";
+const SWEEP: &str = "scene = \"sc.toml\"\n[grid]\n\"initial.striker\" = [1.0, 2.0, 3.0, 4.0]\n\
+                     [measure]\ninterface = 10\n";
+
+fn masses(dir: &std::path::Path, m: f64) {
+    std::fs::write(dir.join("mass.csv"), format!("{m}\n").repeat(20)).unwrap();
+}
+
+/// The defect: `merge` compared the shards' spec lines only (a hash of the sweep file and base
+/// scene text), so shards run before and after a CSV file the scene reads changed (masses 1,
+/// then 2) were merged into one result, exit 0, half its rows from other inputs. The finished
+/// result's spec line now carries the hash of every run's content key (`inputs=`), and `merge`
+/// refuses shards whose hashes differ.
+#[test]
+fn merge_refuses_shards_run_on_different_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path();
+    std::fs::write(p.join("sc.toml"), SCENE).unwrap();
+    std::fs::write(p.join("sw.toml"), SWEEP).unwrap();
+    masses(p, 1.0);
+    let ok = |args: &[&str]| {
+        let o = bc(p, args);
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    };
+    ok(&[
+        "sweep", "sw.toml", "--shard", "1/2", "--out", "s.1.csv", "-q",
+    ]);
+    ok(&[
+        "sweep", "sw.toml", "--shard", "2/2", "--out", "s.2.csv", "-q",
+    ]);
+    ok(&["merge", "same.csv", "s.1.csv", "s.2.csv"]);
+    masses(p, 2.0);
+    ok(&[
+        "sweep", "sw.toml", "--shard", "2/2", "--out", "s.2.csv", "-q",
+    ]);
+    let o = bc(p, &["merge", "merged.csv", "s.1.csv", "s.2.csv"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("s.2.csv") && err.contains("content keys differ from"),
+        "{err}"
+    );
+    assert!(!p.join("merged.csv").exists());
+}
+
+/// The defect: a `--shard` run whose `--out` held this sweep's whole result (or another
+/// shard's) rewrote it with the shard's rows alone, dropping the others without a word. It is
+/// now refused before anything runs, and the file is left as it was.
+#[test]
+fn a_shard_does_not_overwrite_other_runs_of_its_sweep() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path();
+    std::fs::write(p.join("sc.toml"), SCENE).unwrap();
+    std::fs::write(p.join("sw.toml"), SWEEP).unwrap();
+    masses(p, 1.0);
+    let o = bc(p, &["sweep", "sw.toml", "--out", "r.csv", "-q"]);
+    assert_eq!(o.status.code(), Some(0));
+    let before = std::fs::read(p.join("r.csv")).unwrap();
+    let o = bc(
+        p,
+        &["sweep", "sw.toml", "--shard", "1/2", "--out", "r.csv", "-q"],
+    );
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("r.csv")
+            && err.contains("holds 2 rows of this sweep that shard 1/2 does not run"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(p.join("r.csv")).unwrap(), before);
+    // a shard's own file is its own to rewrite
+    let o = bc(
+        p,
+        &["sweep", "sw.toml", "--shard", "1/2", "--out", "s.csv", "-q"],
+    );
+    assert_eq!(o.status.code(), Some(0));
+    let o = bc(
+        p,
+        &["sweep", "sw.toml", "--shard", "1/2", "--out", "s.csv", "-q"],
+    );
+    assert_eq!(o.status.code(), Some(0));
+}
