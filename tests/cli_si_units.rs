@@ -227,3 +227,77 @@ fn export_units_si_of_a_dimensionless_scene_is_refused() {
         String::from_utf8_lossy(&o.stderr).trim()
     );
 }
+
+/// The number after `key` on the line of `text` that contains `line`, up to the next space.
+fn number_after(text: &str, line: &str, key: &str) -> f64 {
+    let l = text
+        .lines()
+        .find(|l| l.contains(line))
+        .unwrap_or_else(|| panic!("{text}"));
+    let rest = l
+        .split(key)
+        .nth(1)
+        .unwrap_or_else(|| panic!("{key} in {l}"));
+    let x = rest.trim_start().split([' ', ',', ')']).next().unwrap();
+    x.parse().unwrap_or_else(|_| panic!("{x} in {l}"))
+}
+
+/// The defect: `analyze` printed a physical scene's collision rate per bead and kinetic
+/// temperature range, and `inspect` its dissipated energy, in computer units only, where the
+/// docs promise SI beside them (scenes.md: "`run`, `inspect` and `analyze` print a physical
+/// scene's times and energies in SI"). Each SI figure is now the computer figure times its
+/// scale (rel 1e-6, the printed digits).
+#[test]
+fn analyze_and_inspect_give_every_rate_and_energy_in_si_too() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let gas = "[units]\nsystem = \"physical\"\nradius = 4.0e-3\nyoung = 2.26e11\npoisson = 0.3\n\
+               density = 7650.0\n[chain]\nbeads = 12\nprecompression = -1.0e-4\n\
+               [walls]\nleft = { precompression = -1.0e-4 }\nright = { precompression = -1.0e-4 }\n\
+               [initial]\nvelocity_si = [0.3, -0.2, 0.5, -0.1, 0.0, 0.4, -0.3, 0.2, -0.5, 0.1, 0.25, -0.15]\n\
+               [run]\nuntil_si = 5e-3\nevery_si = 5e-4\n";
+    std::fs::write(d.join("gas.toml"), gas).unwrap();
+    assert_ok(&bc(d, &["run", "gas.toml", "--out", "gas.snap", "-q"]));
+    let snap = Snapshot::open(&d.join("gas.snap")).unwrap();
+    let u = snap.header().scene.units.unwrap();
+    let j = u.mass / (u.time * u.time);
+    let o = bc(d, &["analyze", "gas.snap", "--gas"]);
+    assert_ok(&o);
+    let text = String::from_utf8_lossy(&o.stdout).to_string();
+    let l = text
+        .lines()
+        .find(|l| l.starts_with("collisions ("))
+        .unwrap();
+    let pb: f64 = l
+        .split(", ")
+        .find(|p| p.contains("per bead"))
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let pb_si = number_after(l, "per bead", "per bead per unit time (SI:");
+    assert!(close(pb_si, pb / u.time, 0.0, 1e-6), "{l}");
+    let lo = number_after(&text, "kinetic temperature", "range ");
+    let lo_si = number_after(&text, "kinetic temperature", &format!("range {lo:.6e} ("));
+    assert!(close(lo_si, lo * j, 0.0, 1e-6), "{text}");
+    let damped =
+        "[units]\nsystem = \"physical\"\nradius = 4.0e-3\nyoung = 2.26e11\npoisson = 0.3\n\
+                  density = 7650.0\n[chain]\nbeads = 2\nlaw = \"viscoelastic\"\nrestitution = 0.7\n\
+                  impact_speed_si = 0.5\n[initial]\nstriker_si = 0.5\n[run]\nuntil_si = 1e-4\n\
+                  every_si = 1e-5\n";
+    std::fs::write(d.join("dm.toml"), damped).unwrap();
+    assert_ok(&bc(d, &["run", "dm.toml", "--out", "dm.snap", "-q"]));
+    let o = bc(d, &["inspect", "dm.snap"]);
+    let text = String::from_utf8_lossy(&o.stdout).to_string();
+    let e_d = number_after(&text, "dissipated:", "dissipated:");
+    let e_d_si = number_after(&text, "dissipated:", "(SI:");
+    // ½·(m/2)·w²·(1 − e²) for the striker at 0.5 m/s and e = 0.7 (rel 1e-6)
+    let m = 4.0 / 3.0 * std::f64::consts::PI * 4.0e-3f64.powi(3) * 7650.0;
+    assert!(
+        close(e_d_si, 0.5 * (m / 2.0) * 0.25 * (1.0 - 0.49), 0.0, 1e-6),
+        "{text}"
+    );
+    assert!(close(e_d_si, e_d * j, 0.0, 1e-6), "{text}");
+}

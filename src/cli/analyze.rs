@@ -93,6 +93,23 @@ pub fn cmd_analyze(args: AnalyzeArgs) -> Result<i32> {
                 u.time,
                 u.mass
             );
+            let mut more = Vec::new();
+            if let Ok(e) = &a.e_in {
+                more.push(format!("incoming wave energy {:.6e} J", e * j));
+            }
+            if let Ok(v) = &a.speed {
+                more.push(format!("speed {:.6e} beads per s", v.value / u.time));
+            }
+            if let Some(i) = &a.interface {
+                more.push(format!(
+                    "interface energy left {:.6e} J, right {:.6e} J",
+                    i.left * j,
+                    i.right * j
+                ));
+            }
+            if !more.is_empty() {
+                let _ = writeln!(o, "in SI: {}", more.join(", "));
+            }
         }
         o.push_str(&super::analyze_gas::text(&gas, args.frames));
         if args.frames {

@@ -98,12 +98,15 @@ pub fn text(r: &GasReport, table: bool) -> String {
             );
         }
         (true, Some(rate), Some(per_bead)) => {
-            let si = r.units.map_or(String::new(), |u| {
-                format!(" (SI: {:.6e} per s)", rate / u.time)
-            });
+            let si = |x: f64| {
+                r.units.map_or(String::new(), |u| {
+                    format!(" (SI: {:.6e} per s)", x / u.time)
+                })
+            };
+            let (si_rate, si_bead) = (si(rate), si(per_bead));
             let _ = writeln!(
                 o,
-                "collisions (close and hard_collision events between beads, t = {t0} to {t1}): {}, rate {rate:.6e} per unit time{si}, {per_bead:.6e} per bead per unit time; wall collisions (wall_close): {}",
+                "collisions (close and hard_collision events between beads, t = {t0} to {t1}): {}, rate {rate:.6e} per unit time{si_rate}, {per_bead:.6e} per bead per unit time{si_bead}; wall collisions (wall_close): {}",
                 c.pair, c.wall
             );
         }
@@ -137,7 +140,7 @@ fn gas_summary(o: &mut String, r: &GasReport, first: &VelocityStats, last: &Velo
     let si = |e: f64| joule(e).map_or(String::new(), |j| format!(" ({j:.6e} J)"));
     let _ = writeln!(
         o,
-        "kinetic temperature T_kin = (1/N) sum_i m_i (v_i - v_cm)^2 (an energy, k_B = 1; computer units{}): first frame (t = {}) {:.6e}{}, last frame (t = {}) {:.6e}{}, range {:.6e} to {:.6e}",
+        "kinetic temperature T_kin = (1/N) sum_i m_i (v_i - v_cm)^2 (an energy, k_B = 1; computer units{}): first frame (t = {}) {:.6e}{}, last frame (t = {}) {:.6e}{}, range {:.6e}{} to {:.6e}{}",
         if r.units.is_some() { ", J in SI" } else { "" },
         a.t,
         a.temperature,
@@ -146,7 +149,9 @@ fn gas_summary(o: &mut String, r: &GasReport, first: &VelocityStats, last: &Velo
         b.temperature,
         si(b.temperature),
         lo,
-        hi
+        si(lo),
+        hi,
+        si(hi)
     );
     let _ = writeln!(
         o,

@@ -173,9 +173,12 @@ fn energy_lines(s: &mut String, snap: &Snapshot, chain: &Chain) {
                 let (b0, b1) = (e0 + d0, e1 + d1);
                 let bal =
                     crate::model::relative_energy_change(b0, b1, s0.max(s1)).copysign(b1 - b0);
+                let si = snap.header().scene.units.map_or(String::new(), |u| {
+                    format!(" (SI: {:e} J)", (d1 - d0) * u.mass / (u.time * u.time))
+                });
                 let _ = writeln!(
                     s,
-                    "dissipated:  {} by the last frame (balance error {bal:.3e})",
+                    "dissipated:  {}{si} by the last frame (balance error {bal:.3e})",
                     Num(d1 - d0)
                 );
                 if let Some(note) = crate::engine::balance_note(bal.abs(), snap.header().rtol) {
