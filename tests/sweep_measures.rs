@@ -60,6 +60,18 @@ fn sweep_keys_whose_whole_replaces_their_part_are_refused() {
     let a = s.scene_for(&s.runs()[0]).unwrap().chain.exponent;
     let b = s.scene_for(&s.runs()[1]).unwrap().chain.exponent;
     assert_ne!(a, b);
+    // a review's follow-up: a point's whole and part are written in sorted order (the whole
+    // first) whatever order the points come in; a point with only the part listed first was
+    // refused
+    let part = "[[point]]\n\"chain.exponent.random.eps\" = 0.02\n";
+    let both = "[[point]]\n\"chain.exponent\" = { random = { mean = 2.5, eps = 0.0 } }\n\
+                \"chain.exponent.random.eps\" = 0.08\n";
+    for points in [format!("{part}{both}"), format!("{both}{part}")] {
+        let s = spec(&format!("{DISORDER}{points}")).unwrap();
+        let runs = s.runs();
+        let eps = |i: usize| s.scene_for(&runs[i]).unwrap().chain.exponent;
+        assert_ne!(eps(0), eps(1));
+    }
 }
 
 /// A striker into 30 beads; `impurity = 12` (window beads 6..9), frames every `every`.

@@ -57,6 +57,66 @@ fn merge_refuses_shards_run_on_different_inputs() {
     assert!(!p.join("merged.csv").exists());
 }
 
+/// Drops the `inputs=` of a shard's spec line, as a beadchain before it wrote them.
+fn as_older_binary(meta: &std::path::Path) {
+    let text = std::fs::read_to_string(meta).unwrap();
+    let first = text.lines().next().unwrap();
+    let old = first.split(" inputs=").next().unwrap();
+    std::fs::write(meta, text.replacen(first, old, 1)).unwrap();
+}
+
+/// A review's follow-up: with the first shard listed from an older beadchain (no `inputs=`),
+/// the other shards were compared with it alone and two run on different inputs passed; they
+/// are now compared with the first shard that has a hash, and the merged result carries it.
+#[test]
+fn merge_compares_inputs_past_a_first_shard_without_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path();
+    std::fs::write(p.join("sc.toml"), SCENE).unwrap();
+    std::fs::write(p.join("sw.toml"), SWEEP.replace("4.0]", "4.0, 5.0, 6.0]")).unwrap();
+    let ok = |args: &[&str]| {
+        let o = bc(p, args);
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    };
+    masses(p, 1.0);
+    ok(&[
+        "sweep", "sw.toml", "--shard", "1/3", "--out", "t.1.csv", "-q",
+    ]);
+    ok(&[
+        "sweep", "sw.toml", "--shard", "2/3", "--out", "t.2.csv", "-q",
+    ]);
+    as_older_binary(&p.join("t.1.csv.meta"));
+    masses(p, 2.0);
+    ok(&[
+        "sweep", "sw.toml", "--shard", "3/3", "--out", "t.3.csv", "-q",
+    ]);
+    let o = bc(p, &["merge", "m.csv", "t.1.csv", "t.2.csv", "t.3.csv"]);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("t.3.csv") && err.contains("differ from"),
+        "{err}"
+    );
+    // on the same inputs the older shard merges, and the result carries the others' hash
+    masses(p, 1.0);
+    ok(&[
+        "sweep", "sw.toml", "--shard", "3/3", "--out", "t.3.csv", "-q",
+    ]);
+    ok(&["merge", "m.csv", "t.1.csv", "t.2.csv", "t.3.csv"]);
+    let meta = std::fs::read_to_string(p.join("m.csv.meta")).unwrap();
+    assert!(meta.lines().next().unwrap().contains(" inputs="), "{meta}");
+}
+
 /// The defect: a `--shard` run whose `--out` held this sweep's whole result (or another
 /// shard's) rewrote it with the shard's rows alone, dropping the others without a word. It is
 /// now refused before anything runs, and the file is left as it was.

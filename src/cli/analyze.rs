@@ -307,11 +307,16 @@ fn iface_summary(o: &mut String, a: &Summary, i: &InterfaceSplit) {
         },
         match i.velocity_ratio() {
             Ok(r) => format!(
-                "{:.4e} / {:.4e} = {} (error from the frames' sampling of the peaks: about {:.0e})",
+                "{:.4e} / {:.4e} = {} ({})",
                 i.v_out,
                 i.v_in,
                 fixed(r, 6),
-                i.velocity.sampling_error()
+                match i.velocity.sampling_error() {
+                    0.0 => "the frames sample both peaks exactly".to_string(),
+                    e => format!(
+                        "relative error from the frames' sampling of the peaks: about {e:.0e}"
+                    ),
+                }
             ),
             Err(e) => format!("not computed ({e})"),
         }

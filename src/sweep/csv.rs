@@ -398,6 +398,9 @@ pub fn merge(
     let head = read_result(first, false)?;
     let mut rows: BTreeMap<usize, String> = BTreeMap::new();
     let mut from: BTreeMap<usize, &Path> = BTreeMap::new();
+    let spec_of = |l: &str| l.split(" inputs=").next().unwrap_or("").to_string();
+    let inputs = |l: &str| l.split(" inputs=").nth(1).map(str::to_string);
+    let mut inputs_of: Option<(String, &PathBuf)> = None;
     for s in shards {
         let r = read_result(s, false)?;
         let mismatch = |what: &str| SweepError::Csv {
@@ -408,23 +411,28 @@ pub fn merge(
                 first.display()
             ),
         };
-        let spec_of = |l: &str| l.split(" inputs=").next().unwrap_or("").to_string();
-        let inputs = |l: &str| l.split(" inputs=").nth(1).map(str::to_string);
         if spec_of(&r.spec_line) != spec_of(&head.spec_line) {
             return Err(mismatch("spec line"));
         }
-        let (a, b) = (inputs(&r.spec_line), inputs(&head.spec_line));
-        if a.is_some() && b.is_some() && a != b {
-            return Err(SweepError::Csv {
-                file: s.display().to_string(),
-                line: 1,
-                message: format!(
-                    "its runs' content keys differ from {}'s: a file the scene reads (a CSV \
-                     file) changed between the shards, or another beadchain version ran one; \
-                     run that shard again",
-                    first.display()
-                ),
-            });
+        // the first shard with an inputs hash is the one the others' are compared with (an
+        // older beadchain's shards have none)
+        if let Some(a) = inputs(&r.spec_line) {
+            match &inputs_of {
+                None => inputs_of = Some((a, s)),
+                Some((b, by)) if *b != a => {
+                    return Err(SweepError::Csv {
+                        file: s.display().to_string(),
+                        line: 1,
+                        message: format!(
+                            "its runs' content keys differ from {}'s: a file the scene reads (a \
+                             CSV file) changed between the shards, or another beadchain version \
+                             ran one; run that shard again",
+                            by.display()
+                        ),
+                    });
+                }
+                Some(_) => {}
+            }
         }
         if r.columns != head.columns {
             return Err(mismatch("column header"));
@@ -472,7 +480,11 @@ pub fn merge(
         .flat_map(|s| read_keys(s))
         .filter(|(i, _)| rows.contains_key(i))
         .collect();
-    write_result(out, &head.spec_line, &keys, &head.columns, &rows)?;
+    let line = match &inputs_of {
+        Some((a, _)) => format!("{} inputs={a}", spec_of(&head.spec_line)),
+        None => head.spec_line.clone(),
+    };
+    write_result(out, &line, &keys, &head.columns, &rows)?;
     Ok(MergeSummary {
         rows: rows.len(),
         missing,

@@ -44,7 +44,8 @@
 //! is `exponent` in `[chain]`; deeper parts walk into inline tables (`"chain.exponent.random.eps"`)
 //! and numeric parts index arrays (`"chain.exponent.segments.0.value"`). Missing tables on the way
 //! are created; a key must have at least two parts (a whole table is never replaced). Each run's
-//! TOML is the base scene with `[set]`, the point, the grid values and the seed written in, then
+//! TOML is the base scene with `[set]`, the grid values, the point's and the seed written in
+//! (in that order; a point's keys in sorted order), then
 //! read by the normal scene parser and validator, so every value gets the scene's checks and
 //! messages. Every run's scene is built before any run starts: an unknown key, a wrong type, an
 //! empty list or a bad preset fails the whole sweep with one line naming the sweep file, the run

@@ -238,7 +238,6 @@ fn check_claims(
     // (key, section, point, order in which a run writes it): keys of different points never
     // clash; a run writes [set], then the grid's, the points' and the seeds' columns
     let mut claims: Vec<(&str, &str, usize, (u8, usize))> = Vec::new();
-    let mut point_cols: Vec<&str> = Vec::new();
     claims.extend(
         set.iter()
             .enumerate()
@@ -249,15 +248,13 @@ fn check_claims(
             .enumerate()
             .map(|(i, (k, _))| (k.as_str(), "[grid]", 0, (1, i))),
     );
+    // the points' columns come in sorted order (`SweepSpec::param_columns`)
+    let mut point_cols: Vec<&str> = points.iter().flatten().map(|(k, _)| k.as_str()).collect();
+    point_cols.sort_unstable();
+    point_cols.dedup();
     for (j, p) in points.iter().enumerate() {
         for (k, _) in p {
-            let col = match point_cols.iter().position(|c| c == k) {
-                Some(c) => c,
-                None => {
-                    point_cols.push(k);
-                    point_cols.len() - 1
-                }
-            };
+            let col = point_cols.binary_search(&k.as_str()).unwrap_or(0);
             claims.push((k.as_str(), "[[point]]", j, (2, col)));
         }
     }
