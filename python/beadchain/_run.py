@@ -526,7 +526,7 @@ class Simulation:
         if a.dtype.kind not in "iuf":
             raise TypeError(f"{key}: expected real numbers (an array of shape ({n},)), got "
                             f"dtype {a.dtype}")
-        if a.ndim != 1:
+        if a.ndim != 1 or a.shape[0] != n:
             raise TypeError(f"{key}: expected an array of shape ({n},) (one velocity per bead), "
                             f"got shape {a.shape}")
         self._sim.set_velocities(np.ascontiguousarray(a, dtype=np.float64))

@@ -43,15 +43,33 @@ def test_state_and_set_velocities():
 
 
 def test_set_velocities_checks_its_input():
+    """A 1-D array of the wrong length is an array of another shape: TypeError naming the
+    shape, as documented (it was SceneError, while shape (1, 10) gave TypeError)."""
     sim = bc.Simulation(bc.Scene(beads=10, striker=1.0, until=5.0))
-    with pytest.raises(bc.SceneError) as e:
+    with pytest.raises(TypeError) as e:
         sim.set_velocities(np.zeros(9))
-    assert str(e.value) == "scene: set_velocities: expected 10 velocities (one per bead), got 9"
+    assert str(e.value) == ("scene: set_velocities: v: expected an array of shape (10,) (one "
+                            "velocity per bead), got shape (9,)")
     v = np.zeros(10)
     v[3] = np.nan
     with pytest.raises(bc.SceneError) as e:
         sim.set_velocities(v)
     assert "bead 3: velocity must be finite" in str(e.value)
+
+
+def test_set_velocities_refuses_an_energy_that_overflows():
+    """The defect: velocities of 1e155 were taken (their kinetic energy overflows f64), which
+    Scene(velocity=...) refuses; stats() then gave an infinite energy and a NaN error, and the
+    injected energy stayed infinite for the rest of the simulation."""
+    sim = bc.Simulation(bc.Scene(beads=10, striker=1.0, until=30.0, every=5.0))
+    sim.advance(5.0)
+    before = sim.state
+    with pytest.raises(bc.SceneError) as e:
+        sim.set_velocities(np.full(10, 1e155))
+    assert "kinetic energy overflows f64" in str(e.value), str(e.value)
+    np.testing.assert_array_equal(sim.state.v, before.v)
+    sim.set_velocities(before.v)
+    assert np.isfinite(sim.stats()["energy_injected"])
 
 
 def test_observers_see_frames_not_steps():

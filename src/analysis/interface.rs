@@ -198,7 +198,7 @@ impl VelocityRatio {
 
     /// `|v_out / v_in|` when both peaks are resolved by the frames ([`SampledPeak::resolved`]).
     pub fn checked(&self) -> Result<f64, RatioError> {
-        if !(self.v_in > 0.0) {
+        if self.v_in.is_nan() || self.v_in <= 0.0 {
             return Err(RatioError::NoIncoming);
         }
         for (p, which) in self.peaks.iter().zip(["v_in", "v_out"]) {

@@ -245,7 +245,7 @@ impl Engine for DenseEngine<'_> {
 
     fn set_velocities(&mut self, v: &[f64]) -> Result<(), EngineError> {
         let n = self.scene.chain.len();
-        check_velocities(n, v)?;
+        check_velocities(&self.scene.chain, v)?;
         // paused at a frame: the new velocities start there
         self.paused_clock = None;
         let s = self.state();

@@ -148,11 +148,19 @@ pub(crate) fn check_target(until: f64, end: f64) -> Result<(), EngineError> {
 }
 
 /// Checks the velocities given to [`Engine::set_velocities`]: one finite value per bead.
-pub(crate) fn check_velocities(n: usize, v: &[f64]) -> Result<(), EngineError> {
+pub(crate) fn check_velocities(chain: &crate::model::Chain, v: &[f64]) -> Result<(), EngineError> {
+    let n = chain.len();
     if v.len() != n || !v.iter().all(|x| x.is_finite()) {
         return Err(EngineError::Config(format!(
             "set_velocities: expected {n} finite velocities, got {} values",
             v.len()
+        )));
+    }
+    // as a scene's initial state: an energy the floating-point range cannot hold is refused
+    let ke: f64 = chain.mass.iter().zip(v).map(|(m, x)| 0.5 * m * x * x).sum();
+    if !ke.is_finite() {
+        return Err(EngineError::Config(format!(
+            "set_velocities: the kinetic energy overflows f64 ({ke:e}): rescale the velocities"
         )));
     }
     Ok(())

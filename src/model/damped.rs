@@ -86,7 +86,7 @@ impl Chain {
     /// conservative chain or `delta ≤ 0`.
     pub fn unclipped_force(&self, c: usize, delta: f64, rate: f64) -> Option<f64> {
         let d = self.damping.as_ref()?;
-        if !(delta > 0.0) {
+        if delta.is_nan() || delta <= 0.0 {
             return None;
         }
         let (f_el, k) = super::contact_force_stiffness(self.exponent[c], self.prefactor[c], delta);

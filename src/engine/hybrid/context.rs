@@ -46,6 +46,9 @@ pub(super) struct Workspace {
     /// Contact profiles of the exact pairs, by exponent (bits) ([`exact`]).
     pub(super) profiles:
         std::collections::HashMap<u64, std::rc::Rc<crate::model::profile::Profile>>,
+    /// Each contact's peak overlap before its cluster's last step (`N + 1`; NaN where not
+    /// known, e.g. after a resume): read only by a kick ([`super::kick`]).
+    pub(super) peak_before: Vec<f64>,
 }
 
 impl Workspace {
@@ -62,6 +65,7 @@ impl Workspace {
             spare: Vec::new(),
             spare_pairs: Vec::new(),
             profiles: Default::default(),
+            peak_before: vec![f64::NAN; n + 1],
         }
     }
 }

@@ -83,6 +83,7 @@ impl Hybrid<'_> {
                 }
                 (None, None) => step_max(d, dd, ta, tb),
             };
+            self.ws.peak_before[c] = self.st.peak[c];
             if p > self.st.peak[c] {
                 self.st.peak[c] = p;
             }

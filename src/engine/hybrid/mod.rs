@@ -61,6 +61,7 @@ mod eventlog;
 mod exact;
 pub mod free;
 mod hard;
+mod kick;
 mod kinks;
 mod opening;
 mod process;

@@ -221,9 +221,10 @@ impl Engine for HybridEngine<'_> {
     /// hard contacts and wall pins are detected again from there.
     fn set_velocities(&mut self, v: &[f64]) -> Result<(), EngineError> {
         let h = &mut self.h;
-        check_velocities(h.ctx.n, v)?;
+        check_velocities(h.ctx.chain, v)?;
         let t = h.st.t;
         let u: Vec<f64> = (0..h.ctx.n).map(|i| h.pos(i, t).0).collect();
+        let closed = h.settle_for_kick(t);
         let ids: Vec<ClusterId> = h.clusters.ids().collect();
         for slot in ids {
             if let Some(cl) = h.clusters.get_mut(slot) {
@@ -247,6 +248,7 @@ impl Engine for HybridEngine<'_> {
             &h.ctx.tol.scales,
         );
         h.init(t, &u, v);
+        h.log_reclassified(t, &closed, &u, v);
         Ok(())
     }
 
