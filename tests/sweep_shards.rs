@@ -11,6 +11,26 @@ const SCENE: &str =
 const SWEEP: &str = "scene = \"sc.toml\"\n[grid]\n\"initial.striker\" = [1.0, 2.0, 3.0, 4.0]\n\
                      [measure]\ninterface = 10\n";
 
+/// Runs `beadchain ARGS` in `p`; it must succeed.
+fn ok(p: &std::path::Path, args: &[&str]) {
+    let o = bc(p, args);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+/// A directory with the scene, the sweep file `sweep` and masses 1.
+fn setup(sweep: &str) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("sc.toml"), SCENE).unwrap();
+    std::fs::write(dir.path().join("sw.toml"), sweep).unwrap();
+    masses(dir.path(), 1.0);
+    dir
+}
+
 fn masses(dir: &std::path::Path, m: f64) {
     std::fs::write(dir.join("mass.csv"), format!("{m}\n").repeat(20)).unwrap();
 }
@@ -22,31 +42,28 @@ fn masses(dir: &std::path::Path, m: f64) {
 /// refuses shards whose hashes differ.
 #[test]
 fn merge_refuses_shards_run_on_different_inputs() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = setup(SWEEP);
     let p = dir.path();
-    std::fs::write(p.join("sc.toml"), SCENE).unwrap();
-    std::fs::write(p.join("sw.toml"), SWEEP).unwrap();
-    masses(p, 1.0);
-    let ok = |args: &[&str]| {
-        let o = bc(p, args);
-        assert_eq!(
-            o.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&o.stderr)
-        );
-    };
-    ok(&[
-        "sweep", "sw.toml", "--shard", "1/2", "--out", "s.1.csv", "-q",
-    ]);
-    ok(&[
-        "sweep", "sw.toml", "--shard", "2/2", "--out", "s.2.csv", "-q",
-    ]);
-    ok(&["merge", "same.csv", "s.1.csv", "s.2.csv"]);
+    ok(
+        p,
+        &[
+            "sweep", "sw.toml", "--shard", "1/2", "--out", "s.1.csv", "-q",
+        ],
+    );
+    ok(
+        p,
+        &[
+            "sweep", "sw.toml", "--shard", "2/2", "--out", "s.2.csv", "-q",
+        ],
+    );
+    ok(p, &["merge", "same.csv", "s.1.csv", "s.2.csv"]);
     masses(p, 2.0);
-    ok(&[
-        "sweep", "sw.toml", "--shard", "2/2", "--out", "s.2.csv", "-q",
-    ]);
+    ok(
+        p,
+        &[
+            "sweep", "sw.toml", "--shard", "2/2", "--out", "s.2.csv", "-q",
+        ],
+    );
     let o = bc(p, &["merge", "merged.csv", "s.1.csv", "s.2.csv"]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
@@ -70,31 +87,28 @@ fn as_older_binary(meta: &std::path::Path) {
 /// are now compared with the first shard that has a hash, and the merged result carries it.
 #[test]
 fn merge_compares_inputs_past_a_first_shard_without_them() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = setup(&SWEEP.replace("4.0]", "4.0, 5.0, 6.0]"));
     let p = dir.path();
-    std::fs::write(p.join("sc.toml"), SCENE).unwrap();
-    std::fs::write(p.join("sw.toml"), SWEEP.replace("4.0]", "4.0, 5.0, 6.0]")).unwrap();
-    let ok = |args: &[&str]| {
-        let o = bc(p, args);
-        assert_eq!(
-            o.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&o.stderr)
-        );
-    };
-    masses(p, 1.0);
-    ok(&[
-        "sweep", "sw.toml", "--shard", "1/3", "--out", "t.1.csv", "-q",
-    ]);
-    ok(&[
-        "sweep", "sw.toml", "--shard", "2/3", "--out", "t.2.csv", "-q",
-    ]);
+    ok(
+        p,
+        &[
+            "sweep", "sw.toml", "--shard", "1/3", "--out", "t.1.csv", "-q",
+        ],
+    );
+    ok(
+        p,
+        &[
+            "sweep", "sw.toml", "--shard", "2/3", "--out", "t.2.csv", "-q",
+        ],
+    );
     as_older_binary(&p.join("t.1.csv.meta"));
     masses(p, 2.0);
-    ok(&[
-        "sweep", "sw.toml", "--shard", "3/3", "--out", "t.3.csv", "-q",
-    ]);
+    ok(
+        p,
+        &[
+            "sweep", "sw.toml", "--shard", "3/3", "--out", "t.3.csv", "-q",
+        ],
+    );
     let o = bc(p, &["merge", "m.csv", "t.1.csv", "t.2.csv", "t.3.csv"]);
     assert_eq!(
         o.status.code(),
@@ -109,10 +123,13 @@ fn merge_compares_inputs_past_a_first_shard_without_them() {
     );
     // on the same inputs the older shard merges, and the result carries the others' hash
     masses(p, 1.0);
-    ok(&[
-        "sweep", "sw.toml", "--shard", "3/3", "--out", "t.3.csv", "-q",
-    ]);
-    ok(&["merge", "m.csv", "t.1.csv", "t.2.csv", "t.3.csv"]);
+    ok(
+        p,
+        &[
+            "sweep", "sw.toml", "--shard", "3/3", "--out", "t.3.csv", "-q",
+        ],
+    );
+    ok(p, &["merge", "m.csv", "t.1.csv", "t.2.csv", "t.3.csv"]);
     let meta = std::fs::read_to_string(p.join("m.csv.meta")).unwrap();
     assert!(meta.lines().next().unwrap().contains(" inputs="), "{meta}");
 }
@@ -122,11 +139,8 @@ fn merge_compares_inputs_past_a_first_shard_without_them() {
 /// now refused before anything runs, and the file is left as it was.
 #[test]
 fn a_shard_does_not_overwrite_other_runs_of_its_sweep() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = setup(SWEEP);
     let p = dir.path();
-    std::fs::write(p.join("sc.toml"), SCENE).unwrap();
-    std::fs::write(p.join("sw.toml"), SWEEP).unwrap();
-    masses(p, 1.0);
     let o = bc(p, &["sweep", "sw.toml", "--out", "r.csv", "-q"]);
     assert_eq!(o.status.code(), Some(0));
     let before = std::fs::read(p.join("r.csv")).unwrap();
