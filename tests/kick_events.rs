@@ -103,3 +103,46 @@ fn a_kick_logs_the_peak_overlap_reached_before_it() {
         "{open:?} {at_kick}"
     );
 }
+
+/// A review's follow-up: the peak before a cluster's last step was not known for a cluster
+/// made at the clock (a kick at an event pause, two kicks at one time), so a kick took the
+/// overlap at the kick alone (0.249 where the pair reached 0.574) or a finished collision's
+/// peak. Each open now logs the plain run's peak (rel 1e-6) when kicked, with unchanged
+/// velocities, twice at one time after the peak, and at every `close` pause of the striker.
+#[test]
+fn kicks_at_event_pauses_and_twice_keep_the_peaks() {
+    use beadchain::engine::{PauseAt, Stop};
+    let s = preset("striker").unwrap();
+    let cfg = common::config(Engine::Hybrid, Method::Auto, 1e-8, 1e-12, 40.0);
+    let (_, plain) = common::run(&s, &cfg);
+    let mut e = engine::start(&s, &cfg).unwrap();
+    let mut rec = Recorder::default();
+    e.pause_at(PauseAt {
+        frames: false,
+        events: true,
+    });
+    loop {
+        match e.advance(40.0, &mut rec).unwrap() {
+            Stop::Event { event, .. } if event.kind == EventKind::Close => {
+                let v = e.state().v;
+                e.set_velocities(&v).unwrap();
+                e.set_velocities(&v).unwrap();
+            }
+            Stop::Event { .. } => {}
+            _ => break,
+        }
+    }
+    let opens = |r: &Recorder| -> Vec<(u64, f64)> {
+        r.events
+            .iter()
+            .filter(|e| e.kind == EventKind::Open)
+            .map(|e| (e.contact, e.peak_overlap))
+            .collect()
+    };
+    let (a, b) = (opens(&plain), opens(&rec));
+    assert!(a.len() >= 30, "{a:?}");
+    for ((ca, pa), (cb, pb)) in a.iter().zip(&b) {
+        assert_eq!(ca, cb);
+        assert!((pa - pb).abs() <= 1e-6 * pa, "contact {ca}: {pa} {pb}");
+    }
+}

@@ -515,9 +515,9 @@ class Simulation:
 
     def set_velocities(self, v) -> None:
         """New velocities (N,) at the engine clock; the integration restarts there. ``v``: real
-        numbers, one per bead (an array of another shape, or of bools, complex numbers or
-        objects, raises TypeError as ``Scene(velocity=...)`` refuses them; a masked value or a
-        non-finite one SceneError)."""
+        numbers, one per bead (an array of another shape, a 1-D one of another length too, or
+        of bools, complex numbers or objects, raises TypeError naming the shape or dtype; a
+        masked value, a non-finite one or a kinetic energy that overflows SceneError)."""
         key = f"{self.scene.name}: set_velocities: v"
         if isinstance(v, np.ma.MaskedArray):
             v = _masked_data(key, v)

@@ -89,7 +89,8 @@ pub enum Sampling {
     /// A sample either side is below half of it: the pulse passes the bead in fewer than 3
     /// frames, and its height falls between them.
     Sparse,
-    /// The last frame's: the pulse may still be rising when the run ends.
+    /// The last frame's (or the second-to-last's, held in the last): the pulse may still be
+    /// rising when the run ends.
     AtEnd,
 }
 
@@ -101,7 +102,7 @@ impl SampledPeak {
         let (v, half) = (self.value, 0.5 * self.value);
         if v == 0.0 || (self.after == v && self.after2 == v) {
             Sampling::Exact
-        } else if self.after.is_nan() {
+        } else if self.after.is_nan() || (self.after == v && self.after2.is_nan()) {
             Sampling::AtEnd
         } else if self.before.is_nan() && self.after >= half {
             Sampling::Exact
@@ -226,6 +227,11 @@ impl VelocityRatio {
             }
         }
         Ok(self.ratio())
+    }
+
+    /// Whether both peaks are [`Sampling::Exact`] samples.
+    pub fn exact(&self) -> bool {
+        self.peaks.iter().all(|p| p.sampling() == Sampling::Exact)
     }
 
     /// The estimated relative error of [`Self::checked`]'s ratio from the frames' sampling of
@@ -506,6 +512,16 @@ mod tests {
         // the initial velocity, falling after
         assert_eq!(q(f64::NAN, 1.0, 0.9, 0.8).sampling(), Sampling::Exact);
         assert_eq!(q(f64::NAN, 1.0, 0.4, 0.2).sampling(), Sampling::Sparse);
+        // a plateau from the second-to-last frame: the run ends on it
+        assert_eq!(q(0.0, 1.0, 1.0, f64::NAN).sampling(), Sampling::AtEnd);
+        // a symmetric resolved peak has no shortfall but is not exact
+        let sym = q(0.75, 1.0, 0.75, 0.2);
+        let r = VelocityRatio {
+            v_in: 1.0,
+            v_out: 1.0,
+            peaks: [sym, sym],
+        };
+        assert_eq!((r.sampling_error(), r.exact()), (0.0, false));
         // the last frame
         let last = q(0.9, 1.0, f64::NAN, f64::NAN);
         assert_eq!(last.sampling(), Sampling::AtEnd);

@@ -150,10 +150,16 @@ pub(crate) fn check_target(until: f64, end: f64) -> Result<(), EngineError> {
 /// Checks the velocities given to [`Engine::set_velocities`]: one finite value per bead.
 pub(crate) fn check_velocities(chain: &crate::model::Chain, v: &[f64]) -> Result<(), EngineError> {
     let n = chain.len();
-    if v.len() != n || !v.iter().all(|x| x.is_finite()) {
+    if v.len() != n {
         return Err(EngineError::Config(format!(
-            "set_velocities: expected {n} finite velocities, got {} values",
+            "set_velocities: expected {n} velocities (one per bead), got {}",
             v.len()
+        )));
+    }
+    if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+        return Err(EngineError::Config(format!(
+            "set_velocities: bead {i}: velocity must be finite, got {}",
+            v[i]
         )));
     }
     // as a scene's initial state: an energy the floating-point range cannot hold is refused

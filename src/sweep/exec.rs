@@ -9,6 +9,7 @@
 use super::content::reusable_rows;
 use super::csv::{self, field, ResultFile};
 use super::expand::RunPoint;
+use super::shard::Shard;
 use super::{Decay, SweepError, SweepSpec};
 use crate::analysis::{
     energy_split, fit_exponential, fragmentation, AnalysisError, ExpFit, SteadyStateStop,
@@ -21,38 +22,6 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Instant;
-
-/// `--shard K/M`: the runs with `index % M == K − 1` (K is 1-based).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Shard {
-    /// 1-based shard number.
-    pub k: usize,
-    /// Number of shards.
-    pub m: usize,
-}
-
-impl std::str::FromStr for Shard {
-    type Err = SweepError;
-    fn from_str(s: &str) -> Result<Self, SweepError> {
-        let bad = |why: &str| SweepError::Options(format!("--shard {s}: {why}"));
-        let (k, m) = s
-            .split_once('/')
-            .ok_or_else(|| bad("expected K/M, e.g. 3/8"))?;
-        let k: usize = k.trim().parse().map_err(|_| bad("K is not a number"))?;
-        let m: usize = m.trim().parse().map_err(|_| bad("M is not a number"))?;
-        if m == 0 || k == 0 || k > m {
-            return Err(bad("need 1 <= K <= M"));
-        }
-        Ok(Shard { k, m })
-    }
-}
-
-impl Shard {
-    /// Whether run `index` belongs to this shard.
-    pub fn contains(&self, index: usize) -> bool {
-        index % self.m == self.k - 1
-    }
-}
 
 /// How to run a sweep.
 #[derive(Clone, Debug)]
@@ -282,7 +251,7 @@ pub fn run_sweep(
         mine,
     } = plan(spec, opts)?;
     csv::check_destinations(&opts.out)?;
-    check_other_shards(opts, &spec_line, &mine)?;
+    super::shard::check_other_shards((&opts.out, opts.shard), &spec_line, &mine)?;
     let (partial, done, resumed, skipped) =
         rows_done(spec, opts, keyed, &mine, &partial_line, &columns)?;
     let mut pending: Vec<&RunPoint> = mine
@@ -330,44 +299,6 @@ struct Plan {
     partial_line: String,
     columns: String,
     mine: Vec<RunPoint>,
-}
-
-/// A shard's `--out` that holds the result of this same sweep (its spec line) with rows of
-/// runs outside the shard (the whole sweep's result, another shard's) is refused before
-/// anything runs: writing the shard's rows there would drop them.
-fn check_other_shards(
-    opts: &SweepOptions,
-    spec_line: &str,
-    mine: &[RunPoint],
-) -> Result<(), SweepError> {
-    let Some(shard) = opts.shard else {
-        return Ok(());
-    };
-    let Ok(old) = csv::read_result(&opts.out, false) else {
-        return Ok(());
-    };
-    let same_sweep = old.spec_line.split(" inputs=").next() == Some(spec_line);
-    let others: Vec<usize> = old
-        .rows
-        .keys()
-        .copied()
-        .filter(|i| mine.binary_search_by_key(i, |r| r.index).is_err())
-        .collect();
-    match (same_sweep, others.first()) {
-        (true, Some(first)) => Err(SweepError::Csv {
-            file: opts.out.display().to_string(),
-            line: 0,
-            message: format!(
-                "it holds {} rows of this sweep that shard {}/{} does not run (run {first} \
-                 first); writing the shard's result there would drop them: give the shard its \
-                 own --out (and `beadchain merge` the shards)",
-                others.len(),
-                shard.k,
-                shard.m
-            ),
-        }),
-        _ => Ok(()),
-    }
 }
 
 /// Checks every run of the sweep ([`SweepSpec::check_all_keyed`]) and keeps this shard's.

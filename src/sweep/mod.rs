@@ -90,10 +90,12 @@ pub mod csv;
 pub mod exec;
 pub mod expand;
 mod parse;
+pub mod shard;
 
 pub use csv::merge;
-pub use exec::{run_sweep, Shard, SweepOptions, SweepSummary};
+pub use exec::{run_sweep, SweepOptions, SweepSummary};
 pub use expand::{RunPoint, MAX_RUNS};
+pub use shard::Shard;
 
 use crate::scene::SceneError;
 use serde::Deserialize;

@@ -26,6 +26,11 @@ impl Hybrid<'_> {
     ) {
         let m = hi - lo;
         let chain = self.ctx.chain;
+        // a new cluster has taken no step: its contacts' peaks so far are their peaks before
+        // its last step (read by a kick, `super::kick`)
+        for c in lo..hi - 1 {
+            self.ws.peak_before[c] = self.st.peak[c];
+        }
         let absolute = (lo == 0 && chain.left_wall.is_some())
             || (hi == self.ctx.n && chain.right_wall.is_some());
         let (fu, fv) = self.frame_state(lo, hi, absolute, (u, v));
