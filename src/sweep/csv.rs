@@ -97,6 +97,16 @@ pub fn meta_path(out: &Path) -> PathBuf {
     PathBuf::from(s)
 }
 
+/// A spec line without its ` inputs=HASH` (the sweep file and scene part alone).
+pub fn spec_part(line: &str) -> &str {
+    line.split(" inputs=").next().unwrap_or("")
+}
+
+/// The ` inputs=HASH` of a spec line (none in results of builds before 2026-11-29).
+pub fn inputs_part(line: &str) -> Option<&str> {
+    line.split(" inputs=").nth(1)
+}
+
 /// The sidecar `OUT.meta`: the spec line, the [provenance line](provenance_line), then one line
 /// `# run I content=KEY` per row (KEY: the run's content key,
 /// [`super::SweepSpec::content_key`], 16 hex digits), in run order.
@@ -398,8 +408,6 @@ pub fn merge(
     let head = read_result(first, false)?;
     let mut rows: BTreeMap<usize, String> = BTreeMap::new();
     let mut from: BTreeMap<usize, &Path> = BTreeMap::new();
-    let spec_of = |l: &str| l.split(" inputs=").next().unwrap_or("").to_string();
-    let inputs = |l: &str| l.split(" inputs=").nth(1).map(str::to_string);
     let mut inputs_of: Option<(String, &PathBuf)> = None;
     for s in shards {
         let r = read_result(s, false)?;
@@ -411,12 +419,12 @@ pub fn merge(
                 first.display()
             ),
         };
-        if spec_of(&r.spec_line) != spec_of(&head.spec_line) {
+        if spec_part(&r.spec_line) != spec_part(&head.spec_line) {
             return Err(mismatch("spec line"));
         }
         // the first shard with an inputs hash is the one the others' are compared with (an
         // older beadchain's shards have none)
-        if let Some(a) = inputs(&r.spec_line) {
+        if let Some(a) = inputs_part(&r.spec_line).map(str::to_string) {
             match &inputs_of {
                 None => inputs_of = Some((a, s)),
                 Some((b, by)) if *b != a => {
@@ -481,7 +489,7 @@ pub fn merge(
         .filter(|(i, _)| rows.contains_key(i))
         .collect();
     let line = match &inputs_of {
-        Some((a, _)) => format!("{} inputs={a}", spec_of(&head.spec_line)),
+        Some((a, _)) => format!("{} inputs={a}", spec_part(&head.spec_line)),
         None => head.spec_line.clone(),
     };
     write_result(out, &line, &keys, &head.columns, &rows)?;

@@ -493,8 +493,8 @@ fn check_partial(
         line,
         message,
     };
-    let spec_of = |l: &str| l.split(" inputs=").next().unwrap_or("").to_string();
-    let legacy = !old.spec_line.contains(" inputs=");
+    let spec_of = csv::spec_part;
+    let legacy = csv::inputs_part(&old.spec_line).is_none();
     if old.spec_line != spec_line && !legacy && spec_of(&old.spec_line) == spec_of(spec_line) {
         return Err(bad(
             1,

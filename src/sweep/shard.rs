@@ -50,7 +50,7 @@ pub(super) fn check_other_shards(
     let Ok(old) = csv::read_result(out, false) else {
         return Ok(());
     };
-    let same_sweep = old.spec_line.split(" inputs=").next() == Some(spec_line);
+    let same_sweep = csv::spec_part(&old.spec_line) == spec_line;
     let others: Vec<usize> = old
         .rows
         .keys()

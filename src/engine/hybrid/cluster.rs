@@ -220,6 +220,17 @@ impl Cluster {
         self.frame_vel(t) + self.integ.dense_at(t, self.m() + i - self.data.lo)
     }
 
+    /// When contact `c` (precompression `pre`) crossed the threshold `theta` downwards within
+    /// `[ta, t]`: an exact pair's own leaving time, else the crossing located on the
+    /// continuous output (`t` where none is found), as the event log records an opening.
+    pub fn opening_time(&self, c: usize, pre: f64, theta: f64, (ta, t): (f64, f64)) -> f64 {
+        let g = |x: f64| theta - (pre + self.w_at(x, c) - self.w_at(x, c + 1));
+        match self.integ.exact_pair().and_then(|p| p.leaving(theta)) {
+            Some(te) => te.clamp(ta, t),
+            None => super::detect::first_crossing(g, ta, t).unwrap_or(t),
+        }
+    }
+
     /// The accelerations of the cluster's beads at its current state, with their real masses
     /// (the force a pinned bead feels; not hot: hard collisions and resting contacts).
     pub fn accel_now(&self, chain: &Chain) -> Vec<f64> {

@@ -20,7 +20,7 @@
 //!
 //! Soft walls' contacts are not settled this way.
 
-use super::detect::{first_crossing, step_max};
+use super::detect::step_max;
 use super::Hybrid;
 use crate::engine::events::EventKind;
 
@@ -61,10 +61,7 @@ impl Hybrid<'_> {
                     self.st.peak[c] = before.max(p);
                 }
                 if d(t) < theta && dd(t) < 0.0 {
-                    let t_open = match cl.integ.exact_pair().and_then(|p| p.leaving(theta)) {
-                        Some(te) => te.clamp(ta, t),
-                        None => first_crossing(|x| theta - d(x), ta, t).unwrap_or(t),
-                    };
+                    let t_open = cl.opening_time(c, pre, theta, (ta, t));
                     let rel = dd(t_open);
                     self.log(t_open, c, EventKind::Open, rel, self.st.peak[c]);
                     self.st.peak[c] = 0.0;

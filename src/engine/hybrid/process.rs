@@ -448,13 +448,8 @@ impl Hybrid<'_> {
             if opens {
                 // The split happens at the step end (the dynamics inside the cluster were exact
                 // up to there); the logged time is the crossing located on the step's output.
-                let pre = self.pre(i);
-                let theta = self.ctx.theta;
-                let g = |x: f64| theta - (pre + cl.w_at(x, i) - cl.w_at(x, i + 1));
-                let t_open = match cl.integ.exact_pair().and_then(|p| p.leaving(theta)) {
-                    Some(te) => te.clamp(cl.integ.t_prev(), t),
-                    None => super::detect::first_crossing(g, cl.integ.t_prev(), t).unwrap_or(t),
-                };
+                let t_open =
+                    cl.opening_time(i, self.pre(i), self.ctx.theta, (cl.integ.t_prev(), t));
                 let rel = cl.v_at(t_open, i) - cl.v_at(t_open, i + 1);
                 self.log(t_open, i, EventKind::Open, rel, self.st.peak[i]);
                 self.st.peak[i] = 0.0;
