@@ -266,8 +266,8 @@ def events_to_xarray(run):
 class _Frames:
     """Reads frames of one snapshot file for the lazy arrays.
 
-    The compiled ``SnapshotFile`` may only be used by the thread that opened it: other threads
-    (dask's workers) open the file once more for themselves.
+    Other threads than the opener's (dask's workers) open the file once more for themselves, so
+    that they read in parallel (one open file serves one read at a time).
     """
 
     def __init__(self, path: str, run):

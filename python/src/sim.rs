@@ -15,13 +15,16 @@ use beadchain::snapshot::size::short;
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// A running engine with the scene and configuration it borrows.
 ///
 /// `engine` borrows `*scene` and `*cfg`: both are boxed (their addresses never change while the
 /// boxes live) and never mutated, and `engine` is declared first, so it is dropped before them.
 struct Running {
-    engine: Box<dyn Engine + 'static>,
+    /// Behind a mutex so that a `Simulation` may be used, and dropped, on any thread (an
+    /// engine is `Send`, not `Sync`); `&mut` paths reach it without locking.
+    engine: Mutex<Box<dyn Engine + 'static>>,
     obs: Collector,
     cfg: Box<RunConfig>,
     scene: Box<LibScene>,
@@ -38,13 +41,23 @@ impl Running {
                 &*(cfg.as_ref() as *const RunConfig),
             )
         };
-        let engine = engine::start(s, c)?;
+        let engine = Mutex::new(engine::start(s, c)?);
         Ok(Self {
             engine,
             obs,
             cfg,
             scene,
         })
+    }
+
+    /// The engine, for reading (a panic inside an earlier call does not make it unreadable).
+    fn engine(&self) -> MutexGuard<'_, Box<dyn Engine + 'static>> {
+        self.engine.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// The engine, for changing.
+    fn engine_mut(&mut self) -> &mut Box<dyn Engine + 'static> {
+        self.engine.get_mut().unwrap_or_else(PoisonError::into_inner)
     }
 }
 
@@ -74,7 +87,7 @@ fn py_time(x: f64) -> String {
 }
 
 /// A simulation advanced step by step (see the Python `Simulation`).
-#[pyclass(module = "beadchain._beadchain", unsendable)]
+#[pyclass(module = "beadchain._beadchain")]
 pub struct Simulation {
     run: Running,
     /// Why and when the engine failed: later advances raise until a valid state is set.
@@ -89,7 +102,7 @@ impl Simulation {
     /// Refuses an advance target that is not a time from the engine clock to the run's end
     /// (`ValueError` naming it and the valid range; the simulation is left as it was).
     fn check_target(&self, until: f64) -> PyResult<()> {
-        let (now, end) = (self.run.engine.time(), self.run.cfg.until);
+        let (now, end) = (self.run.engine().time(), self.run.cfg.until);
         let why = if until.is_nan() {
             "is not a number".to_string()
         } else if until.is_infinite() {
@@ -165,7 +178,7 @@ impl Simulation {
     /// (`events`, hybrid engine). Pausing changes no number of the run.
     #[pyo3(signature = (frames=false, events=false))]
     fn pause_at(&mut self, frames: bool, events: bool) {
-        self.run.engine.pause_at(PauseAt { frames, events });
+        self.run.engine_mut().pause_at(PauseAt { frames, events });
     }
 
     /// Advances to `until` (default: the run's end time); returns `(reason, t, event)`:
@@ -191,12 +204,13 @@ impl Simulation {
         let target = until.unwrap_or(self.run.cfg.until);
         self.check_target(target)?;
         let Running { engine, obs, .. } = &mut self.run;
+        let engine = engine.get_mut().unwrap_or_else(PoisonError::into_inner);
         let r = without_gil(py, || engine.advance(target, obs));
         let stop = r.map_err(|e| {
             // a refused configuration leaves the state as it was: only an engine that failed
             // while it ran stays failed
             if !matches!(e, EngineError::Config(_) | EngineError::Checkpoint(_)) {
-                self.failed = Some((self.run.engine.time(), e.to_string()));
+                self.failed = Some((self.run.engine().time(), e.to_string()));
             }
             engine_err(&self.run.scene, &mut self.run.obs, e)
         })?;
@@ -222,7 +236,7 @@ impl Simulation {
     /// The engine clock.
     #[getter]
     fn time(&self) -> f64 {
-        self.run.engine.time()
+        self.run.engine().time()
     }
 
     /// The run's end time.
@@ -237,7 +251,7 @@ impl Simulation {
         &self,
         py: Python<'py>,
     ) -> (f64, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>) {
-        let s = self.run.engine.state();
+        let s = self.run.engine().state();
         (
             s.t,
             PyArray1::from_vec(py, s.u),
@@ -264,15 +278,15 @@ impl Simulation {
         }
         let name = self.run.scene.name.clone();
         let energy_before = {
-            let s = self.run.engine.state();
+            let s = self.run.engine().state();
             self.run.scene.chain.energy(&s.u, &s.v)
         };
         self.run
-            .engine
+            .engine_mut()
             .set_velocities(v)
             .map_err(|e| SceneError::new_err(format!("{name}: {e}")))?;
         if self.failed.is_some() {
-            let s = self.run.engine.state();
+            let s = self.run.engine().state();
             if let Some(i) = s.u.iter().position(|x| !x.is_finite()) {
                 return Err(RunError::new_err(format!(
                     "{name}: set_velocities: the failed simulation's displacement of bead {i} is {} at t = {}: it cannot go on; start a new Simulation",
@@ -281,7 +295,7 @@ impl Simulation {
             }
             self.failed = None;
         }
-        let o = self.run.engine.outcome();
+        let o = self.run.engine().outcome();
         let chain = &self.run.scene.chain;
         if energy_before.is_finite() {
             self.injected += o.energy_final - energy_before;
@@ -304,7 +318,7 @@ impl Simulation {
     /// gross energies of the reference and current states); `energy_initial` and
     /// `momentum_initial` stay those of t = 0.
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let o = self.run.engine.outcome();
+        let o = self.run.engine().outcome();
         let d = stats(py, &o)?;
         match &self.reference {
             None => {

@@ -18,7 +18,7 @@ fn snap_err(e: beadchain::snapshot::SnapshotError) -> PyErr {
 }
 
 /// An open snapshot file.
-#[pyclass(module = "beadchain._beadchain", unsendable)]
+#[pyclass(module = "beadchain._beadchain")]
 pub struct SnapshotFile {
     snap: Snapshot,
 }

@@ -96,7 +96,7 @@ pub struct State {
 }
 
 /// A running simulation of one scene.
-pub trait Engine {
+pub trait Engine: Send {
     /// Advances to `until` (at most the run's end time `cfg.until`), handing frames, events and
     /// checkpoints to `obs`. Frames after `until` are not emitted before the next advance.
     fn advance(&mut self, until: f64, obs: &mut dyn Observer) -> Result<Stop, EngineError>;

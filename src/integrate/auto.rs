@@ -476,7 +476,7 @@ mod tests {
     fn exact_pair_state_is_refused_by_its_own_name_not_as_auto() {
         use crate::integrate::exact_pair::{ExactPair, PairLaw};
         use crate::model::profile::Profile;
-        use std::rc::Rc;
+        use std::sync::Arc;
         let chain = uniform_chain(2);
         let (u, v) = striker(2, 1.0);
         let tol = tol_of(&chain, &u, &v, 1e-12);
@@ -489,7 +489,7 @@ mod tests {
             accel: 0.0,
             wall: None,
         };
-        let mut pair = ExactPair::new(law, Rc::new(Profile::new(2.5)), false);
+        let mut pair = ExactPair::new(law, Arc::new(Profile::new(2.5)), false);
         pair.reset(&sys, 0.0, &u, &v);
         let mut dop = Dop853::new(2, tol);
         dop.reset(&sys, 0.0, &u, &v);

@@ -32,7 +32,7 @@ use super::{IntegrationError, Integrator, IntegratorState, LoadError, MethodStat
 use crate::model::profile::Profile;
 use serde::{Deserialize, Serialize};
 use std::cell::Cell;
-use std::rc::Rc;
+use std::sync::Arc;
 
 /// The contact: masses, law and precompression (`δ = Δ + w₀ − w₁`), and the common acceleration
 /// of the two beads in the integrated frame.
@@ -100,7 +100,7 @@ pub struct PairState {
 /// The exact two-body contact as an integrator (module docs).
 pub struct ExactPair {
     law: PairLaw,
-    profile: Rc<Profile>,
+    profile: Arc<Profile>,
     s: PairState,
     /// `u₀, u₁, v₀, v₁` at `s.t` (`u₀, v₀` against a wall, then two unused zeros).
     z: [f64; 4],
@@ -113,7 +113,7 @@ pub struct ExactPair {
 impl ExactPair {
     /// An exact pair for `law` with its exponent's `profile`; `from_flight`: the first reset
     /// reads a free-flight state (module docs).
-    pub fn new(law: PairLaw, profile: Rc<Profile>, from_flight: bool) -> Self {
+    pub fn new(law: PairLaw, profile: Arc<Profile>, from_flight: bool) -> Self {
         debug_assert_eq!(profile.exponent(), law.n);
         ExactPair {
             law,
@@ -129,7 +129,7 @@ impl ExactPair {
     }
 
     /// Makes this pair the one `new(law, profile, from_flight)` builds, keeping its allocation.
-    pub fn renew(&mut self, law: PairLaw, profile: Rc<Profile>, from_flight: bool) {
+    pub fn renew(&mut self, law: PairLaw, profile: Arc<Profile>, from_flight: bool) {
         *self = ExactPair::new(law, profile, from_flight);
     }
 

@@ -398,7 +398,7 @@ pub(crate) fn assert_sizes(m: usize, sys: &dyn System, u: &[f64], v: &[f64]) {
 }
 
 /// An adaptive one-step integrator with continuous output over the last accepted step.
-pub trait Integrator {
+pub trait Integrator: Send {
     /// Starts (or restarts) from state `(u, v)` at time `t`.
     fn reset(&mut self, sys: &dyn System, t: f64, u: &[f64], v: &[f64]);
     /// Overrides the next step-size proposal (e.g. to land on a known time in one step).

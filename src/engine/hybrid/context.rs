@@ -45,7 +45,7 @@ pub(super) struct Workspace {
     pub(super) spare_pairs: Vec<Box<dyn crate::integrate::Integrator>>,
     /// Contact profiles of the exact pairs, by exponent (bits) ([`exact`]).
     pub(super) profiles:
-        std::collections::HashMap<u64, std::rc::Rc<crate::model::profile::Profile>>,
+        std::collections::HashMap<u64, std::sync::Arc<crate::model::profile::Profile>>,
     /// Each contact's peak overlap before its cluster's last step (`N + 1`; NaN where not
     /// known, e.g. after a resume): read only by a kick ([`super::kick`]).
     pub(super) peak_before: Vec<f64>,

@@ -19,7 +19,7 @@ use super::Hybrid;
 use crate::integrate::exact_pair::{ExactPair, PairLaw};
 use crate::integrate::Integrator;
 use crate::model::profile::Profile;
-use std::rc::Rc;
+use std::sync::Arc;
 
 impl Hybrid<'_> {
     /// The law of contact `c` when the two beads `c`, `c + 1` alone may take the exact path
@@ -92,7 +92,7 @@ impl Hybrid<'_> {
             .ws
             .profiles
             .entry(law.n.to_bits())
-            .or_insert_with(|| Rc::new(Profile::new(law.n)))
+            .or_insert_with(|| Arc::new(Profile::new(law.n)))
             .clone();
         match self.ws.spare_pairs.pop() {
             Some(mut pair) => {
