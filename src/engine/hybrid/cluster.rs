@@ -133,6 +133,14 @@ pub enum Pending {
         /// Located opening time.
         t: f64,
     },
+    /// A hold inside lets go at `t` (located on the continuous output, [`super::release`]):
+    /// the cluster lands there, lets it go and splits.
+    Release {
+        /// Located time.
+        t: f64,
+        /// What lets go.
+        hold: super::release::Hold,
+    },
 }
 
 /// A cluster's state as data: its beads, frame, clock, pending event, integrator masses and

@@ -160,7 +160,13 @@ impl Hybrid<'_> {
             self.set_velocity(c, t, v);
             self.set_velocity(c + 1, t, v);
             self.st.stuck[c] = true;
-            return self.merge_at(c, t);
+            self.merge_at(c, t)?;
+            // a resting contact already tensile lets go at once ([`super::release`])
+            let slot = self.st.owner[c];
+            if slot != FREE && self.tension(&self.clusters[slot]).is_some() {
+                self.release_now(slot, t);
+            }
+            return Ok(());
         }
         let (e, floor) = self.tc_model(c, t, e0, push);
         let sep = (e * w.max(0.0)).max(floor);

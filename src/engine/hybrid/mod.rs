@@ -66,6 +66,7 @@ mod kinks;
 mod opening;
 mod process;
 pub mod queue;
+mod release;
 mod rest;
 pub mod saved;
 mod state;
@@ -429,7 +430,14 @@ impl<'a> Hybrid<'a> {
                 return Ok(());
             }
         }
-        if let Some(to) = self.first_landing(cl, t0, t1) {
+        let landing = self.first_landing(cl, t0, t1);
+        if let Some((tr, hold)) = self.first_release(cl, t0, t1) {
+            if earliest.is_none_or(|(te, _)| tr < te) && landing.is_none_or(|to| tr <= to) {
+                self.defer_release(slot, tr, hold);
+                return Ok(());
+            }
+        }
+        if let Some(to) = landing {
             if earliest.is_none_or(|(te, _)| to < te) {
                 self.defer_open(slot, to);
                 return Ok(());

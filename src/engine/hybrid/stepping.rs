@@ -109,6 +109,7 @@ impl Hybrid<'_> {
             }
             Some(cluster::Pending::HardWall { side, t }) => self.process_hard_wall(side, t),
             Some(cluster::Pending::Open { t }) => self.open_at(slot, t),
+            Some(cluster::Pending::Release { t, hold }) => self.release_at(slot, t, hold),
             None => self.step_cluster(slot),
         }
     }

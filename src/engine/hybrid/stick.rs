@@ -28,11 +28,11 @@
 //! beads joined by resting contacts form a *rigid run*: each gets the run's mean acceleration
 //! `Σ m_i a_i / Σ m_i` (internal contact forces cancel; [`super::cluster::rigid_accel`]), so
 //! they keep their common velocity. At each step end the force the run's contacts carry is
-//! checked ([`Hybrid::tension`]); a resting contact that would be tensile opens, and the
+//! checked ([`Hybrid::tension`], and located within a step: [`super::release`]); a resting contact that would be tensile opens, and the
 //! cluster splits there. A piece of a split made only of rigid beads becomes a free group again.
 //! A cluster's boundary contacts are never stuck ([`Hybrid::unstick_around`]).
 
-use super::cluster::{Cluster, ClusterId};
+use super::cluster::ClusterId;
 use super::free::Free;
 use super::Hybrid;
 use crate::engine::events::EventKind;
@@ -231,52 +231,6 @@ impl Hybrid<'_> {
         self.after_velocity_change(g.lo, g.hi, t);
     }
 
-    /// A resting contact inside cluster `cl` whose force would be tensile at the cluster's
-    /// current state (global contact index). For a run `a..=b` with acceleration `A`, contact
-    /// `c` carries `F_c = Σ_{i=a..c} m_i (a_i − A)` (`a_i`: the bead's own acceleration); a run
-    /// held by a wall has `A = 0` and is summed from its free end.
-    pub(super) fn tension(&self, cl: &Cluster) -> Option<usize> {
-        let m = cl.m();
-        let acc = cl.accel_now(self.ctx.chain);
-        let mass = &self.ctx.chain.mass[cl.data.lo..cl.data.hi];
-        let stuck = &self.st.stuck[cl.data.lo..cl.data.hi - 1];
-        let mut a = 0;
-        while a < m {
-            let mut b = a;
-            while b + 1 < m && stuck[b] {
-                b += 1;
-            }
-            let scale: f64 = (a..=b).map(|i| (mass[i] * acc[i]).abs()).sum();
-            let tol = 1e-12 * scale;
-            let f = |i: usize| mass[i] * acc[i];
-            if a == 0 && cl.data.pinned[0] {
-                let mut s = 0.0;
-                for c in (a..b).rev() {
-                    s += f(c + 1);
-                    if s > tol {
-                        return Some(cl.data.lo + c);
-                    }
-                }
-            } else {
-                let held_right = b == m - 1 && cl.data.pinned[1];
-                let mean = if held_right {
-                    0.0
-                } else {
-                    (a..=b).map(f).sum::<f64>() / mass[a..=b].iter().sum::<f64>()
-                };
-                let mut p = 0.0;
-                for c in a..b {
-                    p += f(c) - mass[c] * mean;
-                    if p < -tol {
-                        return Some(cl.data.lo + c);
-                    }
-                }
-            }
-            a = b + 1;
-        }
-        None
-    }
-
     /// A piece of a split cluster made only of beads joined by resting contacts becomes a free
     /// rigid group (states `u`, `v` at `t`; common velocity: the mass-weighted mean).
     pub(super) fn free_rigid_piece(&mut self, lo: usize, hi: usize, t: f64, u: &[f64], v: &[f64]) {
@@ -309,33 +263,5 @@ impl Hybrid<'_> {
         if let Some(c) = tense {
             self.st.stuck[c] = false;
         }
-    }
-
-    /// A pinned end bead whose net force (contacts + field, real mass) points away from its
-    /// wall is released: returns the side.
-    pub(super) fn release_pin(&self, cl: &Cluster) -> Option<u8> {
-        if !cl.data.pinned[0] && !cl.data.pinned[1] {
-            return None;
-        }
-        let z = cl.integ.state();
-        let m = cl.m();
-        let mut acc = vec![0.0; m];
-        self.ctx
-            .chain
-            .accel_v(cl.data.lo, &z[..m], &z[m..], &mut acc);
-        if cl.rigid {
-            let (mass, stuck) = (
-                &self.ctx.chain.mass[cl.data.lo..],
-                &self.st.stuck[cl.data.lo..cl.data.hi - 1],
-            );
-            super::cluster::rigid_accel(mass, stuck, [false; 2], &mut acc);
-        }
-        if cl.data.pinned[0] && acc[0] > 0.0 {
-            return Some(0);
-        }
-        if cl.data.pinned[1] && acc[m - 1] < 0.0 {
-            return Some(1);
-        }
-        None
     }
 }
