@@ -86,15 +86,26 @@ impl Chain {
     /// conservative chain or `delta ≤ 0`.
     pub fn unclipped_force(&self, c: usize, delta: f64, rate: f64) -> Option<f64> {
         let d = self.damping.as_ref()?;
-        if delta.is_nan() || delta <= 0.0 {
-            return None;
-        }
-        let (f_el, k) = super::contact_force_stiffness(self.exponent[c], self.prefactor[c], delta);
-        let g = d.contact[c];
-        Some(match d.law {
-            DampingLaw::Viscoelastic => f_el + g * k * rate,
-            DampingLaw::LinearDashpot => f_el + g * rate,
-        })
+        unclipped(
+            d.law,
+            (self.exponent[c], self.prefactor[c]),
+            d.contact[c],
+            delta,
+            rate,
+        )
+    }
+
+    /// [`Self::unclipped_force`] of the soft wall at `side` (0 left, 1 right) at its overlap
+    /// `delta` and rate `rate`; `None` also where that wall is not soft.
+    pub fn unclipped_wall_force(&self, side: u8, delta: f64, rate: f64) -> Option<f64> {
+        let d = self.damping.as_ref()?;
+        let (w, g) = if side == 0 {
+            (self.left_wall.as_ref(), d.left_wall)
+        } else {
+            (self.right_wall.as_ref(), d.right_wall)
+        };
+        let w = w.filter(|w| w.restitution.is_none())?;
+        unclipped(d.law, (w.exponent, w.prefactor), g, delta, rate)
     }
 
     /// [`Chain::accel_v`] plus the Jacobian blocks: `kd[c] = ∂F_c/∂δ`, `kv[c] = ∂F_c/∂δ̇` for
@@ -257,6 +268,19 @@ impl Chain {
         }
         power
     }
+}
+
+/// `F_el + F_d` of law `law` with exponent and prefactor `(n, a)` and coefficient `g` at
+/// overlap `delta > 0` and rate `rate` (`None` for `delta ≤ 0`).
+fn unclipped(law: DampingLaw, (n, a): (f64, f64), g: f64, delta: f64, rate: f64) -> Option<f64> {
+    if delta.is_nan() || delta <= 0.0 {
+        return None;
+    }
+    let (f_el, k) = super::contact_force_stiffness(n, a, delta);
+    Some(match law {
+        DampingLaw::Viscoelastic => f_el + g * k * rate,
+        DampingLaw::LinearDashpot => f_el + g * rate,
+    })
 }
 
 #[cfg(test)]

@@ -32,6 +32,8 @@ pub(super) struct Workspace {
     pub(super) bu: Vec<f64>,
     pub(super) bv: Vec<f64>,
     pub(super) bz: Vec<f64>,
+    /// Scratch of [`Hybrid::settle_at`]: the state at the landing time (`2N`).
+    pub(super) bzt: Vec<f64>,
     /// Scratch of the bead states at a merge or split (`N` each).
     pub(super) eu: Vec<f64>,
     pub(super) ev: Vec<f64>,
@@ -59,6 +61,7 @@ impl Workspace {
             bu: vec![0.0; n],
             bv: vec![0.0; n],
             bz: vec![0.0; 2 * n],
+            bzt: vec![0.0; 2 * n],
             eu: vec![0.0; n],
             ev: vec![0.0; n],
             spare_mass: Vec::new(),

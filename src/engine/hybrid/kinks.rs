@@ -34,11 +34,12 @@
 //!    scenes take the steps they took; colliding beads do.
 //!
 //! 3. **The clip of a damped force.** A dissipative law's force `F_el + F_d` is clipped at 0
-//!    ([`crate::model::law`]: no tensile force), a kink of the force while the beads still
-//!    overlap. An accepted explicit step across it is redone to end on it ([`first_landing`],
-//!    located like a wall's kink). A linear dashpot collision (two beads, rtol 1e-12) crossed
-//!    it in one step that DOP853 accepted and left its velocities 9·10⁻¹⁰ off (942·rtol);
-//!    landed, within a few rtol.
+//!    ([`crate::model::law`]: no tensile force), a kink of the force while the beads (or a bead
+//!    and a soft wall) still overlap. An accepted explicit step across it is redone to end on
+//!    it ([`first_landing`], located like a wall's kink). A linear dashpot collision (two
+//!    beads, rtol 1e-12) crossed it in one step that DOP853 accepted and left its velocities
+//!    9·10⁻¹⁰ off (942·rtol); landed, within a few rtol. A bead leaving a damped soft wall was
+//!    84·rtol off at rtol 1e-12 (216·rtol for two beads) until walls' clips were landed on too.
 //!
 //! [`first_landing`]: Hybrid::first_landing
 //! [`Integrator::set_rough`]: crate::integrate::Integrator::set_rough
@@ -76,40 +77,50 @@ impl Hybrid<'_> {
         .reduce(f64::min)
     }
 
-    /// Earliest time `t_k ∈ (t0, t1)` where the damped force of a contact of `cl` that
-    /// overlaps at both ends of its last step `[t0, t1]` crosses its clip at 0 (module docs,
-    /// case 3): `F_el + F_d` changes sign between the step's ends. `None` for conservative
-    /// chains, implicit steps (as [`Self::first_wall_kink`]) and crossings within
+    /// Earliest time `t_k ∈ (t0, t1)` where the damped force of a contact or soft wall of `cl`
+    /// that overlaps at both ends of its last step `[t0, t1]` crosses its clip at 0 (module
+    /// docs, case 3): `F_el + F_d` changes sign between the step's ends. `None` for
+    /// conservative chains, implicit steps (as [`Self::first_wall_kink`]) and crossings within
     /// `MIN_FRACTION` of the step after its start (the clip the step started on).
     fn first_clip(&self, cl: &Cluster, t0: f64, t1: f64) -> Option<f64> {
         let chain = self.ctx.chain;
-        if !chain.is_dissipative() || t1 <= t0 || cl.m() < 2 || cl.integ.rate().is_none() {
+        if !chain.is_dissipative() || t1 <= t0 || cl.integ.rate().is_none() {
             return None;
         }
         let mut first: Option<f64> = None;
+        let mut seek = |force: &dyn Fn(f64) -> Option<f64>| {
+            let (Some(f0), Some(f1)) = (force(t0), force(t1)) else {
+                return; // not overlapping at an end: an opening or a closing, landed on as such
+            };
+            if (f0 > 0.0) == (f1 > 0.0) {
+                return;
+            }
+            let dir = if f0 > 0.0 { -1.0 } else { 1.0 };
+            let g = |t: f64| force(t).map_or(-1.0, |f| dir * f);
+            if let Some(t) = super::detect::first_crossing(g, t0, first.unwrap_or(t1)) {
+                if t - t0 > MIN_FRACTION * (t1 - t0) && t < t1 {
+                    first = Some(t);
+                }
+            }
+        };
         for c in cl.data.lo..cl.data.hi - 1 {
             if self.st.stuck[c] || chain.hard_restitution(c).is_some() {
                 continue;
             }
             let pre = self.pre(c);
-            let force = |t: f64| {
+            seek(&|t: f64| {
                 let delta = pre + cl.w_at(t, c) - cl.w_at(t, c + 1);
                 chain.unclipped_force(c, delta, cl.v_at(t, c) - cl.v_at(t, c + 1))
-            };
-            let (Some(f0), Some(f1)) = (force(t0), force(t1)) else {
-                continue; // not overlapping at an end: an opening or a closing, landed on as such
-            };
-            if (f0 > 0.0) == (f1 > 0.0) {
-                continue;
-            }
-            let dir = if f0 > 0.0 { -1.0 } else { 1.0 };
-            let g = |t: f64| force(t).map_or(-1.0, |f| dir * f);
-            let Some(t) = super::detect::first_crossing(g, t0, first.unwrap_or(t1)) else {
+            });
+        }
+        for side in self.soft_walls_of(cl) {
+            let Some((pre, s)) = self.wall_frame(side) else {
                 continue;
             };
-            if t - t0 > MIN_FRACTION * (t1 - t0) && t < t1 {
-                first = Some(t);
-            }
+            let i = self.end_bead(side);
+            seek(&|t: f64| {
+                chain.unclipped_wall_force(side, pre + s * cl.u_at(t, i), s * cl.v_at(t, i))
+            });
         }
         first
     }

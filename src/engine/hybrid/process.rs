@@ -292,16 +292,33 @@ impl Hybrid<'_> {
             cl.integ.reset(&sys, t, &z[..m], &z[m..]);
             return Ok(());
         }
+        // the accepted step's own state at `t`, for a redo that cannot reach it (below)
+        let zt = &mut self.ws.bzt[..2 * m];
+        cl.integ.dense(t, zt);
+        let d_t = crate::integrate::dissipated_at(&*cl.integ, &sys, t);
         cl.integ.dense(t0, z);
-        self.st.dissipated += cl.integ.dissipated().0;
+        let d_t0 = cl.integ.dissipated().0;
         cl.integ.restart(&sys, t0, &z[..m], &z[m..], t - t0);
         cl.integ.set_rough(rough);
         while cl.integ.t() < t {
-            if let Err(e) = cl.integ.step(&sys, t) {
-                cl.integ.set_rough(Rough::Smooth);
-                return Err(e.into());
+            match cl.integ.step(&sys, t) {
+                Ok(_) => {}
+                Err(crate::integrate::IntegrationError::StepTooSmall { .. }) => {
+                    // A force that jumps (a dashpot wall's touch) a rounding-scale distance
+                    // before `t`: the redo's steps shrink to rounding before it, and the
+                    // accepted step's continuous output is the state there.
+                    cl.integ.reset(&sys, t, &zt[..m], &zt[m..]);
+                    self.st.dissipated += d_t;
+                    cl.integ.set_rough(Rough::Smooth);
+                    return Ok(());
+                }
+                Err(e) => {
+                    cl.integ.set_rough(Rough::Smooth);
+                    return Err(e.into());
+                }
             }
         }
+        self.st.dissipated += d_t0;
         cl.integ.set_rough(Rough::Smooth);
         Ok(())
     }
