@@ -195,6 +195,80 @@ pub fn read_text(path: &Path) -> std::io::Result<String> {
     read_text_limited(path, MAX_TEXT_BYTES)
 }
 
+/// The files a scene file reads: the file itself and the CSV files its `{ file = "..." }`
+/// values name, resolved against its directory (nothing when `path` is not a file).
+pub fn scene_inputs(path: &Path) -> Vec<PathBuf> {
+    if !path.is_file() {
+        return Vec::new();
+    }
+    let mut out = vec![path.to_path_buf()];
+    let dir = path.parent().unwrap_or(Path::new("."));
+    if let Ok(text) = read_text(path) {
+        if let Ok(root) = text.parse::<toml::Table>() {
+            collect_csv(&toml::Value::Table(root), dir, &mut out);
+        }
+    }
+    out
+}
+
+fn collect_csv(v: &toml::Value, dir: &Path, out: &mut Vec<PathBuf>) {
+    match v {
+        toml::Value::Table(t) => {
+            if let Some(toml::Value::String(f)) = t.get("file") {
+                out.push(dir.join(f));
+            }
+            for x in t.values() {
+                collect_csv(x, dir, out);
+            }
+        }
+        toml::Value::Array(a) => a.iter().for_each(|x| collect_csv(x, dir, out)),
+        _ => {}
+    }
+}
+
+/// An output that is one of the command's inputs.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {flag}: is the {kind} {} read by this command; refusing to overwrite an input (choose another output name)", out.display(), input.display())]
+pub struct InputOverwrite {
+    /// The output path.
+    pub out: PathBuf,
+    /// The option or argument that names it.
+    pub flag: String,
+    /// What the input is ("scene file", ...).
+    pub kind: String,
+    /// The input it is.
+    pub input: PathBuf,
+}
+
+/// Refuses each of `outs` (the files a command writes) that is one of `inputs` (same device
+/// and inode); `flag` names the option.
+pub fn check_not_input(
+    outs: &[&Path],
+    flag: &str,
+    inputs: &[(&str, PathBuf)],
+) -> Result<(), InputOverwrite> {
+    for out in outs {
+        if let Some((kind, input)) = inputs.iter().find(|(_, i)| same_file(out, i)) {
+            return Err(InputOverwrite {
+                out: out.to_path_buf(),
+                flag: flag.to_string(),
+                kind: kind.to_string(),
+                input: input.clone(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// [`scene_inputs`] labelled for [`check_not_input`].
+pub fn labelled_scene_inputs(path: &Path) -> Vec<(&'static str, PathBuf)> {
+    scene_inputs(path)
+        .into_iter()
+        .enumerate()
+        .map(|(i, p)| (if i == 0 { "scene file" } else { "CSV file" }, p))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -266,6 +266,44 @@ fn out_equal_to_an_input_is_refused() {
     assert!(temps(p).is_empty(), "{:?}", temps(p));
 }
 
+/// `sweep` and `merge` write `OUT` and `OUT.meta`: before, only `OUT` was checked against
+/// the inputs, so `merge a.csv.meta a.csv` replaced shard `a.csv`'s meta file by the merged
+/// CSV, and a sweep whose base scene is `b.meta` run with `--out b` replaced the scene.
+#[test]
+fn out_meta_equal_to_an_input_is_refused() {
+    let d = tempfile::tempdir().expect("tempdir");
+    let p = d.path();
+    std::fs::write(p.join("b.meta"), TINY).unwrap();
+    std::fs::write(
+        p.join("sw.toml"),
+        "scene = \"b.meta\"\n[grid]\n\"chain.exponent\" = [2.5, 3.0]\n",
+    )
+    .unwrap();
+    std::fs::write(p.join("a.csv"), "run\n").unwrap();
+    std::fs::write(p.join("a.csv.meta"), "spec\n").unwrap();
+    let keep: Vec<(&str, Vec<u8>)> = ["b.meta", "sw.toml", "a.csv", "a.csv.meta"]
+        .iter()
+        .map(|f| (*f, std::fs::read(p.join(f)).unwrap()))
+        .collect();
+    let cases: [(&[&str], &[&str]); 2] = [
+        (
+            &["sweep", "sw.toml", "--out", "b"],
+            &["--out", "scene file"],
+        ),
+        (&["merge", "a.csv.meta", "a.csv"], &["OUT", "meta file"]),
+    ];
+    for (args, needles) in cases {
+        let o = bc(p, args);
+        let mut needles = needles.to_vec();
+        needles.push("refusing to overwrite an input");
+        let line = assert_refused(&o, &needles);
+        println!("{} | {line}", args.join(" "));
+    }
+    for (f, bytes) in keep {
+        assert_eq!(std::fs::read(p.join(f)).unwrap(), bytes, "{f} changed");
+    }
+}
+
 #[cfg(unix)]
 #[test]
 fn out_symlink_is_refused_not_replaced() {

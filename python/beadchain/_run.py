@@ -321,7 +321,8 @@ def run(
     - ``rtol``: 1e-8; ``atol``: rtol/1e4 (at least 1e-15), relative to the run's scales;
     - ``every``: output interval (default: first and last frame only);
     - ``until``: end time in computer units (the scene's ``[run] until``);
-    - ``out``: also write the snapshot file ``beadchain run --out`` writes (None: no file);
+    - ``out``: also write the snapshot file ``beadchain run --out`` writes (None: no file;
+      the scene file or a CSV file it reads raises :class:`SceneError`, as the CLI refuses);
     - ``record``: keep the frames in memory (False with ``out`` for long runs);
     - ``max_steps``: abort after this many accepted steps (None: no limit);
     - ``observers``: callables ``f(t, u, v)`` called at every frame;
@@ -344,6 +345,8 @@ def run(
     message; an engine failure raises :class:`RunError`.
     """
     scene = Scene._coerce(scene, "run")
+    if out is not None and scene._file is not None:
+        _beadchain._check_run_out(os.fspath(out), scene._file)
     if progress is True:
         bar = _progress_bar(scene.name)
         f: Optional[Callable] = bar

@@ -293,7 +293,8 @@ class Scene:
     out. :attr:`source` is the TOML text of those tables.
     """
 
-    __slots__ = ("_s", "_text", "_dir")
+    # `_file`: the scene file it was read from (None otherwise): an output may not replace it
+    __slots__ = ("_s", "_text", "_dir", "_file")
 
     def __init__(self, **kwargs: Any):
         tables: dict = {t: {} for t in (*_KEYS, *_TABLES)}
@@ -316,6 +317,7 @@ class Scene:
                for t, items in tables.items() if items}
         self._s, self._text = _beadchain.Scene._from_tables(doc, origin, ".")
         self._dir = "."
+        self._file = None
 
     @classmethod
     def _wrap(cls, s, text: Optional[str] = None, base_dir: str = ".") -> "Scene":
@@ -323,6 +325,7 @@ class Scene:
         obj._s = s
         obj._text = text
         obj._dir = base_dir
+        obj._file = None
         return obj
 
     @classmethod
@@ -340,8 +343,10 @@ class Scene:
                 raise _beadchain.SceneError(f"{path}: cannot read scene file: no such file")
             with open(path, encoding="utf-8") as f:
                 text = f.read()
-            return cls._wrap(_beadchain.Scene._load(path), text,
-                             os.path.dirname(os.path.abspath(path)))
+            scene = cls._wrap(_beadchain.Scene._load(path), text,
+                              os.path.dirname(os.path.abspath(path)))
+            scene._file = os.path.abspath(path)
+            return scene
         text = str(path_or_text)
         return cls._wrap(_beadchain.Scene._from_text(text, name or "scene", "."), text)
 

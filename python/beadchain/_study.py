@@ -97,7 +97,9 @@ def sweep(path: str | os.PathLike, executor: Any = None,
     ``out``: also write the CLI's result file, the bytes of ``beadchain sweep PATH --out OUT``
     (``OUT`` and ``OUT.meta``), and resume by content as the CLI does: points whose result
     ``OUT`` already holds (the same resolved scene, run settings and measures) are not run
-    again (``result.skipped``); a file that already holds the result is not rewritten.
+    again (``result.skipped``); a file that already holds the result is not rewritten. An
+    ``OUT`` or ``OUT.meta`` that is the sweep file, its base scene or a CSV file that reads
+    raises :class:`SceneError` before any point runs.
 
     A bad sweep file raises :class:`SceneError` before anything runs.
     """
@@ -105,6 +107,8 @@ def sweep(path: str | os.PathLike, executor: Any = None,
     spec = _beadchain._sweep_spec(path)
     n = spec["runs"]
     dest = None if out is None else os.fspath(out)
+    if dest is not None:
+        _beadchain._sweep_check_out(path, dest)
     rows: dict = {} if dest is None else dict(_beadchain._sweep_reuse(path, dest))
     skipped = len(rows)
     todo = [i for i in range(n) if i not in rows]

@@ -101,6 +101,8 @@ fn _beadchain(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep::_sweep_row, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::_sweep_reuse, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::_sweep_write, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::_sweep_check_out, m)?)?;
+    m.add_function(wrap_pyfunction!(run::_check_run_out, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::_sweep_table, m)?)?;
     Ok(())
 }

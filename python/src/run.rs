@@ -303,6 +303,15 @@ fn given_time(s: &LibScene, (key, si): (&str, bool), x: f64) -> String {
     }
 }
 
+/// Refuses an `out` that is the scene file `scene_file` or a CSV file it reads, as
+/// `beadchain run --out` does.
+#[pyfunction]
+pub fn _check_run_out(out: PathBuf, scene_file: PathBuf) -> PyResult<()> {
+    let inputs = beadchain::files::labelled_scene_inputs(&scene_file);
+    beadchain::files::check_not_input(&[&out], "out", &inputs)
+        .map_err(|e| SceneError::new_err(e.to_string()))
+}
+
 /// Runs `scene` to its end time; frames in memory (unless `record` is false) and, with `out`,
 /// the CLI's snapshot file (written under a temporary name, renamed when the run finishes).
 #[pyfunction]

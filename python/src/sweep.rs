@@ -133,6 +133,22 @@ pub fn _sweep_reuse(path: &str, out: &str) -> PyResult<BTreeMap<usize, String>> 
     Ok(reusable_rows(&spec, &all, Path::new(out), &header(&spec)))
 }
 
+/// Refuses an `out` whose file or `out.meta` is one of the sweep's inputs (the sweep file, its
+/// base scene file and the CSV files that names), as `beadchain sweep --out` does, before any
+/// run.
+#[pyfunction]
+pub fn _sweep_check_out(path: &str, out: &str) -> PyResult<()> {
+    let spec = load_spec(path)?;
+    let file = Path::new(path);
+    let dir = file.parent().unwrap_or(Path::new("."));
+    let mut inputs = vec![("sweep file", file.to_path_buf())];
+    inputs.extend(beadchain::files::labelled_scene_inputs(&dir.join(&spec.scene_spec)));
+    let out = Path::new(out);
+    let meta = csv::meta_path(out);
+    beadchain::files::check_not_input(&[out, &meta], "out", &inputs)
+        .map_err(|e| SceneError::new_err(e.to_string()))
+}
+
 /// Writes the finished result of every run's CSV row (`rows`, in run order) to `out` and
 /// `out.meta` (spec line and content keys), the bytes `beadchain sweep --out OUT` writes; files
 /// that already hold them are left alone. Returns whether anything was written.

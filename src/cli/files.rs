@@ -16,7 +16,6 @@
 
 use super::common::GivenTime;
 use anyhow::{bail, Result};
-use beadchain::files::same_file;
 pub use beadchain::snapshot::size::short;
 use beadchain::snapshot::size::{
     check_output_size, count_text, human_bytes, OutputTooLarge, DEFAULT_MAX_OUTPUT_BYTES,
@@ -103,50 +102,9 @@ impl SizeLimit {
     }
 }
 
-/// The files a scene argument reads: the scene file (none for a preset) and the CSV files its
-/// `{ file = "..." }` values name, resolved against the scene's directory.
-pub fn scene_inputs(spec: &str) -> Vec<PathBuf> {
-    let path = Path::new(spec);
-    if !path.is_file() {
-        return Vec::new();
-    }
-    let mut out = vec![path.to_path_buf()];
-    let dir = path.parent().unwrap_or(Path::new("."));
-    if let Ok(text) = beadchain::files::read_text(path) {
-        if let Ok(root) = text.parse::<toml::Table>() {
-            collect_csv(&toml::Value::Table(root), dir, &mut out);
-        }
-    }
-    out
-}
-
-fn collect_csv(v: &toml::Value, dir: &Path, out: &mut Vec<PathBuf>) {
-    match v {
-        toml::Value::Table(t) => {
-            if let Some(toml::Value::String(f)) = t.get("file") {
-                out.push(dir.join(f));
-            }
-            for x in t.values() {
-                collect_csv(x, dir, out);
-            }
-        }
-        toml::Value::Array(a) => a.iter().for_each(|x| collect_csv(x, dir, out)),
-        _ => {}
-    }
-}
-
 /// Refuses `out` when it is one of `inputs` (same device and inode); `flag` names the option.
 pub fn check_not_input(out: &Path, flag: &str, inputs: &[(&str, PathBuf)]) -> Result<()> {
-    for (kind, input) in inputs {
-        if same_file(out, input) {
-            bail!(
-                "{}: {flag}: is the {kind} {} read by this command; refusing to overwrite an input (choose another output name)",
-                out.display(),
-                input.display()
-            );
-        }
-    }
-    Ok(())
+    Ok(beadchain::files::check_not_input(&[out], flag, inputs)?)
 }
 
 /// Checks, before a long computation, that the output `out` (written at its end) can be made:
@@ -185,11 +143,7 @@ pub fn check_output_before_work(out: &Path, flag: &str, inputs: &[(&str, PathBuf
 
 /// Scene inputs labelled for [`check_not_input`].
 pub fn labelled_scene_inputs(spec: &str) -> Vec<(&'static str, PathBuf)> {
-    scene_inputs(spec)
-        .into_iter()
-        .enumerate()
-        .map(|(i, p)| (if i == 0 { "scene file" } else { "CSV file" }, p))
-        .collect()
+    beadchain::files::labelled_scene_inputs(Path::new(spec))
 }
 
 /// True when an error (or any cause) is a closed pipe on output (`beadchain ... | head`).

@@ -69,7 +69,8 @@ pub fn cmd_sweep(a: SweepArgs) -> Result<i32> {
     inputs.extend(super::files::labelled_scene_inputs(
         &scene_file.to_string_lossy(),
     ));
-    super::files::check_not_input(&out, "--out", &inputs)?;
+    let meta = beadchain::sweep::csv::meta_path(&out);
+    beadchain::files::check_not_input(&[&out, &meta], "--out", &inputs)?;
     // before any run: a refused output (a symbolic link) would otherwise fail only at the end
     beadchain::files::classify_output(&out)?;
     let opts = SweepOptions {
@@ -122,8 +123,11 @@ pub fn cmd_sweep(a: SweepArgs) -> Result<i32> {
 
 /// Runs `beadchain merge`.
 pub fn cmd_merge(a: MergeArgs) -> Result<i32> {
-    let inputs: Vec<_> = a.shards.iter().map(|s| ("shard file", s.clone())).collect();
-    super::files::check_not_input(&a.out, "OUT", &inputs)?;
+    let mut inputs: Vec<_> = a.shards.iter().map(|s| ("shard file", s.clone())).collect();
+    let metas = a.shards.iter().map(|s| beadchain::sweep::csv::meta_path(s));
+    inputs.extend(metas.map(|m| ("shard's meta file", m)));
+    let meta = beadchain::sweep::csv::meta_path(&a.out);
+    beadchain::files::check_not_input(&[&a.out, &meta], "OUT", &inputs)?;
     let m = sweep::merge(&a.out, &a.shards, a.allow_missing)?;
     if !m.missing.is_empty() {
         eprintln!(
