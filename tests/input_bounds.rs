@@ -436,3 +436,20 @@ fn analyze_of_a_truncated_snapshot_warns() {
     assert_eq!(warnings(&ae), warnings(&ee), "analyze: {ae}");
     assert_eq!(warnings(&ae).len(), 2, "{ae}");
 }
+
+/// Masses of 1e155 overflow the exact two-body contact: the run wrote NaN displacements into
+/// its frames and exited 0 (an adversarial review). Now every frame is checked: exit 2, the
+/// bead named, no file.
+#[test]
+fn non_finite_frame_fails_the_run() {
+    let scene = TINY.replace("beads = 4\n", "beads = 4\nmass = 1e155\n");
+    let d = dir_with(&[("huge.toml", &scene)]);
+    let line = refused(
+        "non-finite",
+        d.path(),
+        &["run", "huge.toml", "--out", "h.snap"],
+        &["huge.toml", "state became non-finite", "bead 0"],
+        30.0,
+    );
+    println!("{line}");
+}

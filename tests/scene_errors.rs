@@ -124,7 +124,10 @@ fn exponent_at_most_one_names_the_contact() {
     ));
     assert_contains(
         &m,
-        &["t.toml: [chain].exponent: contact 4: exponent must be > 1, got 1"],
+        &[
+            "t.toml: [chain].exponent: contact 4: exponent must be > 1 and at most 10000",
+            "got 1",
+        ],
     );
     // Below 2 (but > 1) is only a warning.
     let s = ok(&format!(
@@ -133,6 +136,32 @@ fn exponent_at_most_one_names_the_contact() {
     let w = validate(&s).expect("valid");
     assert_eq!(w.len(), 1, "{w:?}");
     assert_contains(&w[0], &["contact 1", "C¹"]);
+}
+
+/// An exponent far beyond the tested range ran without a word and gained 150 % of the energy
+/// (n = 1e17; an adversarial review): refused, contact and wall alike.
+#[test]
+fn exponent_beyond_the_tested_range_is_refused() {
+    let m = err(&format!(
+        "[chain]\nbeads = 4\nexponent = [2.5, 1e17, 2.5]\n[initial]\nstriker = 1.0\n{RUN}"
+    ));
+    assert_contains(
+        &m,
+        &[
+            "t.toml: [chain].exponent: contact 1: exponent must be > 1 and at most 10000",
+            "got 100000000000000000",
+        ],
+    );
+    let m = err(&format!(
+        "[chain]\nbeads = 4\n[walls]\nleft = {{ exponent = 2e4 }}\n[initial]\nstriker = 1.0\n{RUN}"
+    ));
+    assert_contains(
+        &m,
+        &["[walls].left.exponent: exponent must be > 1 and at most 10000"],
+    );
+    ok(&format!(
+        "[chain]\nbeads = 4\nexponent = 1e4\n[initial]\nstriker = 1.0\n{RUN}"
+    ));
 }
 
 #[test]

@@ -49,6 +49,19 @@ pub enum EngineError {
     /// configuration).
     #[error("internal error (a bug in beadchain; please report it with the scene): {0}")]
     Internal(String),
+    /// A frame's state is not finite (an overflow the integrator's own check did not see, e.g.
+    /// an exact contact of beads of mass 1e155).
+    #[error("the state became non-finite at t = {t} (bead {bead}: u = {u}, v = {v})")]
+    NonFinite {
+        /// Frame time.
+        t: f64,
+        /// The first bead with a non-finite displacement or velocity.
+        bead: usize,
+        /// Its displacement.
+        u: f64,
+        /// Its velocity.
+        v: f64,
+    },
     /// The observer asked to stop (after a checkpoint was written) at time `t`.
     #[error("interrupted at t = {0} (checkpoint written)")]
     Interrupted(f64),

@@ -123,6 +123,11 @@ impl Hybrid<'_> {
             self.ws.bu[i] = u;
             self.ws.bv[i] = v;
         }
+        let (u, v) = (&self.ws.bu, &self.ws.bv);
+        if let Some(bead) = (0..self.ctx.n).find(|&i| !u[i].is_finite() || !v[i].is_finite()) {
+            let (u, v) = (u[bead], v[bead]);
+            return Err(EngineError::NonFinite { t, bead, u, v });
+        }
         self.flush_events(obs)?;
         if self.ctx.chain.loses_energy() {
             obs.dissipated(t, self.dissipated_at(t))?;
