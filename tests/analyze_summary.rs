@@ -57,11 +57,31 @@ fn analyze_of_a_gravity_column_at_rest_prints_no_nan_or_reversed_range() {
     assert!(s.contains("incoming wave energy: not computed ("), "{s}");
     // E0 < 0 (field potential): fractions are of the positive energy scale, and it says so.
     assert!(
-        s.contains("E0 = -1.789108e1 is not a positive total"),
+        s.contains("(not E0 = -1.789108e1: it is not a positive total)"),
         "{s}"
     );
     let f = run_and_analyze(d.path(), "g.toml", "g.snap", &["--frames"]);
     assert_clean(&f);
+}
+
+/// With E0 > 0 and a field, the note said "E0 = ... is not a positive total" of a positive E0
+/// (an adversarial review): it now names the field's energy as why E_ref is not E0.
+#[test]
+fn analyze_names_the_field_when_the_energy_scale_is_not_a_positive_e0() {
+    let d = tempfile::tempdir().unwrap();
+    let kicked = GRAVITY_AT_REST.replace(
+        "[run]",
+        "velocity = [0.0, 0.0, 0.0, 0.0, 0.0, -10.0]\n[run]",
+    );
+    std::fs::write(d.path().join("k.toml"), kicked).unwrap();
+    let s = run_and_analyze(d.path(), "k.toml", "k.snap", &[]);
+    let line = s
+        .lines()
+        .find(|l| l.starts_with("energy fractions below are of"))
+        .expect("the scale note");
+    assert!(line.contains("the energy scale E_ref = "), "{line}");
+    assert!(line.contains("the field's energy"), "{line}");
+    assert!(!line.contains("is not a positive total"), "{line}");
 }
 
 #[test]
@@ -285,4 +305,24 @@ fn analyze_names_the_right_cause_and_shows_small_values_and_the_speed() {
     assert!(line.contains("not resolved by the frames"), "{line}");
     assert!(line.contains("the ratio is 9.04"), "{line}");
     assert!(line.contains("e-7 and too low"), "{line}");
+}
+
+/// A snapshot cut after its header (a run killed before its first frame was flushed): the
+/// message did not name the file (an adversarial review), as `export` and `plot` do.
+#[test]
+fn analyze_of_a_snapshot_without_frames_names_the_file() {
+    let d = tempfile::tempdir().unwrap();
+    let o = bc(d.path(), &["run", "striker", "--out", "v.snap", "-q"]);
+    assert_eq!(o.status.code(), Some(0));
+    let bytes = std::fs::read(d.path().join("v.snap")).unwrap();
+    // magic (8), version (4), then the header section: tag u32, length u64, crc u32, payload
+    let len = u64::from_le_bytes(bytes[16..24].try_into().unwrap()) as usize;
+    std::fs::write(d.path().join("cut.snap"), &bytes[..28 + len]).unwrap();
+    let a = bc(d.path(), &["analyze", "cut.snap"]);
+    let err = String::from_utf8_lossy(&a.stderr);
+    assert_eq!(a.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("cut.snap: the snapshot holds no frame"),
+        "{err}"
+    );
 }

@@ -517,3 +517,23 @@ fn sweep_csv_header_is_the_first_line_and_values_are_written_as_given() {
         "{e}"
     );
 }
+
+/// A base scene file with malformed TOML: the message carried toml's multi-line report, which
+/// the CLI printed as one line full of literal `\n` (an adversarial review). Now one line,
+/// placed as `beadchain run` places it (`file:line:column`).
+#[test]
+fn malformed_base_scene_is_reported_on_one_line() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("bad.toml"), "[chain\nbeads = 3\n").unwrap();
+    let file = d.path().join("sw.toml");
+    let text = "scene = \"bad.toml\"\n[grid]\n\"chain.exponent\" = [2.5, 3.0]\n";
+    std::fs::write(&file, text).unwrap();
+    let e = SweepSpec::load(&file).expect_err("refused").to_string();
+    assert!(
+        e.ends_with(
+            "scene: \"bad.toml\":1:7: malformed TOML: invalid table header; expected `.`, `]`"
+        ),
+        "{e}"
+    );
+    assert!(!e.contains('\n'), "{e}");
+}

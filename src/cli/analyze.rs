@@ -147,7 +147,9 @@ fn analyze(args: &AnalyzeArgs) -> Result<(Summary, Option<UnitScales>, GasReport
     };
     let units = snap.header().scene.units;
     let summary = summarize(chain, &views, &opts).map_err(|e| match e {
-        SummaryError::NoFrames => anyhow::anyhow!("the snapshot holds no frame"),
+        SummaryError::NoFrames => {
+            anyhow::anyhow!("{}: the snapshot holds no frame", args.snapshot.display())
+        }
         SummaryError::Interface { .. } => anyhow::anyhow!("--{e}"),
         other => anyhow::anyhow!("{}: {other}", args.snapshot.display()),
     })?;
@@ -187,8 +189,13 @@ fn summary(args: &AnalyzeArgs, a: &Summary) -> String {
         "E_ref: none (the energy scale is 0: the chain is at rest), so they are not computed"
             .to_string()
     } else {
+        let why = if a.e0 > 0.0 {
+            "the field's energy −Σ W·u, counted positive in E_ref, offsets it"
+        } else {
+            "it is not a positive total"
+        };
         format!(
-            "the energy scale E_ref = {:.6e} (E0 = {:.6e} is not a positive total)",
+            "the energy scale E_ref = {:.6e} (not E0 = {:.6e}: {why})",
             a.e_ref, a.e0
         )
     };

@@ -83,8 +83,22 @@ impl SweepSpec {
             .ok_or_else(|| key_err("scene", "missing (base scene: preset or file)".into()))?;
         let (base_text, base_dir) = base_scene(&scene_spec, dir)
             .map_err(|m| key_err("scene", format!("\"{scene_spec}\": {m}")))?;
-        let base: Table = toml::from_str(&base_text)
-            .map_err(|e| key_err("scene", format!("\"{scene_spec}\": malformed TOML: {e}")))?;
+        let base: Table = toml::from_str(&base_text).map_err(|e| {
+            // one line, placed as a scene file's own error is (`file:line:column`)
+            let (line, col) = e.span().map_or((0, 0), |s| {
+                let before = &base_text[..s.start.min(base_text.len())];
+                let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+                (
+                    before.matches('\n').count() + 1,
+                    before[line_start..].chars().count() + 1,
+                )
+            });
+            let msg = e.message().trim().replace('\n', "; ");
+            key_err(
+                "scene",
+                format!("\"{scene_spec}\":{line}:{col}: malformed TOML: {msg}"),
+            )
+        })?;
         let set = overrides("[set]", &f.set, e)?;
         let grid = grid(&f.grid, e)?;
         let points = (f.point.iter().enumerate())
