@@ -34,6 +34,21 @@ pub fn breather<'py>(
     periods: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let e = |e: beadchain::experiments::breather::BreatherError| SceneError::new_err(e.to_string());
+    let name = &scene.scene.name;
+    for (key, x) in [
+        ("frequency", frequency),
+        ("seed_amplitude", seed_amplitude),
+        ("step", step),
+        ("tol", tol),
+        ("rtol", rtol),
+        ("periods", periods),
+    ] {
+        if !(x.is_finite() && x > 0.0) {
+            return Err(SceneError::new_err(format!(
+                "{name}: breather: {key} = {x}: expected a finite value > 0"
+            )));
+        }
+    }
     let sh = Shooter::new(&scene.scene, rtol).map_err(e)?;
     let k = match mode {
         Some(k) => k,

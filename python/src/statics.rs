@@ -34,6 +34,9 @@ pub fn equilibrium<'py>(
     force: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let s = &scene.scene;
+    if let Some(f) = force.filter(|f| !f.is_finite()) {
+        return Err(err(scene, format!("equilibrium: force = {f}: expected a finite force")));
+    }
     let e = lib_equilibrium(&s.chain, &s.u0, force).map_err(|e| err(scene, e))?;
     let d = PyDict::new(py);
     d.set_item("u", PyArray1::from_vec(py, e.u))?;
@@ -60,6 +63,15 @@ pub fn modes<'py>(
     bins: Option<i64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let s = &scene.scene;
+    if let Some((lo, hi)) = window {
+        let ok = |x: f64| x.is_finite() && x >= 0.0;
+        if !ok(lo) || !ok(hi) || lo > hi {
+            return Err(err(
+                scene,
+                format!("modes: window = ({lo}, {hi}): expected finite frequencies 0 <= lo <= hi"),
+            ));
+        }
+    }
     let u = state_about(scene, about)?;
     let lin = linearize(&s.chain, &u).map_err(|e| err(scene, e))?;
     let m = solve(&lin, window).map_err(|e| err(scene, e))?;
