@@ -57,7 +57,9 @@ impl Running {
 
     /// The engine, for changing.
     fn engine_mut(&mut self) -> &mut Box<dyn Engine + 'static> {
-        self.engine.get_mut().unwrap_or_else(PoisonError::into_inner)
+        self.engine
+            .get_mut()
+            .unwrap_or_else(PoisonError::into_inner)
     }
 }
 

@@ -122,7 +122,12 @@ fn summary<'py>(py: Python<'py>, snap: &Snapshot) -> PyResult<Option<Bound<'py, 
     o.set_item("rhs_evals", s.stats.rhs_evals)?;
     o.set_item("bead_steps", s.stats.bead_steps)?;
     o.set_item("t_end", s.t_end)?;
-    o.set_item("wall_seconds", s.wall_seconds)?;
+    // a run without --timing stores 0 s and a note: not recorded, None (as `inspect` says)
+    let untimed = s
+        .notes
+        .iter()
+        .any(|n| n == beadchain::snapshot::WALL_NOT_RECORDED);
+    o.set_item("wall_seconds", (!untimed).then_some(s.wall_seconds))?;
     o.set_item("energy_initial", s.energy_initial)?;
     o.set_item("energy_final", s.energy_final)?;
     o.set_item("momentum_initial", s.momentum_initial)?;

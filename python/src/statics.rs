@@ -35,7 +35,10 @@ pub fn equilibrium<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let s = &scene.scene;
     if let Some(f) = force.filter(|f| !f.is_finite()) {
-        return Err(err(scene, format!("equilibrium: force = {f}: expected a finite force")));
+        return Err(err(
+            scene,
+            format!("equilibrium: force = {f}: expected a finite force"),
+        ));
     }
     let e = lib_equilibrium(&s.chain, &s.u0, force).map_err(|e| err(scene, e))?;
     let d = PyDict::new(py);

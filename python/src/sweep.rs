@@ -142,7 +142,9 @@ pub fn _sweep_check_out(path: &str, out: &str) -> PyResult<()> {
     let file = Path::new(path);
     let dir = file.parent().unwrap_or(Path::new("."));
     let mut inputs = vec![("sweep file", file.to_path_buf())];
-    inputs.extend(beadchain::files::labelled_scene_inputs(&dir.join(&spec.scene_spec)));
+    inputs.extend(beadchain::files::labelled_scene_inputs(
+        &dir.join(&spec.scene_spec),
+    ));
     let out = Path::new(out);
     let meta = csv::meta_path(out);
     beadchain::files::check_not_input(&[out, &meta], "out", &inputs)
