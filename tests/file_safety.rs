@@ -100,6 +100,30 @@ fn temps(dir: &Path) -> Vec<String> {
     v
 }
 
+/// A byte of the unfinished output damaged between the interruption and the resume: before,
+/// `resume` carried it into the finished file, renamed it into place and exited 0, and every
+/// reader then refused the file (an adversarial review). Now the sections up to the
+/// checkpoint's mark are verified first: exit 2 naming the damaged section, no output.
+#[test]
+fn resume_refuses_a_damaged_unfinished_output() {
+    let d = tempfile::tempdir().expect("tempdir");
+    let p = d.path();
+    interrupted_run(p);
+    let temp = p.join(&temps(p)[0]);
+    let mut bytes = std::fs::read(&temp).unwrap();
+    // magic (8), version (4), HEADER: tag u32, length u64, crc u32, payload; then a FRAME
+    let header_len = u64::from_le_bytes(bytes[16..24].try_into().unwrap()) as usize;
+    let k = 28 + header_len + 16 + 4;
+    assert!(k < bytes.len(), "a frame after the header");
+    bytes[k] ^= 0x40;
+    std::fs::write(&temp, &bytes).unwrap();
+    let o = bc(p, &["resume", "o.snap.ckpt"]);
+    let e = err(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(e.contains("checksum mismatch in section FRAME #0"), "{e}");
+    assert!(!p.join("o.snap").exists(), "no output");
+}
+
 #[test]
 fn rejected_resume_until_keeps_the_run_resumable() {
     let d = tempfile::tempdir().expect("tempdir");

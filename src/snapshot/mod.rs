@@ -125,6 +125,7 @@ pub mod record;
 pub mod select;
 pub mod sink;
 pub mod size;
+mod verify;
 mod writer;
 
 pub use atomic::write_atomically;

@@ -499,6 +499,7 @@ impl SnapshotWriter {
                 )),
             ));
         }
+        super::verify::verify_prefix(&mark.temp, mark.len)?;
         file.set_len(mark.len).map_err(|e| io("cutting back", e))?;
         let mut out = BufWriter::with_capacity(1 << 16, file);
         use std::io::Seek;
