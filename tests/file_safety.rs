@@ -124,6 +124,22 @@ fn resume_refuses_a_damaged_unfinished_output() {
     assert!(!p.join("o.snap").exists(), "no output");
 }
 
+/// A finished run removed `OUT.ckpt` even when it was another, interrupted run's checkpoint
+/// (an adversarial review): that run could no longer be resumed, and its temporary output
+/// stayed behind. Now only a run's own checkpoint is removed; another's is named in a note.
+#[test]
+fn a_finished_run_keeps_another_runs_checkpoint() {
+    let d = tempfile::tempdir().expect("tempdir");
+    let p = d.path();
+    interrupted_run(p);
+    let ckpt = std::fs::read(p.join("o.snap.ckpt")).unwrap();
+    let o = bc(p, &["run", "striker", "--out", "o.snap", "-q"]);
+    let e = err(&o);
+    assert_eq!(o.status.code(), Some(0), "{e}");
+    assert!(e.contains("o.snap.ckpt is the checkpoint of an earlier interrupted run"), "{e}");
+    assert_eq!(std::fs::read(p.join("o.snap.ckpt")).unwrap(), ckpt, "checkpoint kept");
+}
+
 #[test]
 fn rejected_resume_until_keeps_the_run_resumable() {
     let d = tempfile::tempdir().expect("tempdir");

@@ -86,9 +86,15 @@ pub fn drive(
             let mut done = summary(&out, timing);
             done.notes.append(&mut sink.notes);
             sink.writer.finish(&[], &done)?;
-            if ckpt.exists() {
+            if ckpt.exists() && (sink.wrote_checkpoint || sink.resumed) {
                 std::fs::remove_file(&ckpt)
                     .with_context(|| format!("removing the finished run's {}", ckpt.display()))?;
+            } else if ckpt.exists() {
+                // another, interrupted run's checkpoint: not this run's to remove
+                eprintln!(
+                    "beadchain: note: {} is the checkpoint of an earlier interrupted run into the same file, left as it was (`beadchain resume` of it would replace this output)",
+                    ckpt.display()
+                );
             }
             Ok(Ok(out))
         }
