@@ -220,3 +220,23 @@ fn balance_error_above_1000_rtol_is_reported() {
     assert!(beadchain::engine::balance_note(1.1e-5, 1e-8).is_some());
     assert!(beadchain::engine::balance_note(f64::NAN, 1e-8).is_some());
 }
+
+/// `run` printed the balance error unsigned (4.738e-11) where `inspect` printed it signed
+/// (−4.738e-11) for the same file (an adversarial review): both signed now.
+#[test]
+fn run_and_inspect_print_the_same_signed_balance_error() {
+    let d = tempfile::tempdir().unwrap();
+    let o = common::bc(
+        d.path(),
+        &["run", "damped_striker", "--out", "d.snap", "-q"],
+    );
+    assert_eq!(o.status.code(), Some(0));
+    let grab = |text: &str| -> String {
+        let i = text.find("balance error ").expect("a balance error") + "balance error ".len();
+        text[i..].split(')').next().unwrap().to_string()
+    };
+    let run = grab(&String::from_utf8_lossy(&o.stdout));
+    let i = common::bc(d.path(), &["inspect", "d.snap"]);
+    let inspect = grab(&String::from_utf8_lossy(&i.stdout));
+    assert_eq!(run, inspect);
+}

@@ -136,8 +136,15 @@ fn a_finished_run_keeps_another_runs_checkpoint() {
     let o = bc(p, &["run", "striker", "--out", "o.snap", "-q"]);
     let e = err(&o);
     assert_eq!(o.status.code(), Some(0), "{e}");
-    assert!(e.contains("o.snap.ckpt is the checkpoint of an earlier interrupted run"), "{e}");
-    assert_eq!(std::fs::read(p.join("o.snap.ckpt")).unwrap(), ckpt, "checkpoint kept");
+    assert!(
+        e.contains("o.snap.ckpt is the checkpoint of an earlier interrupted run"),
+        "{e}"
+    );
+    assert_eq!(
+        std::fs::read(p.join("o.snap.ckpt")).unwrap(),
+        ckpt,
+        "checkpoint kept"
+    );
 }
 
 #[test]

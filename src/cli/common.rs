@@ -287,7 +287,7 @@ pub fn print_outcome(
             out.energy_initial,
             out.energy_final,
             out.dissipated,
-            out.relative_energy_error(),
+            signed_energy_error(out),
             out.momentum_initial,
             out.momentum_final
         )?;
@@ -298,11 +298,18 @@ pub fn print_outcome(
         "energy {:.12e} -> {:.12e} (relative change {:.3e}); momentum {:.12e} -> {:.12e}",
         out.energy_initial,
         out.energy_final,
-        out.relative_energy_error(),
+        signed_energy_error(out),
         out.momentum_initial,
         out.momentum_final
     )?;
     si_line(w, scene, out)
+}
+
+/// [`RunOutcome::relative_energy_error`] with the sign of `E_final + E_d − E_0`, as `inspect`
+/// prints it (a gain positive, a loss negative).
+fn signed_energy_error(out: &RunOutcome) -> f64 {
+    let change = out.energy_final + out.dissipated - out.energy_initial;
+    out.relative_energy_error().copysign(change)
 }
 
 /// The run summary's counts past the step line: `auto`'s split between its methods, the events
