@@ -180,3 +180,44 @@ fn inspect_says_wall_time_not_recorded_once() {
         }
     }
 }
+
+/// Found by an adversarial review: `analyze --fit-from nan` exited 0; `validate --quick --out
+/// FILE` ran every check for a minute, then failed with "File exists (os error 17)"; `plot
+/// profile --times -1` named neither the file nor the option. Each is now one line, exit 2,
+/// naming them, before any work.
+#[test]
+fn bad_options_are_named_before_the_work() {
+    let d = tempfile::tempdir().expect("tempdir");
+    let p = d.path();
+    let o = bc(p, &["run", "striker", "--out", "s.snap", "-q"]);
+    assert_eq!(o.status.code(), Some(0));
+    std::fs::write(p.join("f.md"), "").unwrap();
+    let cases: [(&[&str], &str); 3] = [
+        (
+            &["analyze", "s.snap", "--fit-from", "nan"],
+            "--fit-from NaN: expected a finite bead position",
+        ),
+        (
+            &["validate", "--quick", "--out", "f.md"],
+            "f.md: --out: is a file; give a directory",
+        ),
+        (
+            &[
+                "plot", "profile", "s.snap", "--times", "-1", "--out", "p.png",
+            ],
+            "s.snap: --times: time -1 is outside the run",
+        ),
+    ];
+    for (args, want) in cases {
+        let t0 = std::time::Instant::now();
+        let o = bc(p, args);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {e}");
+        assert!(e.contains(want), "{args:?}: {e}");
+        assert!(
+            t0.elapsed().as_secs_f64() < 5.0,
+            "{args:?}: refused before the work"
+        );
+    }
+    assert!(!p.join("p.png").exists());
+}

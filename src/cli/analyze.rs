@@ -125,6 +125,11 @@ pub fn cmd_analyze(args: AnalyzeArgs) -> Result<i32> {
 
 /// Reads the snapshot (every bead, both fields) and summarizes its frames and event log.
 fn analyze(args: &AnalyzeArgs) -> Result<(Summary, Option<UnitScales>, GasReport)> {
+    for (flag, x) in [("--fit-from", args.fit_from), ("--fit-to", args.fit_to)] {
+        if let Some(x) = x.filter(|x| !x.is_finite()) {
+            anyhow::bail!("{flag} {x}: expected a finite bead position");
+        }
+    }
     let snap =
         Snapshot::open(&args.snapshot).with_context(|| format!("{}", args.snapshot.display()))?;
     for w in snap.warnings() {

@@ -23,6 +23,13 @@ pub fn cmd_validate(args: ValidateArgs) -> Result<i32> {
             "only --quick is implemented here; the full report: cargo bench --bench paper_validation -- all (see validation/REPORT.md)"
         );
     }
+    if let Some(dir) = args.out.as_ref().filter(|d| d.exists() && !d.is_dir()) {
+        // before the checks run (a minute), not after
+        anyhow::bail!(
+            "{}: --out: is a file; give a directory (validate writes quick.md into it)",
+            dir.display()
+        );
+    }
     let t0 = std::time::Instant::now();
     let checks = quick_checks(false)?;
     let table = checks_markdown(&checks);

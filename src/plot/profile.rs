@@ -38,7 +38,10 @@ pub fn profile(snap: &Snapshot, opts: &ProfileOptions) -> Result<Profile, PlotEr
     let ks = opts
         .times
         .iter()
-        .map(|&t| nearest_frame(&times, t))
+        .map(|&t| {
+            nearest_frame(&times, t)
+                .map_err(|e| PlotError::Input(format!("{}: --times: {e}", snap.path().display())))
+        })
         .collect::<Result<Vec<_>, _>>()?;
     let (_, _, pw, _) = Layout::new(opts.size, false).plot_rect();
     let mut f = Frame::default();
