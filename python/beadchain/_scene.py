@@ -335,6 +335,9 @@ class Scene:
         existing file or ends in ``.toml`` (whatever characters the path holds, ``=`` or
         ``[`` included) or has no ``=`` and no leading ``[``, else TOML text. ``name`` names
         text in messages (default ``"scene"``; it is also the default scene name)."""
+        if not isinstance(path_or_text, (str, os.PathLike)):
+            raise TypeError(f"Scene.from_toml: expected a path or TOML text (str), got "
+                            f"{type(path_or_text).__name__}")
         if isinstance(path_or_text, os.PathLike) or (
             isinstance(path_or_text, str) and _is_file_name(path_or_text)
         ):

@@ -30,3 +30,10 @@ def test_breather_refuses_bad_settings_before_any_work(key, value):
     kwargs = {"frequency": 2.0, key: value}
     with pytest.raises(bc.SceneError, match=f"breather: {key} = .*: expected a finite value > 0"):
         bc.breather("dimer_gap_breather", **kwargs)
+
+
+@pytest.mark.parametrize("bad", [None, b"[chain]\nbeads = 3\n", 3])
+def test_scene_from_toml_refuses_what_is_neither_path_nor_text(bad):
+    # before: parsed as TOML text ("malformed TOML")
+    with pytest.raises(TypeError, match="Scene.from_toml: expected a path or TOML text"):
+        bc.Scene.from_toml(bad)
