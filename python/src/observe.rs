@@ -44,7 +44,8 @@ impl Progress {
 #[derive(Default)]
 pub(crate) struct EventColumns {
     pub t: Vec<f64>,
-    pub contact: Vec<u64>,
+    /// Contact indices as int64, as `events_to_xarray` has them (a uint64 `contact - 1` wraps).
+    pub contact: Vec<i64>,
     pub kind: Vec<&'static str>,
     pub rel_velocity: Vec<f64>,
     pub peak_overlap: Vec<f64>,
@@ -53,7 +54,8 @@ pub(crate) struct EventColumns {
 impl EventColumns {
     pub fn push(&mut self, e: &EventRecord) {
         self.t.push(e.t);
-        self.contact.push(e.contact);
+        self.contact
+            .push(i64::try_from(e.contact).unwrap_or(i64::MAX));
         self.kind.push(e.kind.name());
         self.rel_velocity.push(e.rel_velocity);
         self.peak_overlap.push(e.peak_overlap);
