@@ -242,10 +242,10 @@ def events_to_xarray(run):
         "kind": xr.Variable(("event",), kind, {"long_name": "event kind"}),
         "rel_velocity": xr.Variable(("event",), np.asarray(ev["rel_velocity"]), {
             "long_name": "relative (approach) velocity at the event", "units": "1",
-            "unit_system": "computer"}),
+            "unit_system": "computer", "note": "SI: v / beta (m/s)"}),
         "peak_overlap": xr.Variable(("event",), np.asarray(ev["peak_overlap"]), {
             "long_name": "largest overlap while closed (0 for a closing event)", "units": "1",
-            "unit_system": "computer"}),
+            "unit_system": "computer", "note": "SI: metres, unchanged"}),
     }
     coords = {
         "event": xr.Variable(("event",), np.arange(n, dtype=np.int64),
