@@ -105,6 +105,15 @@ pub fn rigid_accel(mass: &[f64], stuck: &[bool], pinned: [bool; 2], acc: &mut [f
     }
 }
 
+/// Something that holds inside a cluster ([`super::release`]).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum Hold {
+    /// The hard wall at this side (0 left, 1 right) pins the cluster's end bead.
+    Wall(u8),
+    /// Resting contact `c` (global index) inside a rigid run.
+    Contact(usize),
+}
+
 /// Something a cluster found in its last step and must act on when the queue reaches it.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Pending {
@@ -139,7 +148,7 @@ pub enum Pending {
         /// Located time.
         t: f64,
         /// What lets go.
-        hold: super::release::Hold,
+        hold: Hold,
     },
 }
 

@@ -14,20 +14,11 @@
 //! rtol 1e-8 … 1e-12 (pulled by the wall meanwhile), and a resting contact that was tensile
 //! from its collision on held until the step's end.
 
-use super::cluster::{Cluster, ClusterId, Pending};
+use super::cluster::{Cluster, ClusterId, Hold, Pending};
 use super::queue::{prio, Key};
 use super::Hybrid;
 use crate::engine::events::EventKind;
 use crate::engine::EngineError;
-
-/// Something that holds inside a cluster.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub enum Hold {
-    /// The hard wall at this side (0 left, 1 right) pins the cluster's end bead.
-    Wall(u8),
-    /// Resting contact `c` (global index) inside a rigid run.
-    Contact(usize),
-}
 
 /// A hold with its margin (positive: it lets go) and the margin it must exceed.
 type Margin = (Hold, f64, f64);
