@@ -418,8 +418,10 @@ impl<'a> Hybrid<'a> {
         let earliest = self.first_boundary_closing(cl, t0, t1);
         // Hard walls: the cluster holding an end bead watches the wall gap itself.
         let wall_hit = self.hard_wall_hit(cl, t0, t1);
+        let release = self.first_release(cl, t0, t1);
         if let Some((tw, side)) = wall_hit {
-            if earliest.is_none_or(|(te, _)| tw < te) {
+            let released_first = release.is_some_and(|(tr, _)| tr <= tw);
+            if earliest.is_none_or(|(te, _)| tw < te) && !released_first {
                 self.update_peaks(slot, tw);
                 self.watch_walls(slot, tw);
                 let cl = &mut self.clusters[slot];
@@ -431,7 +433,7 @@ impl<'a> Hybrid<'a> {
             }
         }
         let landing = self.first_landing(cl, t0, t1);
-        if let Some((tr, hold)) = self.first_release(cl, t0, t1) {
+        if let Some((tr, hold)) = release {
             if earliest.is_none_or(|(te, _)| tr < te) && landing.is_none_or(|to| tr <= to) {
                 self.defer_release(slot, tr, hold);
                 return Ok(());

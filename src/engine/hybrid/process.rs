@@ -464,9 +464,14 @@ impl Hybrid<'_> {
             };
             if opens {
                 // The split happens at the step end (the dynamics inside the cluster were exact
-                // up to there); the logged time is the crossing located on the step's output.
-                let t_open =
-                    cl.opening_time(i, self.pre(i), self.ctx.theta, (cl.integ.t_prev(), t));
+                // up to there); the logged time is the crossing located on the step's output,
+                // a resting hard contact's the split's own (its overlap stays 0 while it rests:
+                // a crossing of θ on the output would be anywhere in the step).
+                let t_open = if self.ctx.chain.hard_restitution(i).is_some() {
+                    t
+                } else {
+                    cl.opening_time(i, self.pre(i), self.ctx.theta, (cl.integ.t_prev(), t))
+                };
                 let rel = cl.v_at(t_open, i) - cl.v_at(t_open, i + 1);
                 self.log(t_open, i, EventKind::Open, rel, self.st.peak[i]);
                 self.st.peak[i] = 0.0;

@@ -208,7 +208,10 @@ impl Hybrid<'_> {
         self.settle_at(slot, t)?;
         match hold {
             Hold::Wall(side) => {
+                // the cluster's own flag too: the split's step-end check must not let it go (and
+                // log it) a second time
                 self.st.pinned[side as usize] = false;
+                self.clusters[slot].data.pinned[side as usize] = false;
                 let i = if side == 0 { 0 } else { self.ctx.n - 1 };
                 self.log(t, i, EventKind::WallOpen, 0.0, 0.0);
             }
