@@ -386,32 +386,7 @@ impl<'a> Hybrid<'a> {
     }
 
     fn step_cluster(&mut self, slot: ClusterId) -> Result<(), EngineError> {
-        let until = self.ctx.cfg.until;
-        let chain = self.ctx.chain;
-        let (bound, rough) = {
-            let cl = &self.clusters[slot];
-            let bound = self.opening_bound(cl, until);
-            let bound = self.closing_bound(cl, bound);
-            let h = cl.integ.step_size().min(bound - cl.integ.t());
-            (bound, self.rough_step(cl, h))
-        };
-        let (lo, t0, t1) = {
-            let cl = &mut self.clusters[slot];
-            let sys = cluster::ClusterSys {
-                chain: self.ctx.fall.1.as_ref().unwrap_or(chain),
-                lo: cl.data.lo,
-                mass: &cl.data.mass,
-                pinned: cl.data.pinned,
-                rigid: cl.rigid.then(|| &self.st.stuck[cl.data.lo..cl.data.hi - 1]),
-            };
-            let t0 = cl.data.t_now;
-            cl.integ.set_rough(rough);
-            let t1 = cl.integ.step(&sys, bound);
-            cl.integ.set_rough(crate::integrate::Rough::Smooth);
-            let t1 = t1?;
-            cl.data.t_now = t1;
-            (cl.data.lo, t0, t1)
-        };
+        let (lo, t0, t1) = self.take_step(slot)?;
         self.count_step()?;
         // Boundary closings over the known part of the step.
         let cl = &self.clusters[slot];
@@ -468,6 +443,38 @@ impl<'a> Hybrid<'a> {
                 .push(Key::Cluster(slot), prio(t1, 2, lo, Key::Cluster(slot)));
         }
         Ok(())
+    }
+
+    /// One step of the cluster in `slot` from its clock, bounded by the predicted openings and
+    /// closings (and marked rough at a kink): `(first bead, t0, t1)`.
+    fn take_step(&mut self, slot: ClusterId) -> Result<(usize, f64, f64), EngineError> {
+        let until = self.ctx.cfg.until;
+        let chain = self.ctx.chain;
+        let (bound, rough) = {
+            let cl = &self.clusters[slot];
+            let bound = self.opening_bound(cl, until);
+            let bound = self.closing_bound(cl, bound);
+            let h = cl.integ.step_size().min(bound - cl.integ.t());
+            (bound, self.rough_step(cl, h))
+        };
+        let (lo, t0, t1) = {
+            let cl = &mut self.clusters[slot];
+            let sys = cluster::ClusterSys {
+                chain: self.ctx.fall.1.as_ref().unwrap_or(chain),
+                lo: cl.data.lo,
+                mass: &cl.data.mass,
+                pinned: cl.data.pinned,
+                rigid: cl.rigid.then(|| &self.st.stuck[cl.data.lo..cl.data.hi - 1]),
+            };
+            let t0 = cl.data.t_now;
+            cl.integ.set_rough(rough);
+            let t1 = cl.integ.step(&sys, bound);
+            cl.integ.set_rough(crate::integrate::Rough::Smooth);
+            let t1 = t1?;
+            cl.data.t_now = t1;
+            (cl.data.lo, t0, t1)
+        };
+        Ok((lo, t0, t1))
     }
 
     /// Energy dissipated by damped contacts up to `t`: the ended integrations plus every live
