@@ -292,10 +292,18 @@ impl Hybrid<'_> {
 }
 
 impl Hybrid<'_> {
+    /// A speed of bead `i` at the rounding of its velocity scale: a bead let go by its wall
+    /// (`super::release`) lies inside it by rounding and may move in by as little; that is no
+    /// approach, so its wall gap is measured from where it starts (a Radau IIA run re-held such
+    /// a bead by a zero-speed hit at once and let it go a step later).
+    fn rounding_speed(&self, i: usize) -> f64 {
+        16.0 * f64::EPSILON * self.ctx.tol.scales.bead_velocity(self.ctx.chain.mass[i])
+    }
+
     /// First collision over `[t0, t1]` of `cl`'s end bead with a hard wall it holds (not pinned
     /// there): the crossing of the wall gap on the continuous output, as `(t, side)`. A bead that
-    /// starts the window overlapping by rounding right after a bounce (moving away) is measured
-    /// from that overlap.
+    /// starts the window overlapping by rounding right after a bounce (moving away, or in at
+    /// [`Self::rounding_speed`]) is measured from that overlap.
     pub(super) fn hard_wall_hit(
         &self,
         cl: &super::cluster::Cluster,
@@ -312,7 +320,7 @@ impl Hybrid<'_> {
                 .as_ref()
                 .map_or(0.0, |w| w.precompression);
             let d0 = pre - cl.u_at(t0, 0);
-            let off = if d0 > 0.0 && cl.v_at(t0, 0) >= 0.0 {
+            let off = if d0 > 0.0 && cl.v_at(t0, 0) >= -self.rounding_speed(0) {
                 d0
             } else {
                 0.0
@@ -330,7 +338,7 @@ impl Hybrid<'_> {
                 .map_or(0.0, |w| w.precompression);
             let last = self.ctx.n - 1;
             let d0 = pre + cl.u_at(t0, last);
-            let off = if d0 > 0.0 && cl.v_at(t0, last) <= 0.0 {
+            let off = if d0 > 0.0 && cl.v_at(t0, last) <= self.rounding_speed(last) {
                 d0
             } else {
                 0.0
