@@ -295,7 +295,6 @@ impl Hybrid<'_> {
         // the accepted step's own state at `t`, for a redo that cannot reach it (below)
         let zt = &mut self.ws.bzt[..2 * m];
         cl.integ.dense(t, zt);
-        let d_t = crate::integrate::dissipated_at(&*cl.integ, &sys, t);
         cl.integ.dense(t0, z);
         let d_t0 = cl.integ.dissipated().0;
         cl.integ.restart(&sys, t0, &z[..m], &z[m..], t - t0);
@@ -306,9 +305,10 @@ impl Hybrid<'_> {
                 Err(crate::integrate::IntegrationError::StepTooSmall { .. }) => {
                     // A force that jumps (a dashpot wall's touch) a rounding-scale distance
                     // before `t`: the redo's steps shrink to rounding before it, and the
-                    // accepted step's continuous output is the state there.
+                    // accepted step's continuous output is the state there (the energy
+                    // dissipated over that rounding-scale rest of the step is left out).
+                    self.st.dissipated += d_t0 + cl.integ.dissipated().1;
                     cl.integ.reset(&sys, t, &zt[..m], &zt[m..]);
-                    self.st.dissipated += d_t;
                     cl.integ.set_rough(Rough::Smooth);
                     return Ok(());
                 }

@@ -28,7 +28,8 @@
 //! beads joined by resting contacts form a *rigid run*: each gets the run's mean acceleration
 //! `Σ m_i a_i / Σ m_i` (internal contact forces cancel; [`super::cluster::rigid_accel`]), so
 //! they keep their common velocity. At each step end the force the run's contacts carry is
-//! checked ([`Hybrid::tension`], and located within a step: [`super::release`]); a resting contact that would be tensile opens, and the
+//! checked ([`Hybrid::tension`]; within a step it is located: [`super::release`]); a resting
+//! contact that would be tensile opens, and the
 //! cluster splits there. A piece of a split made only of rigid beads becomes a free group again.
 //! A cluster's boundary contacts are never stuck ([`Hybrid::unstick_around`]).
 
