@@ -12,11 +12,12 @@ mod common;
 use beadchain::engine::{self, EngineError, Observer, Recorder, RunConfig};
 use beadchain::integrate::Method;
 use beadchain::model::{HardContacts, Wall};
-use beadchain::scene::{Engine, Scene};
+use beadchain::scene::{parse_str, Engine, Scene};
 use beadchain::snapshot::{EventKind, EventRecord, Header, Snapshot, SnapshotWriter};
 use common::*;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
+use std::path::Path;
 
 // ---- live-bytes counting allocator (per thread: tests run in parallel) ------------------------
 
@@ -200,6 +201,72 @@ fn merges_and_splits_allocate_nothing() {
         c2 <= c1 + 16,
         "{c1} allocation calls with {e1} events, {c2} with {e2}"
     );
+}
+
+/// A 3-bead column under gravity bouncing on a hard ceiling (hard collisions of a cluster's
+/// bead: `src/engine/hybrid/hard.rs`).
+const HARD_CEILING: &str = r#"
+[chain]
+beads = 3
+[field]
+gravity = 1.0
+[walls]
+left = {}
+right = { hard = true }
+force = 4.0
+[initial]
+equilibrium = true
+velocity = [0.0, -0.8, 0.0]
+[run]
+until = 50.0
+"#;
+
+/// Plastic hard contacts inside a soft chain under gravity: rigid runs whose resting contacts
+/// are examined at every step (`src/engine/hybrid/release.rs`).
+const RIGID_IN_SOFT: &str = r#"
+[chain]
+beads = 12
+[initial]
+striker = 1.0
+[field]
+gravity = 0.5
+[hard]
+contacts = { from = 4, to = 7 }
+restitution = 0.0
+[walls]
+left = { exponent = 2.5, prefactor = 1.0 }
+[run]
+until = 20.0
+"#;
+
+/// Regression (hot loops allocation-free): a cluster with holds allocated at every step, in
+/// `Hybrid::first_release` (a state, accelerations and a copy of the margins per evaluation)
+/// and `tension`/`release_pin` (the margins per call), and at every hard collision of one of
+/// its beads (`replace_velocity`: two `Vec`s; `accel_of`: one). Measured with this test before
+/// the fix (allocation calls, steps): the ceiling 1313 / 1212 to t = 50 and 1670 / 2177 to
+/// t = 150; the rigid runs 1385 / 220 to t = 20 and 4170 / 797 to t = 60. After: 65 / 65 and
+/// 132 / 153 (the integrator pool growing with the largest cluster).
+#[test]
+fn holds_and_hard_collisions_allocate_nothing_per_step() {
+    for (text, t1) in [(HARD_CEILING, 50.0), (RIGID_IN_SOFT, 20.0)] {
+        let s = parse_str(text, Path::new("."), "s.toml").expect("scene parses");
+        let mut runs = Vec::new();
+        for until in [t1, 3.0 * t1] {
+            let cfg = config(Engine::Hybrid, Method::Auto, 1e-8, 1e-12, until);
+            let mut obs = Count::default();
+            let before = CALLS.with(|c| c.get());
+            let out = engine::run(&s, &cfg, &mut obs).expect("runs");
+            runs.push((CALLS.with(|c| c.get()) - before, out.stats.steps));
+        }
+        let ((c1, s1), (c2, s2)) = (runs[0], runs[1]);
+        println!("{c1} allocation calls with {s1} steps, {c2} with {s2}");
+        assert!(s2 >= s1 + 500, "{s1} steps to t = {t1}, {s2} to 3× that");
+        // abs tol 40 calls (allocator, queue and integrator pool growth), far below one per step
+        assert!(
+            c2 <= c1 + 40,
+            "{c1} allocation calls with {s1} steps, {c2} with {s2}"
+        );
+    }
 }
 
 /// The streamed log, read back from the snapshot, equals the in-memory log (count and every

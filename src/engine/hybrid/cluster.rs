@@ -249,13 +249,12 @@ impl Cluster {
     }
 
     /// The accelerations of the cluster's beads at its current state, with their real masses
-    /// (the force a pinned bead feels; not hot: hard collisions and resting contacts).
-    pub fn accel_now(&self, chain: &Chain) -> Vec<f64> {
+    /// (the force a pinned bead feels), into `acc` (resized to the cluster's beads).
+    pub fn accel_now(&self, chain: &Chain, acc: &mut Vec<f64>) {
         let m = self.m();
         let z = self.integ.state();
-        let mut acc = vec![0.0; m];
-        chain.accel_v(self.data.lo, &z[..m], &z[m..], &mut acc);
-        acc
+        acc.resize(m, 0.0);
+        chain.accel_v(self.data.lo, &z[..m], &z[m..], acc);
     }
 
     /// The system this cluster integrates (`stuck`: the engine's flags, one per contact).

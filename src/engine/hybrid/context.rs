@@ -37,6 +37,8 @@ pub(super) struct Workspace {
     /// Scratch of the bead states at a merge or split (`N` each).
     pub(super) eu: Vec<f64>,
     pub(super) ev: Vec<f64>,
+    /// Scratch of a cluster's accelerations at a hard collision ([`Hybrid::accel_of`]).
+    pub(super) acc: Vec<f64>,
     /// Mass arrays of removed clusters, reused by the next clusters made.
     pub(super) spare_mass: Vec<Vec<f64>>,
     /// Integrators of removed clusters, renewed for the next clusters made
@@ -51,6 +53,9 @@ pub(super) struct Workspace {
     /// Each contact's peak overlap before its cluster's last step (`N + 1`; NaN where not
     /// known, e.g. after a resume): read only by a kick ([`super::kick`]).
     pub(super) peak_before: Vec<f64>,
+    /// Scratch of the holds' margins ([`super::release`]); a cell, as the margins are
+    /// evaluated inside the crossing search's closures.
+    pub(super) hold: std::cell::RefCell<super::release::HoldScratch>,
 }
 
 impl Workspace {
@@ -64,11 +69,13 @@ impl Workspace {
             bzt: vec![0.0; 2 * n],
             eu: vec![0.0; n],
             ev: vec![0.0; n],
+            acc: Vec::with_capacity(n),
             spare_mass: Vec::new(),
             spare: Vec::new(),
             spare_pairs: Vec::new(),
             profiles: Default::default(),
             peak_before: vec![f64::NAN; n + 1],
+            hold: Default::default(),
         }
     }
 }

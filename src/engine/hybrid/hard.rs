@@ -64,26 +64,35 @@ fn collision_loss(ma: f64, mb: f64, w: f64, sep: f64) -> f64 {
 
 impl Hybrid<'_> {
     /// Acceleration of bead `i` at the current event time (its owner settled there).
-    fn accel_of(&self, i: usize) -> f64 {
+    fn accel_of(&mut self, i: usize) -> f64 {
         match self.st.owner[i] {
             FREE => self.st.free[i].g,
             s => {
                 let cl = &self.clusters[s];
-                cl.accel_now(self.ctx.chain)[i - cl.data.lo]
+                cl.accel_now(self.ctx.chain, &mut self.ws.acc);
+                self.ws.acc[i - cl.data.lo]
             }
         }
     }
 
     /// Gives beads `a..b` of one cluster the velocity `v` at `t` (the cluster settled at `t`):
-    /// the cluster restarts from its state with the new velocities.
+    /// the cluster restarts from its state with the new velocities (its beads' states in
+    /// scratch taken out for the call: no allocation).
     fn replace_velocity(&mut self, a: usize, b: usize, t: f64, v: f64) {
         let cl = self.remove_cluster(self.st.owner[a], t);
         let (lo, hi) = (cl.data.lo, cl.data.hi);
-        let us: Vec<f64> = (lo..hi).map(|k| cl.u_at(t, k)).collect();
-        let mut vs: Vec<f64> = (lo..hi).map(|k| cl.v_at(t, k)).collect();
+        let (mut us, mut vs) = (
+            std::mem::take(&mut self.ws.eu),
+            std::mem::take(&mut self.ws.ev),
+        );
+        for k in lo..hi {
+            us[k - lo] = cl.u_at(t, k);
+            vs[k - lo] = cl.v_at(t, k);
+        }
         vs[a - lo..b - lo].fill(v);
         self.recycle(cl);
-        self.make_cluster(lo, hi, t, (&us, &vs), None, false);
+        self.make_cluster(lo, hi, t, (&us[..hi - lo], &vs[..hi - lo]), None, false);
+        (self.ws.eu, self.ws.ev) = (us, vs);
     }
 
     /// The TC-model interval `t_c`.

@@ -23,6 +23,17 @@ use crate::engine::EngineError;
 /// A hold with its margin (positive: it lets go) and the margin it must exceed.
 type Margin = (Hold, f64, f64);
 
+/// Scratch of the margins' evaluations (in the workspace, so a step of a cluster with holds
+/// allocates nothing): a state, its accelerations, the margins at a time and at the step's ends.
+#[derive(Default)]
+pub(super) struct HoldScratch {
+    z: Vec<f64>,
+    acc: Vec<f64>,
+    out: Vec<Margin>,
+    start: Vec<Margin>,
+    end: Vec<Margin>,
+}
+
 impl Hybrid<'_> {
     /// The holds of `cl` and their margins at the local state `(u, v)` (as the integrator holds
     /// it), into `out`: the pinned walls (left, then right; let go where the margin is above 0),
@@ -102,24 +113,34 @@ impl Hybrid<'_> {
         }
     }
 
-    /// The holds of `cl` at its current state.
-    fn margins_now(&self, cl: &Cluster) -> Vec<Margin> {
+    /// The holds of `cl` at its current state, into the workspace's `out`.
+    fn margins_now(&self, cl: &Cluster, s: &mut HoldScratch) {
         let (m, z) = (cl.m(), cl.integ.state());
-        let mut acc = vec![0.0; m];
-        let mut out = Vec::new();
-        self.margins(cl, (&z[..m], &z[m..]), &mut acc, &mut out);
-        out
+        s.acc.resize(m, 0.0);
+        self.margins(cl, (&z[..m], &z[m..]), &mut s.acc, &mut s.out);
+    }
+
+    /// The holds of `cl` on its last step's continuous output at `t`, into `s.out`.
+    fn margins_at(&self, cl: &Cluster, t: f64, s: &mut HoldScratch) {
+        let m = cl.m();
+        s.z.resize(2 * m, 0.0);
+        s.acc.resize(m, 0.0);
+        for k in 0..2 * m {
+            s.z[k] = cl.integ.dense_at(t, k);
+        }
+        let (u, v) = s.z.split_at(m);
+        self.margins(cl, (u, v), &mut s.acc, &mut s.out);
     }
 
     /// A resting contact inside `cl` that would be tensile at its current state (global
     /// contact index; module docs).
     pub(super) fn tension(&self, cl: &Cluster) -> Option<usize> {
-        self.margins_now(cl)
-            .into_iter()
-            .find_map(|(h, g, tol)| match h {
-                Hold::Contact(c) if g > tol => Some(c),
-                _ => None,
-            })
+        let s = &mut *self.ws.hold.borrow_mut();
+        self.margins_now(cl, s);
+        s.out.iter().find_map(|&(h, g, tol)| match h {
+            Hold::Contact(c) if g > tol => Some(c),
+            _ => None,
+        })
     }
 
     /// A pinned end bead whose net force (contacts + field, real mass) points away from its
@@ -128,12 +149,12 @@ impl Hybrid<'_> {
         if !cl.data.pinned[0] && !cl.data.pinned[1] {
             return None;
         }
-        self.margins_now(cl)
-            .into_iter()
-            .find_map(|(h, g, tol)| match h {
-                Hold::Wall(side) if g > tol => Some(side),
-                _ => None,
-            })
+        let s = &mut *self.ws.hold.borrow_mut();
+        self.margins_now(cl, s);
+        s.out.iter().find_map(|&(h, g, tol)| match h {
+            Hold::Wall(side) if g > tol => Some(side),
+            _ => None,
+        })
     }
 
     /// Earliest time `t_r ∈ (t0, t1)` where a hold of `cl` lets go within its last step
@@ -145,25 +166,30 @@ impl Hybrid<'_> {
         if !(pinned || cl.rigid) || cl.m() < 2 || t1 <= t0 {
             return None;
         }
-        let m = cl.m();
-        // scratch of the evaluations: the state, the accelerations and the margins at a time
-        let scratch = std::cell::RefCell::new((vec![0.0; 2 * m], vec![0.0; m], Vec::new()));
-        let at = |t: f64| -> Vec<Margin> {
-            let mut s = scratch.borrow_mut();
-            let (z, acc, out) = &mut *s;
-            for k in 0..2 * m {
-                z[k] = cl.integ.dense_at(t, k);
-            }
-            self.margins(cl, (&z[..m], &z[m..]), acc, out);
-            out.clone()
+        // the margins at the step's ends, then each crossing located on the continuous output
+        // (the workspace's scratch: no allocation per step)
+        let n = {
+            let s = &mut *self.ws.hold.borrow_mut();
+            self.margins_at(cl, t0, s);
+            std::mem::swap(&mut s.out, &mut s.start);
+            self.margins_at(cl, t1, s);
+            std::mem::swap(&mut s.out, &mut s.end);
+            s.start.len().min(s.end.len())
         };
-        let (start, end) = (at(t0), at(t1));
         let mut first: Option<(f64, Hold)> = None;
-        for (k, (&(hold, g1, tol1), &(_, g0, tol0))) in end.iter().zip(&start).enumerate() {
+        for k in 0..n {
+            let ((hold, g1, tol1), (_, g0, tol0)) = {
+                let s = self.ws.hold.borrow();
+                (s.end[k], s.start[k])
+            };
             if g0 > tol0 || g1 <= tol1 {
                 continue;
             }
-            let g = |t: f64| at(t).get(k).map_or(-1.0, |&(_, g, tol)| g - tol);
+            let g = |t: f64| {
+                let s = &mut *self.ws.hold.borrow_mut();
+                self.margins_at(cl, t, s);
+                s.out.get(k).map_or(-1.0, |&(_, g, tol)| g - tol)
+            };
             let bound = first.map_or(t1, |(t, _)| t);
             let Some(t) = super::detect::first_crossing(g, t0, bound) else {
                 continue;
