@@ -184,3 +184,61 @@ fn first_step_after_a_closing_resolves_the_contact_onset() {
     let de = (out.energy_final - out.energy_initial).abs() / out.energy_initial;
     assert!(de <= 0.5 * rtol, "energy error {de:e} at rtol {rtol:e}");
 }
+
+/// Regression: a third body that the field accelerates otherwise than the pair (a force on
+/// bead 2 only) grazes the pair between the samples of its one exact step, and was missed: bead
+/// 0's final velocity was 0 at any rtol, and the pair's neighbour, a lone bead at a soft wall,
+/// was missed the same way (0.9746075 instead of 0.9746780). Such pairs are now integrated.
+/// References: an independent SciPy DOP853 integration at rtol 1e-13 with its own force law and
+/// contact events (bead 2 touches bead 1 from t = 0.2471 to 0.3578).
+#[test]
+fn a_neighbour_the_field_accelerates_otherwise_is_not_missed() {
+    let graze = r#"
+[chain]
+beads = 3
+exponent = 2.5
+prefactor = 1.0
+precompression = [0.0, -0.8741736878520059]
+[initial]
+velocity = [1.0, 0.0, -6.0]
+[field]
+force = [0.0, 0.0, 20.0]
+[run]
+until = 2.5
+"#;
+    let wall = r#"
+[chain]
+beads = 2
+exponent = 2.5
+prefactor = 1.0
+precompression = -8.331110191034059
+[initial]
+velocity = [-1.0, -41.82347771887406]
+[walls]
+left = { exponent = 2.5, prefactor = 1.0, precompression = 0.0 }
+[field]
+force = [0.0, 100.0]
+[run]
+until = 2.0
+"#;
+    // (scene, bead, reference final velocity, its last digit: abs tol)
+    for (text, bead, v_ref, digit) in [(graze, 0, -8.0652e-4, 2e-8), (wall, 0, 0.9746780, 2e-7)] {
+        let sc = beadchain::scene::parse_str(text, std::path::Path::new("."), "s.toml").unwrap();
+        for rtol in [1e-6, 1e-10] {
+            let cfg = config(
+                Engine::Hybrid,
+                Method::Auto,
+                rtol,
+                rtol * 1e-4,
+                sc.run.until,
+            );
+            let (out, _) = run(&sc, &cfg);
+            let v = out.v[bead];
+            // abs tol: the reference's last digit + 100·rtol (the run's own error)
+            assert!(
+                (v - v_ref).abs() <= digit + 100.0 * rtol,
+                "rtol {rtol}: v{bead} = {v}, reference {v_ref}"
+            );
+        }
+    }
+}
