@@ -242,3 +242,135 @@ until = 2.0
         }
     }
 }
+
+/// Regression: a collision whose peak overlap is below the contact threshold `θ` (a slow pair
+/// beside a fast bead, which sets the run's length scale and so `θ`; or a contact 10⁸ stiffer
+/// than the chain's) was not seen: the beads flew through each other until their overlap
+/// reached `θ`, 30 time units late (at t = 30 both velocities 37 % of the impact speed off), and
+/// the stiff contact logged its `open` 2 time units late with peak 0. An exact pair now closes
+/// at its onset: frames are the profile's, the contact time and peak the closed form's.
+#[test]
+fn a_collision_shallower_than_the_threshold_is_exact() {
+    // (scene, impact speed, prefactor, close time, the bead that leaves with the speed)
+    let slow = r#"
+[chain]
+beads = 4
+exponent = 2.5
+precompression = [-1e-8, -1.0, -1.0]
+[initial]
+velocity = [1e-8, 0.0, 0.0, 100.0]
+[run]
+until = 100.0
+every = 10.0
+"#;
+    let stiff = r#"
+[chain]
+beads = 3
+exponent = 2.5
+prefactor = [1e8, 1.0]
+precompression = [-0.5, -2.0]
+[initial]
+velocity = [1.0, 0.0, 0.0]
+[run]
+until = 6.0
+every = 0.5
+"#;
+    for (text, w, a, t_s, k) in [(slow, 1e-8, 1.0, 1.0, 1), (stiff, 1.0, 1e8, 0.5, 2)] {
+        let sc = beadchain::scene::parse_str(text, std::path::Path::new("."), "s.toml").unwrap();
+        let (d_max, t_c) = collision(0.5, w, 2.5, a);
+        for rtol in [1e-3, 1e-8] {
+            let mut cfg = config(
+                Engine::Hybrid,
+                Method::Auto,
+                rtol,
+                rtol * 1e-4,
+                sc.run.until,
+            );
+            cfg.every = sc.run.every;
+            let (out, rec) = run(&sc, &cfg);
+            assert!(rec.events.len() >= 2, "rtol {rtol}: {:?}", rec.events);
+            let (shut, open) = (&rec.events[0], &rec.events[1]);
+            assert_eq!((shut.kind, open.kind), (EventKind::Close, EventKind::Open));
+            // rel 1e-12: the closed form's contact time, peak and onset
+            assert!(close(shut.t, t_s, 1e-12, 0.0), "close at {}", shut.t);
+            // logged where the overlap falls below θ: the contact's end where the peak is
+            // below θ, else within the last 10·θ/w of it (θ = rtol·L, L ≤ 5000^0.4 here; rel
+            // 1e-12 on top)
+            let t_e = t_s + t_c;
+            let early = if d_max < 1e-9 {
+                0.0
+            } else {
+                10.0 * rtol * 5e3f64.powf(0.4) / w
+            };
+            let what = format!("rtol {rtol}: open at {}, the contact ends at {t_e}", open.t);
+            assert!(
+                open.t <= t_e * (1.0 + 1e-12) && open.t >= t_e - early,
+                "{what}"
+            );
+            assert!(
+                close(open.peak_overlap, d_max, 1e-12, 0.0),
+                "{open:?} vs {d_max}"
+            );
+            // the elastic exchange (rel 1e-14)
+            assert!(
+                close(out.v[k], w, 1e-14, 0.0),
+                "rtol {rtol}: v{k} {}",
+                out.v[k]
+            );
+            for i in 0..k {
+                assert!(
+                    out.v[i].abs() <= 1e-14 * w,
+                    "rtol {rtol}: v{i} {}",
+                    out.v[i]
+                );
+            }
+            assert_eq!(out.shallow_closings, 0);
+        }
+    }
+    // the slow pair's frame at t = 30, mid-contact: (6.2546e-9, 3.7454e-9) by the profile
+    // (the bead velocities' sum is the impact speed; abs tol 1e-13 of it)
+    let sc = beadchain::scene::parse_str(slow, std::path::Path::new("."), "s.toml").unwrap();
+    let mut cfg = config(Engine::Hybrid, Method::Auto, 1e-8, 1e-12, 100.0);
+    cfg.every = Some(10.0);
+    let (_, rec) = run(&sc, &cfg);
+    let v = &rec.v[3];
+    assert!((v[0] - 6.254566215e-9).abs() < 1e-18, "v0(30) = {}", v[0]);
+    assert!((v[0] + v[1] - 1e-8).abs() < 1e-21, "v(30) = {v:?}");
+}
+
+/// A collision that is integrated (a field on the bead) and shallower than the threshold `θ`
+/// (a wall 10⁸ stiffer than the chain's contacts, at rtol 1e-3) is counted in
+/// `shallow_closings`, which `run` reports as a warning; before, the run gained 250 times its
+/// energy without a word. None at the default tolerances on a 1000-bead striker.
+#[test]
+fn shallow_integrated_collisions_are_counted() {
+    let wall = r#"
+[chain]
+beads = 2
+exponent = 2.5
+prefactor = 1.0
+precompression = -5.0
+[initial]
+velocity = [-1.0, 0.0]
+[field]
+gravity = 1.0
+[walls]
+left = { exponent = 2.5, prefactor = 1e8, precompression = -0.5 }
+[run]
+until = 3.0
+"#;
+    let sc = beadchain::scene::parse_str(wall, std::path::Path::new("."), "s.toml").unwrap();
+    let cfg = config(Engine::Hybrid, Method::Auto, 1e-3, 1e-7, 3.0);
+    let (out, _) = run(&sc, &cfg);
+    assert!(out.shallow_closings >= 1, "{}", out.shallow_closings);
+    assert!(out.shallow_closings_note().is_some());
+    let tight = config(Engine::Hybrid, Method::Auto, 1e-8, 1e-12, 3.0);
+    assert_eq!(run(&sc, &tight).0.shallow_closings, 0);
+    let striker = common::striker(1000, 2.5, 1.0, 1.0, 1200.0);
+    let out = run(
+        &striker,
+        &config(Engine::Hybrid, Method::Auto, 1e-8, 1e-12, 1200.0),
+    )
+    .0;
+    assert_eq!(out.shallow_closings, 0);
+}

@@ -178,6 +178,7 @@ pub(crate) fn stats<'py>(py: Python<'py>, o: &RunOutcome) -> PyResult<Bound<'py,
     d.set_item("largest_cluster", o.largest_cluster)?;
     d.set_item("late_merges", o.late_merges)?;
     d.set_item("slow_closings", o.slow_closings)?;
+    d.set_item("shallow_closings", o.shallow_closings)?;
     Ok(d)
 }
 
@@ -196,6 +197,7 @@ fn summary(out: &RunOutcome) -> RunSummary {
         notes: out
             .slow_closings_note()
             .into_iter()
+            .chain(out.shallow_closings_note())
             .chain(std::iter::once(
                 beadchain::snapshot::WALL_NOT_RECORDED.into(),
             ))

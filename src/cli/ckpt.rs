@@ -44,9 +44,8 @@ pub fn sink(
 /// Summary stored in the snapshot.
 pub fn summary(out: &RunOutcome, timing: bool) -> RunSummary {
     let mut notes = Vec::new();
-    if let Some(note) = out.slow_closings_note() {
-        notes.push(note);
-    }
+    notes.extend(out.slow_closings_note());
+    notes.extend(out.shallow_closings_note());
     if !timing {
         notes.push(beadchain::snapshot::WALL_NOT_RECORDED.into());
     }

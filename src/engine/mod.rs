@@ -113,6 +113,13 @@ pub struct RunOutcome {
     /// every preset at the default tolerances.
     #[serde(default)]
     pub slow_closings: u64,
+    /// Hybrid engine diagnostic: integrated collisions whose peak overlap, estimated from the
+    /// two bodies' approach, is below the contact threshold `θ` (∝ `rtol`): their force is not
+    /// applied until the overlap reaches `θ`, so they are missed or cut. Exact two-body
+    /// contacts do not count (they close at their onset). 0 on every preset at the default
+    /// tolerances.
+    #[serde(default)]
+    pub shallow_closings: u64,
     /// Accepted steps taken by an implicit method (Radau IIA); `stats.steps` minus this is the
     /// number of explicit steps.
     pub implicit_steps: u64,
@@ -256,6 +263,21 @@ impl RunOutcome {
                  wave re-colliding with their own velocity errors); rerun with a smaller atol to \
                  check that they persist",
                 self.slow_closings, closings, SLOW_CLOSING_FACTOR
+            )
+        })
+    }
+
+    /// The warning of a run with shallow integrated collisions
+    /// ([`RunOutcome::shallow_closings`]), or `None` when there were none.
+    pub fn shallow_closings_note(&self) -> Option<String> {
+        let closings = self.events_by_kind.map_or(0, |c| c.closings());
+        (self.shallow_closings > 0).then(|| {
+            format!(
+                "{} of {} closings were collisions whose peak overlap (estimated from the two \
+                 bodies' approach) is below the contact threshold theta (proportional to rtol): \
+                 their force is not applied below theta, so they are missed or cut; rerun with a \
+                 smaller rtol, or with --engine dense, to check them",
+                self.shallow_closings, closings
             )
         })
     }

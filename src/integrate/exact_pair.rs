@@ -148,6 +148,11 @@ impl ExactPair {
         self.s.d_max
     }
 
+    /// The impact speed `w₀`.
+    pub fn impact_speed(&self) -> f64 {
+        self.s.w0
+    }
+
     /// Largest overlap over `[ta, tb]`: `δ_max` where the peak lies inside, else the larger end.
     pub fn peak_over(&self, ta: f64, tb: f64) -> f64 {
         let tp = self.s.t_s + self.profile.tau_half() * self.scale();
@@ -159,10 +164,15 @@ impl ExactPair {
     }
 
     /// The time on the way out at which the overlap falls to `level ∈ (0, δ_max)` (the logged
-    /// opening time of the engine's threshold); `None` outside that range.
+    /// opening time of the engine's threshold); the contact's end where `level ≥ δ_max` (a
+    /// contact whose peak stays below the threshold opens where it ends); `None` for
+    /// `level ≤ 0` or a pair that does not collide.
     pub fn leaving(&self, level: f64) -> Option<f64> {
-        if !(self.s.w0 > 0.0 && level > 0.0 && level < self.s.d_max) {
+        if !(self.s.w0 > 0.0 && level > 0.0) {
             return None;
+        }
+        if level >= self.s.d_max {
+            return Some(self.s.t_e);
         }
         Some(self.s.t_e - self.profile.tau_of(level / self.s.d_max) * self.scale())
     }

@@ -23,8 +23,8 @@ pub const CKPT_MAGIC: [u8; 8] = *b"BEADCKPT";
 /// soft-wall crossings not yet logged; 6: an integrator state may be an exact two-body
 /// contact's trajectory; 7: an integrator state is typed per method, `MethodState`; 8: it may be a cluster at
 /// rest's, `MethodState::Rest`; 9: the hybrid queue's keys and priorities as the queue holds
-/// them).
-pub const CKPT_VERSION: u32 = 9;
+/// them; 10: the hybrid state counts shallow integrated collisions).
+pub const CKPT_VERSION: u32 = 10;
 
 /// Everything a resumed run needs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

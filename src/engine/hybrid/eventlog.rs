@@ -25,6 +25,14 @@
 //! them are counted); the count lets `run` say so instead of returning those collisions
 //! silently.
 //!
+//! **Shallow collisions.** A contact closes when its overlap reaches `θ` and opens when it falls
+//! below `θ`: a collision whose peak overlap is below `θ` is not seen (the beads fly through
+//! each other up to `θ` and are then merged, past their true peak) or is cut at once. Exact
+//! two-body contacts close at their onset and do not depend on `θ`; the integrated ones whose
+//! two-body peak estimate is below `θ` (free beads closing, a free bead onto a soft wall, an
+//! exact pair handed over) are counted ([`crate::engine::RunOutcome::shallow_closings`]) and
+//! `run` says so. (Their number grows as `rtol` loosens: `θ ∝ rtol`, module docs of [`super`].)
+//!
 //! **Peak overlaps.** The largest overlap a contact (or a soft wall contact) reaches while
 //! closed is taken from the continuous output of every accepted cluster step: the overlap
 //! `δ(t)` has an interior maximum on the step `[t₀, t₁]` exactly when `δ̇ = v_i − v_{i+1}` goes
@@ -141,6 +149,41 @@ impl Hybrid<'_> {
         if rel.abs() < crate::engine::SLOW_CLOSING_FACTOR * vtol {
             self.st.slow_closings += 1;
         }
+    }
+
+    /// Counts a collision of beads `beads` through the law `(n, a)` closing at speed `w`
+    /// (reduced mass `mu`, the bead's mass at a wall) under a relative static load `load`
+    /// (force) in [`crate::engine::hybrid::saved::HybridData::shallow_closings`] when it is
+    /// shallow ([`Self::shallow`]) by its two-body peak overlap
+    /// `max((μw²/2a)^{1/n}, (load/(n a))^{1/(n−1)})`.
+    pub(super) fn count_shallow(
+        &mut self,
+        (mu, w, load): (f64, f64, f64),
+        (n, a): (f64, f64),
+        beads: &[usize],
+    ) {
+        let kinetic = (mu * w * w / (2.0 * a)).powf(1.0 / n);
+        let resting = if n > 1.0 {
+            (load.abs() / (n * a)).powf(1.0 / (n - 1.0))
+        } else {
+            0.0
+        };
+        if self.shallow(kinetic.max(resting), w, beads) {
+            self.st.shallow_closings += 1;
+        }
+    }
+
+    /// Is a collision of beads `beads` at speed `w` whose peak overlap is `peak` shallow: its
+    /// peak below the threshold `θ`, where its force is not applied at all until the overlap
+    /// reaches `θ` (the collision is missed or cut), while its speed matters at the tolerance
+    /// (`w ≥ rtol·V_i`, the beads' velocity scale: the velocity it would have changed is above
+    /// the tolerance)?
+    pub(super) fn shallow(&self, peak: f64, w: f64, beads: &[usize]) -> bool {
+        let tol = &self.ctx.tol;
+        let vtol = (beads.iter())
+            .map(|&i| tol.rtol * tol.scales.bead_velocity(self.ctx.chain.mass[i]))
+            .fold(0.0, f64::max);
+        peak < self.ctx.theta && w.abs() >= vtol
     }
 
     /// Hands the buffered events to the observer and empties the buffer (keeping its capacity).

@@ -175,6 +175,7 @@ impl<'a> Hybrid<'a> {
                 steps_total: 0,
                 late_merges: 0,
                 slow_closings: 0,
+                shallow_closings: 0,
                 implicit_steps: 0,
                 exact_pairs: [0; 2],
                 last_hard: vec![f64::NEG_INFINITY; n + 1],

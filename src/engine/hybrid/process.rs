@@ -135,8 +135,16 @@ impl Hybrid<'_> {
         let tr = fa.t0.max(fb.t0);
         let (ua, va) = fa.at(tr);
         let (ub, vb) = fb.at(tr);
-        let mut a = self.pre(c) + ua - ub - self.theta_c(c);
-        if self.ctx.chain.hard_restitution(c).is_some() && va - vb <= 0.0 {
+        // An exact pair closes at its onset (overlap 0), whatever its peak: a collision whose
+        // peak overlap is below θ would otherwise fly through without the force. Not beads
+        // that overlap already (let go at θ on their way out of a contact, they close at θ
+        // again, as before: a closing at 0 would join them again at rounding-level speeds).
+        let d = self.pre(c) + ua - ub;
+        let soft = self.ctx.chain.hard_restitution(c).is_none();
+        let exact = soft && d <= 0.0 && self.exact_law(c).is_some();
+        let theta = if exact { 0.0 } else { self.theta_c(c) };
+        let mut a = d - theta;
+        if theta == 0.0 && va - vb <= 0.0 {
             // overlapping by rounding after a collision, not approaching: wait for the gap to
             // close again from touching
             a = a.min(0.0);
@@ -173,7 +181,9 @@ impl Hybrid<'_> {
                 let Some((d, dd, ddd)) = self.wall_state(side, f.u0, f.v0, i) else {
                     return;
                 };
-                (d, dd, ddd, self.ctx.theta)
+                // an exact wall contact from a gap closes at its onset (as an exact pair does)
+                let exact = d <= 0.0 && self.exact_wall_law(i).is_some();
+                (d, dd, ddd, if exact { 0.0 } else { self.ctx.theta })
             }
         };
         let mut a = d - theta;
@@ -354,8 +364,13 @@ impl Hybrid<'_> {
         for side in [self.st.owner[c], self.st.owner[c + 1]] {
             if side != FREE && self.clusters.get(side).is_some() {
                 let cl = self.remove_cluster(side, t);
-                if cl.integ.exact_pair().is_some() {
+                if let Some(pair) = cl.integ.exact_pair() {
                     self.st.exact_pairs[1] += 1;
+                    let (lo, hi) = (cl.data.lo, cl.data.hi);
+                    let beads = [lo, hi - 1];
+                    if self.shallow(pair.peak(), pair.impact_speed(), &beads[..hi - lo]) {
+                        self.st.shallow_closings += 1;
+                    }
                 }
                 self.recycle(cl);
             }
@@ -378,7 +393,13 @@ impl Hybrid<'_> {
         if self.ctx.chain.hard_restitution(c).is_none() {
             let (m0, m1) = (self.ctx.chain.mass[c], self.ctx.chain.mass[c + 1]);
             let law = (self.ctx.chain.exponent[c], self.ctx.chain.prefactor[c]);
-            self.cap_onset_step(self.st.owner[c], m0 * m1 / (m0 + m1), law, rel);
+            let mu = m0 * m1 / (m0 + m1);
+            let exact = self.clusters[self.st.owner[c]].integ.exact_pair().is_some();
+            if flight && !exact && !self.st.stuck[c] {
+                let load = mu * (self.ctx.g[c] - self.ctx.g[c + 1]);
+                self.count_shallow((mu, rel, load), law, &[c, c + 1]);
+            }
+            self.cap_onset_step(self.st.owner[c], mu, law, rel);
         }
         Ok(())
     }
@@ -426,7 +447,11 @@ impl Hybrid<'_> {
         if let Some(w) = self.soft_wall(side) {
             let law = (w.exponent, w.prefactor);
             let speed = if side == 0 { -v } else { v };
-            self.cap_onset_step(self.st.owner[i], self.ctx.chain.mass[i], law, speed);
+            let m = self.ctx.chain.mass[i];
+            if self.clusters[self.st.owner[i]].integ.exact_pair().is_none() {
+                self.count_shallow((m, speed, m * self.ctx.g[i]), law, &[i]);
+            }
+            self.cap_onset_step(self.st.owner[i], m, law, speed);
         }
     }
 

@@ -67,6 +67,8 @@ pub struct HybridData {
     /// Closings so far at relative speeds within [`crate::engine::SLOW_CLOSING_FACTOR`] times
     /// the velocity tolerance.
     pub slow_closings: u64,
+    /// Integrated closings whose two-body peak overlap is shallow ([`super::eventlog`]).
+    pub shallow_closings: u64,
     /// Implicit steps of the clusters removed so far.
     pub implicit_steps: u64,
     /// Exact two-body contacts started, and those of them handed over to the integrator when

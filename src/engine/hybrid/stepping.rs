@@ -272,6 +272,7 @@ impl Engine for HybridEngine<'_> {
             largest_cluster: h.st.largest,
             late_merges: h.st.late_merges,
             slow_closings: h.st.slow_closings,
+            shallow_closings: h.st.shallow_closings,
             implicit_steps,
             exact_pairs: h.st.exact_pairs,
             dissipated: h.dissipated_at(h.st.t),
