@@ -129,8 +129,14 @@ fn slow_closings_are_reported_by_run_and_inspect() {
             .and_then(|l| l.split(' ').next()?.parse::<u64>().ok())
             .unwrap_or(0)
     };
-    let (loud, quiet) = (counted(&String::from_utf8_lossy(&out.stdout)), counted(&text));
-    assert!(loud >= 600 && quiet <= 5, "{loud} counted at atol 3e-7, {quiet} at the default");
+    let (loud, quiet) = (
+        counted(&String::from_utf8_lossy(&out.stdout)),
+        counted(&text),
+    );
+    assert!(
+        loud >= 600 && quiet <= 5,
+        "{loud} counted at atol 3e-7, {quiet} at the default"
+    );
 }
 
 /// Before (issue 36): `accuracy` defaulted to atol = rtol/100 while `run` uses rtol/10⁴, so the

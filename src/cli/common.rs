@@ -347,10 +347,11 @@ fn print_counts(w: &mut dyn Write, cfg: &RunConfig, out: &RunOutcome) -> Result<
             out.exact_pairs[0], out.exact_pairs[1]
         )?;
     }
-    for note in [out.slow_closings_note(), out.shallow_closings_note()] {
-        if let Some(note) = note {
-            writeln!(w, "warning: {note}")?;
-        }
+    for note in [out.slow_closings_note(), out.shallow_closings_note()]
+        .into_iter()
+        .flatten()
+    {
+        writeln!(w, "warning: {note}")?;
     }
     Ok(())
 }
