@@ -21,6 +21,8 @@ struct Probe {
     saved: Option<(EngineState, usize)>,
     /// Events handed over before the checkpoint.
     events_at_save: usize,
+    /// Stop at the first poll after the frame at this time (instead of at poll `at`).
+    after_frame: Option<f64>,
 }
 
 impl Observer for Probe {
@@ -34,6 +36,13 @@ impl Observer for Probe {
     }
     fn control(&mut self, _t: f64) -> Control {
         self.polls += 1;
+        if let Some(tf) = self.after_frame {
+            if self.frames.last().is_some_and(|f| f.0 >= tf) {
+                self.after_frame = None;
+                return Control::Stop;
+            }
+            return Control::Continue;
+        }
         if self.polls == self.at {
             if self.stop {
                 Control::Stop
@@ -65,6 +74,7 @@ fn probe(at: u64, stop: bool) -> Probe {
         events: Vec::new(),
         saved: None,
         events_at_save: 0,
+        after_frame: None,
     }
 }
 
@@ -359,4 +369,36 @@ fn a_resting_cluster_resumes_bit_identically() {
     assert_eq!(bits(&frames), bits(&full.frames));
     assert_eq!((out.u, out.v), (reference.u, reference.v));
     assert!(reference.stats.steps > 0, "the column woke");
+}
+
+/// D2 (review B): `resume --until T0` where T0 is the checkpoint's time and a frame time
+/// wrote that frame twice (times ..., 4.5, 6, 6): the hybrid restore scheduled the next frame,
+/// clamped to the new end time, although the frame at it was already written. Stopped right
+/// after the frame at t = 6 and resumed to the checkpoint's own time, every frame time is
+/// written once (both engines; the dense engine had the guard already).
+#[test]
+fn resume_until_the_checkpoint_frame_writes_it_once() {
+    for engine in [Engine::Hybrid, Engine::Dense] {
+        let (s, cfg) = scene_and_cfg(engine, Method::Radau5);
+        let mut first = probe(u64::MAX, true);
+        first.after_frame = Some(6.0);
+        engine::run(&s, &cfg, &mut first).expect_err("stopped");
+        let (state, n_frames) = first.saved.take().expect("checkpoint");
+        let mut short = cfg.clone();
+        short.until = state.time();
+        let mut second = probe(u64::MAX, false);
+        let out = engine::resume(&s, &short, &state, &mut second).expect("resumes");
+        let mut times: Vec<f64> = first.frames[..n_frames].iter().map(|f| f.0).collect();
+        times.extend(second.frames.iter().map(|f| f.0));
+        assert!(
+            times.windows(2).all(|w| w[0] < w[1]),
+            "{engine:?}: frame times {times:?}"
+        );
+        assert_eq!(times.last().copied(), Some(short.until), "{engine:?}");
+        assert_eq!(out.t_end, short.until, "{engine:?}");
+        if engine == Engine::Hybrid {
+            assert_eq!(state.time(), 6.0, "the hybrid clock stops at the frame");
+            assert!(second.frames.is_empty(), "{:?}", second.frames.len());
+        }
+    }
 }

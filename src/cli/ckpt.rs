@@ -80,21 +80,7 @@ pub fn drive(
     let mut sink = sink;
     match run(&mut sink) {
         Ok(out) => {
-            let timing = sink.timing;
-            let ckpt = sink.ckpt_path.clone();
-            let mut done = summary(&out, timing);
-            done.notes.append(&mut sink.notes);
-            sink.writer.finish(&[], &done)?;
-            if ckpt.exists() && (sink.wrote_checkpoint || sink.resumed) {
-                std::fs::remove_file(&ckpt)
-                    .with_context(|| format!("removing the finished run's {}", ckpt.display()))?;
-            } else if ckpt.exists() {
-                // another, interrupted run's checkpoint: not this run's to remove
-                eprintln!(
-                    "beadchain: note: {} is the checkpoint of an earlier interrupted run into the same file, left as it was (`beadchain resume` of it would replace this output)",
-                    ckpt.display()
-                );
-            }
+            finish(sink, what, &out)?;
             Ok(Ok(out))
         }
         Err(EngineError::Interrupted(t)) => {
@@ -112,19 +98,22 @@ pub fn drive(
             // good checkpoint so the run can continue once the cause is fixed.
             let ckpt = sink.ckpt_path.clone();
             let _ = sink.writer.detach();
-            Err(anyhow::Error::new(e).context(format!(
-                "{what}: writing failed; the last checkpoint {} is intact: fix the cause (e.g. free disk space) and continue with `beadchain resume {}`",
-                ckpt.display(),
-                ckpt.display()
-            )))
+            Err(anyhow::Error::new(e).context(write_failed(what, &ckpt)))
         }
         Err(e) if sink.resumed => {
             // The checkpoint on disk still matches the kept temporary output (cut back to its
-            // mark on the next resume).
+            // mark on the next resume); the failure itself is the computation's, so resuming
+            // the same checkpoint the same way meets it again.
             let ckpt = sink.ckpt_path.clone();
             let _ = sink.writer.detach();
+            let again = match e {
+                EngineError::Checkpoint(_) | EngineError::Config(_) | EngineError::Internal(_) => {
+                    "its state cannot be continued by this run"
+                }
+                _ => "resuming it again fails the same way unless an earlier --until ends the run first",
+            };
             Err(anyhow::Error::new(e).context(format!(
-                "{what}: resumed run failed; the checkpoint {} is kept and can be resumed again",
+                "{what}: resumed run failed; the checkpoint {} is kept as it was, but {again}",
                 ckpt.display()
             )))
         }
@@ -139,6 +128,54 @@ pub fn drive(
     }
 }
 
+/// The context of a failed write that a checkpoint on disk can continue.
+fn write_failed(what: &str, ckpt: &Path) -> String {
+    format!(
+        "{what}: writing failed; the last checkpoint {} is intact: fix the cause (e.g. free disk space) and continue with `beadchain resume {}`",
+        ckpt.display(),
+        ckpt.display()
+    )
+}
+
+/// Finishes the output of a completed run: the end of the snapshot (a resumed run's header
+/// first records the end time that ran, [`SnapshotWriter::set_run_until`]), the rename onto
+/// the final name, then the run's own checkpoint is removed. When this fails with a checkpoint
+/// on disk (a full disk at the last write, a directory put at the output path), the temporary
+/// output that checkpoint continues is kept and the error says how to resume.
+fn finish(sink: SnapshotSink, what: &str, out: &RunOutcome) -> Result<()> {
+    let mut sink = sink;
+    let ckpt = sink.ckpt_path.clone();
+    let mut done = summary(out, sink.timing);
+    done.notes.append(&mut sink.notes);
+    let own_checkpoint = sink.wrote_checkpoint || sink.resumed;
+    if own_checkpoint {
+        let until = sink.config().until;
+        let mut writer = sink.writer;
+        let r = match sink.resumed {
+            true => writer.set_run_until(until),
+            false => Ok(()),
+        };
+        let r = match r {
+            Ok(()) => writer.finish_or_keep(&[], &done),
+            Err(e) => writer.detach().and(Err(e)),
+        };
+        r.map_err(|e| anyhow::Error::new(e).context(write_failed(what, &ckpt)))?;
+    } else {
+        sink.writer.finish(&[], &done)?;
+    }
+    if ckpt.exists() && own_checkpoint {
+        std::fs::remove_file(&ckpt)
+            .with_context(|| format!("removing the finished run's {}", ckpt.display()))?;
+    } else if ckpt.exists() {
+        // another, interrupted run's checkpoint: not this run's to remove
+        eprintln!(
+            "beadchain: note: {} is the checkpoint of an earlier interrupted run into the same file, left as it was (`beadchain resume` of it would replace this output)",
+            ckpt.display()
+        );
+    }
+    Ok(())
+}
+
 /// Refuses a `--checkpoint-every` that is not a finite number > 0 (0 or NaN would checkpoint
 /// at every step or never).
 pub fn check_checkpoint_every(what: &str, every: Option<f64>) -> Result<()> {
@@ -147,23 +184,6 @@ pub fn check_checkpoint_every(what: &str, every: Option<f64>) -> Result<()> {
             "{what}: --checkpoint-every: must be a finite number > 0 (simulated time between checkpoints), got {dt}"
         ),
         _ => Ok(()),
-    }
-}
-
-/// The checkpoint's output and temporary paths. Checkpoints store absolute paths; one written
-/// with relative paths (older builds) is resolved next to the checkpoint file, where `run` puts
-/// both (`OUT.ckpt` beside `OUT` and `.OUT.tmp-PID-K`).
-fn locate(file: &Path, mark: &mut beadchain::snapshot::WriterMark) {
-    let dir = match file.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    for p in [&mut mark.path, &mut mark.temp] {
-        if p.is_relative() {
-            if let Some(name) = p.file_name() {
-                *p = dir.join(name);
-            }
-        }
     }
 }
 
@@ -229,7 +249,7 @@ pub fn cmd_resume(
     quiet: bool,
 ) -> Result<i32> {
     let mut ck = read_checkpoint(file)?;
-    locate(file, &mut ck.writer);
+    super::ckpt_target::locate(file, &mut ck.writer)?;
     let what = file.display().to_string();
     check_checkpoint_every(&what, every)?;
     let mut cfg = ck.config.clone();
@@ -242,6 +262,7 @@ pub fn cmd_resume(
         }
         cfg.until = t;
     }
+    super::ckpt_target::check_target(&what, &ck.writer)?;
     check_resume_output(&what, &ck, &cfg, until.is_some(), limit)?;
     let writer = SnapshotWriter::reopen(&ck.writer)?;
     let out_path = ck.writer.path.clone();

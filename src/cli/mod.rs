@@ -8,6 +8,7 @@ mod analyze_gas;
 mod breather;
 mod check;
 mod ckpt;
+mod ckpt_target;
 mod common;
 mod dispersion;
 mod export;

@@ -9,7 +9,7 @@ use anyhow::{bail, Result};
 use beadchain::engine::{self, RunConfig, RunOutcome, RunOverrides};
 use beadchain::progress::RunProgress;
 use beadchain::scene::{self, Engine, Scene};
-use beadchain::snapshot::{Header, Selection, SnapshotWriter};
+use beadchain::snapshot::{Header, Selection, SnapshotSink, SnapshotWriter};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -99,18 +99,7 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
         // Only with --timing: a plain run's bytes do not depend on the date.
         header.created_at = Some(beadchain::provenance::utc_now());
     }
-    super::files::clean_stale_temps(&out_path);
-    super::files::clean_stale_temps(&ckpt::ckpt_path(&out_path));
-    let writer = SnapshotWriter::create(&out_path, &header)?;
-    let ckpt_file = ckpt::ckpt_path(&out_path);
-    let sink = ckpt::sink(
-        writer,
-        ckpt_file,
-        a.checkpoint_every,
-        &scene,
-        &cfg,
-        a.timing,
-    )?;
+    let sink = output_sink(&a, &out_path, &header, (&scene, &cfg))?;
     let bar = RunProgress::new(a.common.quiet);
     let mut fragmented = None;
     let done = ckpt::drive(sink, &a.common.scene, |s| {
@@ -135,6 +124,26 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
         }
         Err(code) => Ok(code),
     }
+}
+
+/// The output of a run: stale temporaries of dead runs removed, the snapshot's temporary file
+/// started with `header`, and the sink that checkpoints into `OUT.ckpt` (an earlier run's
+/// checkpoint there is refused with `--checkpoint-every` before this, and kept without it:
+/// [`SnapshotSink::foreign_checkpoint`]).
+fn output_sink(
+    a: &RunArgs,
+    out_path: &Path,
+    header: &Header,
+    (scene, cfg): (&Scene, &RunConfig),
+) -> Result<SnapshotSink> {
+    super::files::clean_stale_temps(out_path);
+    super::files::clean_stale_temps(&ckpt::ckpt_path(out_path));
+    let writer = SnapshotWriter::create(out_path, header)?;
+    let ckpt_file = ckpt::ckpt_path(out_path);
+    let foreign = std::fs::symlink_metadata(&ckpt_file).is_ok();
+    let mut sink = ckpt::sink(writer, ckpt_file, a.checkpoint_every, scene, cfg, a.timing)?;
+    sink.foreign_checkpoint = foreign;
+    Ok(sink)
 }
 
 /// The finished run's summary (and fragments, with `--stop-when-fragmented`) and the file
@@ -189,7 +198,8 @@ fn warn_every_past_until(a: &RunArgs, scene: &Scene, cfg: &RunConfig) {
 }
 
 /// Everything `run` checks before it touches a file: the checkpoint interval, the output is no
-/// input, a stream output takes no checkpoints, `--frames-max`, and the estimated output size.
+/// input and no directory, an earlier run's checkpoint is not replaced, a stream output takes
+/// no checkpoints, `--frames-max`, and the estimated output size.
 fn check_run_files(
     a: &RunArgs,
     (scene, (until_key, every_key)): (&Scene, (&str, &str)),
@@ -203,6 +213,14 @@ fn check_run_files(
     let inputs = super::files::labelled_scene_inputs(what);
     super::files::check_not_input(out_path, "--out", &inputs)?;
     let kind = classify_output(out_path)?;
+    if kind == OutputKind::File && out_path.is_dir() {
+        // refused before the run, not by the rename at its end
+        bail!(
+            "{}: --out: is a directory (give a file name)",
+            out_path.display()
+        );
+    }
+    check_earlier_checkpoint(a, out_path)?;
     if kind == OutputKind::Stream && a.checkpoint_every.is_some() {
         bail!(
             "{}: --checkpoint-every: the output is a stream (device or pipe), which cannot be resumed; write to a file",
@@ -226,6 +244,24 @@ fn check_run_files(
         (0.0, cfg.until, cfg.every),
         0,
         (&end, &interval),
+    )
+}
+
+/// Refuses `--checkpoint-every` when `OUT.ckpt` exists: it is an earlier interrupted run's
+/// (a finished run removes its own), which this run's first checkpoint would replace and its
+/// end remove, so that run could no longer be resumed. Without `--checkpoint-every` the run
+/// goes on and leaves it as it was, with a note ([`ckpt::drive`]).
+fn check_earlier_checkpoint(a: &RunArgs, out_path: &Path) -> Result<()> {
+    let ckpt = ckpt::ckpt_path(out_path);
+    if a.checkpoint_every.is_none() || std::fs::symlink_metadata(&ckpt).is_err() {
+        return Ok(());
+    }
+    bail!(
+        "{}: --checkpoint-every: the checkpoint of an earlier interrupted run into {} exists, and this run's checkpoints would replace it: continue that run with `beadchain resume {}`, or remove {} to start anew",
+        ckpt.display(),
+        out_path.display(),
+        ckpt.display(),
+        ckpt.display()
     )
 }
 

@@ -72,6 +72,10 @@ pub struct SnapshotSink {
     pub resumed: bool,
     /// Notes the driver adds to the snapshot's run summary (e.g. why the run ended early).
     pub notes: Vec<String>,
+    /// `ckpt_path` holds another, interrupted run's checkpoint (a run without scheduled
+    /// checkpoints into its output): a stop (SIGINT/SIGTERM) then fails the run instead of
+    /// replacing that checkpoint, which would lose the other run.
+    pub foreign_checkpoint: bool,
 }
 
 impl SnapshotSink {
@@ -94,7 +98,15 @@ impl SnapshotSink {
             wrote_checkpoint: false,
             resumed: false,
             notes: Vec::new(),
+            foreign_checkpoint: false,
         }
+    }
+}
+
+impl SnapshotSink {
+    /// The run configuration its checkpoints record (a resumed run's: with its `--until`).
+    pub fn config(&self) -> &RunConfig {
+        &self.cfg
     }
 }
 
@@ -116,6 +128,12 @@ impl Observer for SnapshotSink {
     }
 
     fn checkpoint(&mut self, state: &EngineState) -> Result<(), EngineError> {
+        if self.foreign_checkpoint {
+            return Err(EngineError::Observer(format!(
+                "{}: is the checkpoint of an earlier interrupted run into the same file, kept as it was: this run stopped without writing its own",
+                self.ckpt_path.display()
+            )));
+        }
         let mark = self.writer.mark().map_err(observer_err)?;
         let ck = CheckpointFile {
             scene: self.scene.clone(),

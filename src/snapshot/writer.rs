@@ -23,6 +23,8 @@ use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
+mod until;
+
 /// Floats converted per scratch chunk (8 KiB of f64 → 64 KiB of bytes).
 const CHUNK_VALUES: usize = 8192;
 
@@ -86,6 +88,7 @@ impl SnapshotWriter {
                     action: format!("creating temporary file {}", tmp.display()),
                     source: e,
                 })?;
+            let _ = f.try_lock(); // held while written: a `resume` of it is refused (`reopen`)
             (tmp, f)
         };
         let mut w = SnapshotWriter {
@@ -206,9 +209,34 @@ impl SnapshotWriter {
 
     /// Writes `events` as a last EVENT BLOCK (if any), then EVENT INDEX, STATS, INDEX and END,
     /// flushes, fsyncs and renames the temporary file onto the final path (then syncs the
-    /// directory, best effort).
+    /// directory, best effort). On failure the writer is dropped: the temporary file is removed.
     pub fn finish(
         mut self,
+        events: &[EventRecord],
+        summary: &RunSummary,
+    ) -> Result<(), SnapshotError> {
+        self.complete(events, summary)
+    }
+
+    /// [`Self::finish`], but a failure (a full disk, a directory put at the final path) keeps
+    /// the temporary file, closed: a checkpoint on disk continues it (its mark cuts off what
+    /// this call appended), so the run can be resumed once the cause is fixed.
+    pub fn finish_or_keep(
+        mut self,
+        events: &[EventRecord],
+        summary: &RunSummary,
+    ) -> Result<(), SnapshotError> {
+        let r = self.complete(events, summary);
+        if r.is_err() {
+            drop(self.out.take());
+            self.tmp = PathBuf::new(); // nothing for Drop to remove
+        }
+        r
+    }
+
+    /// The work of [`Self::finish`]; the temporary file is renamed only when all succeeded.
+    fn complete(
+        &mut self,
         events: &[EventRecord],
         summary: &RunSummary,
     ) -> Result<(), SnapshotError> {
@@ -474,7 +502,9 @@ impl SnapshotWriter {
     }
 
     /// Reopens the temporary file of an interrupted run, cut back to `mark.len` (frames and event
-    /// blocks written after the mark are dropped), to continue writing. The output selection is
+    /// blocks written after the mark are dropped), to continue writing. Refused while another
+    /// writer holds the file's lock (taken by `create` and here, where the file system has
+    /// them), so two processes never write one temporary file. The output selection is
     /// read from the file's own HEADER, so the run continues with it.
     pub fn reopen(mark: &WriterMark) -> Result<Self, SnapshotError> {
         let io = |action: &str, e: std::io::Error| SnapshotError::Io {
@@ -486,6 +516,10 @@ impl SnapshotWriter {
             .write(true)
             .open(&mark.temp)
             .map_err(|e| io("reopening the temporary file", e))?;
+        if let Err(std::fs::TryLockError::WouldBlock) = file.try_lock() {
+            let busy = "another beadchain process is writing it (a run or resume still going)";
+            return Err(io("resuming:", std::io::Error::other(busy)));
+        }
         let on_disk = file
             .metadata()
             .map_err(|e| io("reading the size of", e))?

@@ -32,7 +32,8 @@ impl Hybrid<'_> {
     }
 
     /// Restores a saved state; predictions that depend on the end time (free-flight closings
-    /// and the next frame) are recomputed, so `until` may have been extended.
+    /// and the next frame) are recomputed, so `until` may have been extended (or set to the
+    /// checkpoint's time: when the frame at it was written already, the run is finished).
     pub(super) fn restore(&mut self, s: &HybridState) -> Result<(), StateError> {
         s.check(self.ctx.n)?;
         self.st.clone_from(&s.data);
@@ -49,7 +50,15 @@ impl Hybrid<'_> {
         }
         self.schedule_wall(0);
         self.schedule_wall(1);
-        let tf = self.ctx.cfg.frame_time(self.st.next_frame);
+        let cfg = self.ctx.cfg;
+        if self.st.next_frame > 0 && cfg.frame_time(self.st.next_frame - 1) >= cfg.until {
+            // the last frame (at `until`) was written before the checkpoint: a resume whose
+            // `--until` is the checkpoint's frame time writes no frame twice (the dense engine's
+            // `last_frame_t >= until`)
+            self.finished = true;
+            return Ok(());
+        }
+        let tf = cfg.frame_time(self.st.next_frame);
         self.queue.push(Key::Frame, prio(tf, 0, 0, Key::Frame));
         Ok(())
     }
