@@ -113,30 +113,16 @@ fn slow_closings_are_reported_by_run_and_inspect() {
         info.contains("closings at relative speeds below 30x"),
         "{info}"
     );
-    // At the default atol the drift closings are not counted. Two closings at 7e-8 and 8e-8
-    // are (below 30·atol·V = 9e-8): slow re-collisions of beads a wave left behind, which exact
-    // pairs resolve since they close at their onset (before, those beads flew through each
-    // other below θ and nothing was counted); 1944 are counted at `--atol 3e-7`.
+    // At the default atol the drift closings are not counted as slow. (A shallow-collision
+    // warning is printed: at rtol 3e-5, 188 collisions of this scene lose more than rtol of
+    // their energy below the contact threshold.)
     let quiet = common::bc(
         dir.path(),
         &["run", "s.toml", "--rtol", "3e-5", "--out", "d.snap"],
     );
     common::assert_ok(&quiet);
     let text = String::from_utf8_lossy(&quiet.stdout);
-    let counted = |t: &str| {
-        t.lines()
-            .find_map(|l| l.strip_prefix("warning: "))
-            .and_then(|l| l.split(' ').next()?.parse::<u64>().ok())
-            .unwrap_or(0)
-    };
-    let (loud, quiet) = (
-        counted(&String::from_utf8_lossy(&out.stdout)),
-        counted(&text),
-    );
-    assert!(
-        loud >= 600 && quiet <= 5,
-        "{loud} counted at atol 3e-7, {quiet} at the default"
-    );
+    assert!(!text.contains("closings at relative speeds"), "{text}");
 }
 
 /// Before (issue 36): `accuracy` defaulted to atol = rtol/100 while `run` uses rtol/10⁴, so the

@@ -114,10 +114,10 @@ pub struct RunOutcome {
     #[serde(default)]
     pub slow_closings: u64,
     /// Hybrid engine diagnostic: integrated collisions whose peak overlap, estimated from the
-    /// two bodies' approach, is below the contact threshold `θ` (∝ `rtol`): their force is not
-    /// applied until the overlap reaches `θ`, so they are missed or cut. Exact two-body
-    /// contacts do not count (they close at their onset). 0 on every preset at the default
-    /// tolerances.
+    /// two bodies' approach, is below `θ·rtol^{−1/n}` (`θ` ∝ `rtol` the contact threshold) at
+    /// a speed that matters at the tolerance: the force not applied below `θ` is more than
+    /// `rtol` of their energy, and a peak below `θ` is missed entirely. Exact two-body contacts
+    /// do not count (they close at their onset). 0 on every preset at rtol 1e-8 and 1e-10.
     #[serde(default)]
     pub shallow_closings: u64,
     /// Accepted steps taken by an implicit method (Radau IIA); `stats.steps` minus this is the
@@ -274,9 +274,10 @@ impl RunOutcome {
         (self.shallow_closings > 0).then(|| {
             format!(
                 "{} of {} closings were collisions whose peak overlap (estimated from the two \
-                 bodies' approach) is below the contact threshold theta (proportional to rtol): \
-                 their force is not applied below theta, so they are missed or cut; rerun with a \
-                 smaller rtol, or with --engine dense, to check them",
+                 bodies' approach) is below theta*rtol^(-1/n), theta being the contact threshold \
+                 (proportional to rtol): the force not applied below theta is more than rtol of \
+                 their energy (a peak below theta is missed entirely); rerun with a smaller rtol, \
+                 or with --engine dense, to check them",
                 self.shallow_closings, closings
             )
         })

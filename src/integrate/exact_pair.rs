@@ -153,6 +153,11 @@ impl ExactPair {
         self.s.w0
     }
 
+    /// The contact law.
+    pub fn law(&self) -> PairLaw {
+        self.law
+    }
+
     /// Largest overlap over `[ta, tb]`: `δ_max` where the peak lies inside, else the larger end.
     pub fn peak_over(&self, ta: f64, tb: f64) -> f64 {
         let tp = self.s.t_s + self.profile.tau_half() * self.scale();

@@ -26,12 +26,15 @@
 //! silently.
 //!
 //! **Shallow collisions.** A contact closes when its overlap reaches `θ` and opens when it falls
-//! below `θ`: a collision whose peak overlap is below `θ` is not seen (the beads fly through
-//! each other up to `θ` and are then merged, past their true peak) or is cut at once. Exact
-//! two-body contacts close at their onset and do not depend on `θ`; the integrated ones whose
-//! two-body peak estimate is below `θ` (free beads closing, a free bead onto a soft wall, an
-//! exact pair handed over) are counted ([`crate::engine::RunOutcome::shallow_closings`]) and
-//! `run` says so. (Their number grows as `rtol` loosens: `θ ∝ rtol`, module docs of [`super`].)
+//! below `θ`: the force below `θ` is not applied, which is `(θ/δ_max)ⁿ` of a collision's
+//! energy, and a collision whose peak overlap is below `θ` is not seen at all (the beads fly
+//! through each other up to `θ` and are then merged, past their true peak) or is cut at once.
+//! Exact two-body contacts close at their onset and do not depend on `θ`; the integrated ones
+//! whose two-body peak estimate is below `θ·rtol^{−1/n}` (more than `rtol` lost; free beads
+//! closing, a free bead onto a soft wall, an exact pair handed over) at a speed that matters
+//! at the tolerance are counted ([`crate::engine::RunOutcome::shallow_closings`]) and `run`
+//! says so. None on the presets at rtol 1e-8 and 1e-10; their number grows as `rtol` loosens
+//! (`θ ∝ rtol`, module docs of [`super`]).
 //!
 //! **Peak overlaps.** The largest overlap a contact (or a soft wall contact) reaches while
 //! closed is taken from the continuous output of every accepted cluster step: the overlap
@@ -141,14 +144,21 @@ impl Hybrid<'_> {
     /// [`crate::engine::SLOW_CLOSING_FACTOR`] times their absolute velocity tolerance `atol·V_i`
     /// (the larger of the beads').
     pub(super) fn count_slow_closing(&mut self, rel: f64, beads: &[usize]) {
+        if self.tolerance_level(rel, beads) {
+            self.st.slow_closings += 1;
+        }
+    }
+
+    /// Is the relative speed `rel` of beads `beads` at the tolerance level: below
+    /// [`crate::engine::SLOW_CLOSING_FACTOR`] times their absolute velocity tolerance `atol·V_i`
+    /// (the larger of the beads')?
+    pub(super) fn tolerance_level(&self, rel: f64, beads: &[usize]) -> bool {
         let tol = &self.ctx.tol;
         let vtol = beads
             .iter()
             .map(|&i| tol.atol * tol.scales.bead_velocity(self.ctx.chain.mass[i]))
             .fold(0.0, f64::max);
-        if rel.abs() < crate::engine::SLOW_CLOSING_FACTOR * vtol {
-            self.st.slow_closings += 1;
-        }
+        rel.abs() < crate::engine::SLOW_CLOSING_FACTOR * vtol
     }
 
     /// Counts a collision of beads `beads` through the law `(n, a)` closing at speed `w`
@@ -168,22 +178,22 @@ impl Hybrid<'_> {
         } else {
             0.0
         };
-        if self.shallow(kinetic.max(resting), w, beads) {
+        if self.shallow(kinetic.max(resting), n, w, beads) {
             self.st.shallow_closings += 1;
         }
     }
 
-    /// Is a collision of beads `beads` at speed `w` whose peak overlap is `peak` shallow: its
-    /// peak below the threshold `θ`, where its force is not applied at all until the overlap
-    /// reaches `θ` (the collision is missed or cut), while its speed matters at the tolerance
-    /// (`w ≥ rtol·V_i`, the beads' velocity scale: the velocity it would have changed is above
-    /// the tolerance)?
-    pub(super) fn shallow(&self, peak: f64, w: f64, beads: &[usize]) -> bool {
+    /// Is a collision (exponent `n`) of beads `beads` at speed `w` whose peak overlap is `peak`
+    /// shallow: its peak below `θ·rtol^{−1/n}`, where the force neglected below the threshold
+    /// `θ` is more than `rtol` of its energy and impulse (`(θ/δ_max)ⁿ`; a peak below `θ` is
+    /// missed entirely), while its speed matters at the tolerance (`w ≥ rtol·V_i`, the beads'
+    /// velocity scale)?
+    pub(super) fn shallow(&self, peak: f64, n: f64, w: f64, beads: &[usize]) -> bool {
         let tol = &self.ctx.tol;
         let vtol = (beads.iter())
             .map(|&i| tol.rtol * tol.scales.bead_velocity(self.ctx.chain.mass[i]))
             .fold(0.0, f64::max);
-        peak < self.ctx.theta && w.abs() >= vtol
+        peak * tol.rtol.powf(1.0 / n) < self.ctx.theta && w.abs() >= vtol
     }
 
     /// Hands the buffered events to the observer and empties the buffer (keeping its capacity).

@@ -211,8 +211,25 @@ impl<'a> Hybrid<'a> {
     /// Threshold for detecting the closing of contact `c` from `t0` on. For a hard contact that
     /// starts the window overlapping by rounding right after a collision (δ₀ > 0 while not
     /// approaching), the threshold is δ₀: the next collision needs the overlap to grow again.
+    ///
+    /// A bead reaching an exact pair from a gap closes at its onset (overlap 0), as two free
+    /// beads that may take the exact path do ([`Self::schedule_free_pair`]): a third body whose
+    /// collision with the pair is shallower than `θ` would otherwise fly into it.
     fn closing_offset(&self, c: usize, t0: f64) -> f64 {
         if self.ctx.chain.hard_restitution(c).is_none() {
+            let owners = [self.st.owner[c], self.st.owner[c + 1]];
+            let pair = (owners.iter()).any(|&s| {
+                s != FREE
+                    && (self.clusters.get(s)).is_some_and(|cl| cl.integ.exact_pair().is_some())
+            });
+            if pair {
+                let (ua, va) = self.pos(c, t0);
+                let (ub, vb) = self.pos(c + 1, t0);
+                let gap = self.pre(c) + ua - ub <= 0.0;
+                if gap && !self.tolerance_level(va - vb, &[c, c + 1]) {
+                    return 0.0;
+                }
+            }
             return self.ctx.theta;
         }
         let (ua, va) = self.pos(c, t0);

@@ -137,11 +137,15 @@ impl Hybrid<'_> {
         let (ub, vb) = fb.at(tr);
         // An exact pair closes at its onset (overlap 0), whatever its peak: a collision whose
         // peak overlap is below θ would otherwise fly through without the force. Not beads
-        // that overlap already (let go at θ on their way out of a contact, they close at θ
-        // again, as before: a closing at 0 would join them again at rounding-level speeds).
+        // that overlap already (let go at θ on their way out of a contact), nor beads that
+        // approach at a tolerance-level speed (touching beads a wave left behind): they close
+        // at θ, as before (a closing at 0 would join them at rounding-level speeds).
         let d = self.pre(c) + ua - ub;
         let soft = self.ctx.chain.hard_restitution(c).is_none();
-        let exact = soft && d <= 0.0 && self.exact_law(c).is_some();
+        let exact = soft
+            && d <= 0.0
+            && !self.tolerance_level(va - vb, &[c, c + 1])
+            && self.exact_law(c).is_some();
         let theta = if exact { 0.0 } else { self.theta_c(c) };
         let mut a = d - theta;
         if theta == 0.0 && va - vb <= 0.0 {
@@ -182,7 +186,8 @@ impl Hybrid<'_> {
                     return;
                 };
                 // an exact wall contact from a gap closes at its onset (as an exact pair does)
-                let exact = d <= 0.0 && self.exact_wall_law(i).is_some();
+                let exact =
+                    d <= 0.0 && !self.tolerance_level(dd, &[i]) && self.exact_wall_law(i).is_some();
                 (d, dd, ddd, if exact { 0.0 } else { self.ctx.theta })
             }
         };
@@ -368,7 +373,8 @@ impl Hybrid<'_> {
                     self.st.exact_pairs[1] += 1;
                     let (lo, hi) = (cl.data.lo, cl.data.hi);
                     let beads = [lo, hi - 1];
-                    if self.shallow(pair.peak(), pair.impact_speed(), &beads[..hi - lo]) {
+                    let (peak, n, w) = (pair.peak(), pair.law().n, pair.impact_speed());
+                    if self.shallow(peak, n, w, &beads[..hi - lo]) {
                         self.st.shallow_closings += 1;
                     }
                 }
