@@ -275,10 +275,16 @@ velocity = [1.0, 0.0, 0.0]
 until = 6.0
 every = 0.5
 "#;
-    for (text, w, a, t_s, k) in [(slow, 1e-8, 1.0, 1.0, 1), (stiff, 1.0, 1e8, 0.5, 2)] {
+    // (the slow pair only at rtol 1e-8: at 1e-3 its speed is below the tolerance level
+    // 30·atol·V = 3e-4, where closings are left to θ, docs/engines.md)
+    let cases = [
+        (slow, 1e-8, 1.0, 1.0, 1, 1e-8),
+        (stiff, 1.0, 1e8, 0.5, 2, 1e-3),
+    ];
+    for (text, w, a, t_s, k, loosest) in cases {
         let sc = beadchain::scene::parse_str(text, std::path::Path::new("."), "s.toml").unwrap();
         let (d_max, t_c) = collision(0.5, w, 2.5, a);
-        for rtol in [1e-3, 1e-8] {
+        for rtol in [loosest, 1e-8] {
             let mut cfg = config(
                 Engine::Hybrid,
                 Method::Auto,
