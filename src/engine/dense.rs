@@ -45,6 +45,9 @@ pub struct DenseEngine<'a> {
     stats_base: (crate::integrate::Stats, u64),
     start: Instant,
     buf: Vec<f64>,
+    /// Scratch of [`dissipated_at`] (`3N`); a cell, as [`Engine::outcome`] reads the dissipated
+    /// energy through `&self` too.
+    diss_scratch: std::cell::RefCell<Vec<f64>>,
     pause: PauseAt,
     /// The clock before a [`Stop::Frame`] moved it to the frame (restored by the next advance).
     paused_clock: Option<f64>,
@@ -94,6 +97,7 @@ impl<'a> DenseEngine<'a> {
             stats_base: Default::default(),
             start: Instant::now(),
             buf: vec![0.0; 2 * n],
+            diss_scratch: std::cell::RefCell::new(vec![0.0; 3 * n]),
             pause: PauseAt::default(),
             paused_clock: None,
             fall: chain.free_fall(),
@@ -122,7 +126,8 @@ impl<'a> DenseEngine<'a> {
 
     /// Dissipated energy at `t` (within the last step).
     fn dissipated(&self, t: f64) -> f64 {
-        self.diss_base + dissipated_at(&*self.integ, &self.sys(), t)
+        let scratch = &mut *self.diss_scratch.borrow_mut();
+        self.diss_base + dissipated_at(&*self.integ, &self.sys(), t, scratch)
     }
 
     /// Emits the frames due up to `min(integ.t(), until)`; `Some(Stop::Frame)` right after
