@@ -555,6 +555,10 @@ pub fn weighted_max_norm(
     }
 }
 
+#[cfg(test)]
+#[path = "renew_tests.rs"]
+mod renew_tests;
+
 /// Shared helpers of the integrators' unit tests.
 #[cfg(test)]
 pub(crate) mod test_util {
