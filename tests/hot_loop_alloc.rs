@@ -126,3 +126,55 @@ fn radau5_and_verlet_integrators_are_renewed_not_rebuilt() {
     }
     assert!(grew.is_empty(), "{grew:#?}");
 }
+
+/// Twenty beads in a box, masses alternating 1 and 1e-3, with damped contacts: the light beads'
+/// fast modes are damped out within each collision, so most clusters turn stiff and the
+/// `auto` method switches them to Radau IIA.
+const STIFF_DIMER_GAS: &str = r#"
+[scene]
+name = "stiff_dimer_gas"
+seed = 3
+[chain]
+beads = 20
+mass = [1.0, 0.001, 1.0, 0.001, 1.0, 0.001, 1.0, 0.001, 1.0, 0.001, 1.0, 0.001, 1.0, 0.001, 1.0, 0.001, 1.0, 0.001, 1.0, 0.001]
+precompression = -0.2
+law = "viscoelastic"
+damping = 0.1
+[initial]
+velocity = { random = { mean = 0.0, eps = 1.0 } }
+[walls]
+left = { exponent = 2.5, prefactor = 1.0, precompression = -0.2 }
+right = { exponent = 2.5, prefactor = 1.0, precompression = -0.2 }
+[run]
+until = 100.0
+"#;
+
+/// Regression (defect 3 of the allocation audit): `Auto::renew` dropped the Radau IIA it had
+/// built, so every reused `auto` integrator that turned stiff built a new one (~40 allocations
+/// per switch). Measured with this test before the fix (allocation calls, to t = 30 and to
+/// t = 90): 1982 (174 events, 4342 implicit steps) and 3904 (416, 9366). After: 757 and 759.
+#[test]
+fn auto_keeps_its_radau5_when_renewed() {
+    let s = scene(STIFF_DIMER_GAS);
+    let mut runs = Vec::new();
+    for until in [30.0, 90.0] {
+        let cfg = config(Engine::Hybrid, Method::Auto, 1e-8, 1e-12, until);
+        let (calls, out, _) = counted(&s, &cfg);
+        runs.push((calls, out.events_total(), out.implicit_steps));
+    }
+    let ((c1, e1, i1), (c2, e2, i2)) = (runs[0], runs[1]);
+    println!(
+        "{c1} allocation calls with {e1} events and {i1} implicit steps, {c2} with {e2} and {i2}"
+    );
+    assert!(e2 >= e1 + 150, "{e1} events to t = 30, {e2} to t = 90");
+    assert!(
+        i2 >= i1 + 2000,
+        "{i1} implicit steps to t = 30, {i2} to t = 90"
+    );
+    // abs tol 40 calls (allocator, queue and integrator pool growth), far below one per
+    // switch to the implicit method
+    assert!(
+        c2 <= c1 + 40,
+        "{c1} allocation calls with {e1} events and {i1} implicit steps, {c2} with {e2} and {i2}"
+    );
+}
