@@ -134,16 +134,17 @@ pub fn fragmentation(chain: &Chain, u: &[f64], v: &[f64], gap_tol: f64) -> Fragm
 /// The fragments of a state of a chain without field and walls in which no pair can ever
 /// collide again (module docs); `None` when some contact overlaps or approaches. The caller
 /// checks that the chain has no field and no walls (a field or a wall can always bring beads
-/// back).
+/// back). Whether it has fragmented is tested first, so that a state that has not (every frame
+/// but the last of the run stop) allocates nothing.
 pub fn final_fragments(chain: &Chain, u: &[f64], v: &[f64]) -> Option<Vec<Fragment>> {
+    if !fragmented_for_good(chain, u, v) {
+        return None;
+    }
     let n = v.len();
     let mut fragments = Vec::new();
     let mut first = 0;
     for c in 0..n.saturating_sub(1) {
         let delta = chain.overlap(c, u[c], u[c + 1]);
-        if delta > 0.0 || v[c] > v[c + 1] {
-            return None;
-        }
         let joined = delta == 0.0 && v[c] == v[c + 1];
         if !joined {
             fragments.push(fragment(chain, v, first, c));
@@ -154,6 +155,13 @@ pub fn final_fragments(chain: &Chain, u: &[f64], v: &[f64]) -> Option<Vec<Fragme
         fragments.push(fragment(chain, v, first, n - 1));
     }
     Some(fragments)
+}
+
+/// The predicate of [`final_fragments`]: no contact overlaps (`δ > 0`) or approaches
+/// (`v_i > v_{i+1}`).
+fn fragmented_for_good(chain: &Chain, u: &[f64], v: &[f64]) -> bool {
+    let blocked = |c: usize| chain.overlap(c, u[c], u[c + 1]) > 0.0 || v[c] > v[c + 1];
+    !(0..v.len().saturating_sub(1)).any(blocked)
 }
 
 /// Where a run stopped because it fragmented ([`run_until_fragmented`]): the frame time and the
@@ -182,12 +190,14 @@ pub fn run_until_fragmented(
         frames: true,
         events: false,
     });
+    // the state at each frame, in one allocation (hot loops allocation-free)
+    let mut s = e.state();
     loop {
         match e.advance(cfg.until, obs)? {
             Stop::Reached { .. } => return Ok((e.outcome(), None)),
             Stop::Requested { t } => return Err(EngineError::Interrupted(t)),
             Stop::Frame { t } => {
-                let s = e.state();
+                e.state_into(&mut s);
                 if let Some(fragments) = final_fragments(&scene.chain, &s.u, &s.v) {
                     return Ok((e.outcome(), Some(Fragmented { t, fragments })));
                 }

@@ -233,19 +233,32 @@ impl Engine for DenseEngine<'_> {
 
     fn state(&self) -> State {
         let n = self.scene.chain.len();
-        let mut z = vec![0.0; 2 * n];
+        let mut s = State {
+            t: 0.0,
+            u: Vec::with_capacity(2 * n),
+            v: Vec::with_capacity(n),
+        };
+        self.state_into(&mut s);
+        s
+    }
+
+    /// The whole state `z = (u, v)` is evaluated into `s.u` (`2N`), then its velocities moved
+    /// to `s.v`.
+    fn state_into(&self, s: &mut State) {
+        let n = self.scene.chain.len();
+        let z = &mut s.u;
+        z.clear();
+        z.resize(2 * n, 0.0);
         if self.clock == self.integ.t() {
             z.copy_from_slice(self.integ.state());
         } else {
-            self.integ.dense(self.clock, &mut z);
+            self.integ.dense(self.clock, z);
         }
-        shift_fall(self.fall.0, self.clock, &mut z, 1.0);
-        let v = z.split_off(n);
-        State {
-            t: self.clock,
-            u: z,
-            v,
-        }
+        shift_fall(self.fall.0, self.clock, z, 1.0);
+        s.v.clear();
+        s.v.extend_from_slice(&z[n..]);
+        z.truncate(n);
+        s.t = self.clock;
     }
 
     fn set_velocities(&mut self, v: &[f64]) -> Result<(), EngineError> {
