@@ -12,10 +12,12 @@ mod counting_alloc;
 use beadchain::analysis;
 use beadchain::engine::{self, EngineError, Observer, RunConfig, RunOutcome};
 use beadchain::integrate::Method;
+use beadchain::progress::{RunProgress, REDRAW, SAMPLE_CALLS};
 use beadchain::scene::{parse_str, Engine, Scene};
 use common::{config, striker};
 use counting_alloc::calls_of;
 use std::path::Path;
+use std::time::Duration;
 
 /// Drops frames: the engine's own allocations are what is counted.
 #[derive(Default)]
@@ -213,4 +215,36 @@ fn stop_when_fragmented_allocates_nothing_per_frame() {
         }
     }
     assert!(grew.is_empty(), "{grew:#?}");
+}
+
+/// Regression (defect 5 of the allocation audit): a hidden progress bar (`-q`, or standard
+/// error not a terminal) still formatted its message (the text and the ETA) at every redraw,
+/// i.e. every [`SAMPLE_CALLS`] engine steps once [`REDRAW`] had passed. Driven here as an
+/// engine drives it, one `control` call per step, with a pause longer than `REDRAW` before each
+/// batch of `SAMPLE_CALLS` calls: each batch would redraw a visible bar. Measured with this test
+/// before the fix (allocation calls): 6 in 2 redraw periods, 18 in 6. After: 0 and 0.
+#[test]
+fn hidden_progress_bar_formats_nothing() {
+    let bar = RunProgress::hidden();
+    let mut inner = Drop::default();
+    let mut watch = bar.watch(&mut inner, 0.0, 10.0, "hybrid ");
+    let mut runs = Vec::new();
+    for redraws in [2, 6] {
+        let ((), calls) = calls_of(|| {
+            for k in 0..redraws {
+                std::thread::sleep(REDRAW + Duration::from_millis(5));
+                for _ in 0..SAMPLE_CALLS {
+                    watch.control(k as f64);
+                }
+            }
+        });
+        runs.push(calls);
+    }
+    let (c1, c2) = (runs[0], runs[1]);
+    println!("{c1} allocation calls in 2 redraw periods, {c2} in 6");
+    // abs tol 2 calls (none expected: a hidden bar draws nothing)
+    assert!(
+        c2 <= c1 + 2,
+        "{c1} allocation calls in 2 redraw periods, {c2} in 6"
+    );
 }
