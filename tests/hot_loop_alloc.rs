@@ -14,9 +14,14 @@ use beadchain::engine::{self, EngineError, Observer, RunConfig, RunOutcome};
 use beadchain::integrate::Method;
 use beadchain::progress::{RunProgress, REDRAW, SAMPLE_CALLS};
 use beadchain::scene::{parse_str, Engine, Scene};
+use beadchain::snapshot::ckpt::{read_checkpoint, write_checkpoint};
+use beadchain::snapshot::sink::{CheckpointPolicy, SnapshotSink};
+use beadchain::snapshot::{Header, SnapshotWriter};
 use common::{config, striker};
 use counting_alloc::calls_of;
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 use std::time::Duration;
 
 /// Drops frames: the engine's own allocations are what is counted.
@@ -246,5 +251,81 @@ fn hidden_progress_bar_formats_nothing() {
     assert!(
         c2 <= c1 + 2,
         "{c1} allocation calls in 2 redraw periods, {c2} in 6"
+    );
+}
+
+/// A hundred beads with gaps between them in a box of soft walls, at random velocities: many
+/// clusters at once once they collide.
+const GAS: &str = r#"
+[scene]
+name = "gas"
+seed = 5
+[chain]
+beads = 100
+precompression = -0.2
+[initial]
+velocity = { random = { mean = 0.0, eps = 1.0 } }
+[walls]
+left = { exponent = 2.5, prefactor = 1.0, precompression = -0.2 }
+right = { exponent = 2.5, prefactor = 1.0, precompression = -0.2 }
+[run]
+until = 100.0
+"#;
+
+/// Regression (defect 6 of the allocation audit): a checkpoint cloned the engine state a second
+/// time (after [`engine::Engine::save`], into the checkpoint record), and the scene and the
+/// run configuration, and built the scene's named record again. The allocation calls of
+/// writing a checkpoint now do not grow with the engine state: checkpoints of the gas at
+/// `t = 0` (no cluster) and at `t = 3` (many), whose clones differ by many allocations, cost
+/// the same but for the payload's growth. Measured with this test before the fix (allocation
+/// calls of a checkpoint, of the state's clone): 80 (8) at t = 0, 157 (81) at t = 3. After: 31
+/// and 35.
+#[test]
+fn checkpoint_does_not_clone_the_engine_state() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let s = scene(GAS);
+    let cfg = config(Engine::Hybrid, Method::Auto, 1e-8, 1e-12, 100.0);
+    let header = Header::new(
+        s.clone(),
+        cfg.engine,
+        cfg.method,
+        cfg.rtol,
+        cfg.atol,
+        "t".into(),
+    );
+    let writer = SnapshotWriter::create(&dir.path().join("gas.snap"), &header).expect("writer");
+    let stop = Arc::new(AtomicBool::new(false));
+    let policy = CheckpointPolicy::new(None, stop);
+    let ckpt = dir.path().join("gas.snap.ckpt");
+    let mut sink = SnapshotSink::new(writer, ckpt, policy, (&s, &cfg), false);
+    let mut e = engine::start(&s, &cfg).expect("starts");
+    let mut states = vec![e.save()];
+    e.advance(3.0, &mut Drop::default()).expect("runs");
+    states.push(e.save());
+    // a first checkpoint: what the first write allocates once is not counted
+    sink.checkpoint(&states[0]).expect("checkpoint written");
+    let mut runs = Vec::new();
+    for st in &states {
+        let (_, clone) = calls_of(|| st.clone());
+        let (r, calls) = calls_of(|| sink.checkpoint(st));
+        r.expect("checkpoint written");
+        runs.push((calls, clone));
+        // the file holds these parts, in the bytes of their `CheckpointFile`
+        let bytes = std::fs::read(&sink.ckpt_path).expect("reads");
+        let ck = read_checkpoint(&sink.ckpt_path).expect("decodes");
+        assert_eq!((&ck.engine, &ck.config, ck.timing), (st, &cfg, false));
+        let again = dir.path().join("again.ckpt");
+        write_checkpoint(&again, &ck).expect("writes");
+        assert_eq!(std::fs::read(&again).expect("reads"), bytes);
+    }
+    let ((c1, k1), (c2, k2)) = (runs[0], runs[1]);
+    println!(
+        "checkpoint: {c1} allocation calls (state clone: {k1}) at t = 0, {c2} ({k2}) at t = 3"
+    );
+    assert!(k2 >= k1 + 50, "clones of {k1} and {k2} allocation calls");
+    // abs tol 8 calls: the payload's doublings, far below the clone's difference
+    assert!(
+        c2 <= c1 + 8,
+        "checkpoint: {c1} allocation calls (clone {k1}) at t = 0, {c2} ({k2}) at t = 3"
     );
 }
