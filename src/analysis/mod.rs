@@ -52,7 +52,8 @@ pub use interface::{
     energy_split, velocity_ratio, EnergySplit, PeakWatch, RatioError, SampledPeak, VelocityRatio,
 };
 pub use state::{
-    final_fragments, fragmentation, is_steady_state, Fragment, Fragmentation, SteadyStateStop,
+    final_fragments, fragmentation, is_steady_state, run_until_fragmented, Fragment, Fragmentation,
+    Fragmented, SteadyStateStop,
 };
 pub use summary::{summarize, Summary, SummaryError, SummaryOptions};
 pub use wave::{

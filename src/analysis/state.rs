@@ -22,8 +22,10 @@
 //! joined by touching contacts at equal velocity, each with its total mass and centre-of-mass
 //! velocity ([`final_fragments`]).
 
-use crate::engine::{Control, EngineError, EngineState, Observer};
+use crate::engine::{self, Control, EngineError, EngineState, Observer, PauseAt, RunConfig};
+use crate::engine::{RunOutcome, Stop};
 use crate::model::Chain;
+use crate::scene::Scene;
 
 /// The appendix-A steady-state predicate (`rel` = 1e-5 in the paper).
 pub fn is_steady_state(chain: &Chain, u: &[f64], v: &[f64], rel: f64) -> bool {
@@ -132,16 +134,17 @@ pub fn fragmentation(chain: &Chain, u: &[f64], v: &[f64], gap_tol: f64) -> Fragm
 /// The fragments of a state of a chain without field and walls in which no pair can ever
 /// collide again (module docs); `None` when some contact overlaps or approaches. The caller
 /// checks that the chain has no field and no walls (a field or a wall can always bring beads
-/// back).
+/// back). Whether it has fragmented is tested first, so that a state that has not (every frame
+/// but the last of the run stop) allocates nothing.
 pub fn final_fragments(chain: &Chain, u: &[f64], v: &[f64]) -> Option<Vec<Fragment>> {
+    if !fragmented_for_good(chain, u, v) {
+        return None;
+    }
     let n = v.len();
     let mut fragments = Vec::new();
     let mut first = 0;
     for c in 0..n.saturating_sub(1) {
         let delta = chain.overlap(c, u[c], u[c + 1]);
-        if delta > 0.0 || v[c] > v[c + 1] {
-            return None;
-        }
         let joined = delta == 0.0 && v[c] == v[c + 1];
         if !joined {
             fragments.push(fragment(chain, v, first, c));
@@ -152,6 +155,56 @@ pub fn final_fragments(chain: &Chain, u: &[f64], v: &[f64]) -> Option<Vec<Fragme
         fragments.push(fragment(chain, v, first, n - 1));
     }
     Some(fragments)
+}
+
+/// The predicate of [`final_fragments`]: no contact overlaps (`δ > 0`) or approaches
+/// (`v_i > v_{i+1}`).
+fn fragmented_for_good(chain: &Chain, u: &[f64], v: &[f64]) -> bool {
+    let blocked = |c: usize| chain.overlap(c, u[c], u[c + 1]) > 0.0 || v[c] > v[c + 1];
+    !(0..v.len().saturating_sub(1)).any(blocked)
+}
+
+/// Where a run stopped because it fragmented ([`run_until_fragmented`]): the frame time and the
+/// fragments.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fragmented {
+    /// Time of the frame at which no pair can collide again.
+    pub t: f64,
+    /// The fragments, left to right.
+    pub fragments: Vec<Fragment>,
+}
+
+/// Runs `scene` to `cfg.until` or to the first output frame at which it has fragmented for
+/// good ([`final_fragments`] on the frame's state, exact at a frame: [`engine::Engine::state`]
+/// right after a [`Stop::Frame`]); `run --stop-when-fragmented`. The caller checks that the
+/// chain has no field and no walls. The engine is driven through its steppable API, pausing at
+/// frames only ([`PauseAt`]: pausing changes no byte of the run), so a run that never fragments
+/// hands `obs` what [`engine::run`] does.
+pub fn run_until_fragmented(
+    scene: &Scene,
+    cfg: &RunConfig,
+    obs: &mut dyn Observer,
+) -> Result<(RunOutcome, Option<Fragmented>), EngineError> {
+    let mut e = engine::start(scene, cfg)?;
+    e.pause_at(PauseAt {
+        frames: true,
+        events: false,
+    });
+    // the state at each frame, in one allocation (hot loops allocation-free)
+    let mut s = e.state();
+    loop {
+        match e.advance(cfg.until, obs)? {
+            Stop::Reached { .. } => return Ok((e.outcome(), None)),
+            Stop::Requested { t } => return Err(EngineError::Interrupted(t)),
+            Stop::Frame { t } => {
+                e.state_into(&mut s);
+                if let Some(fragments) = final_fragments(&scene.chain, &s.u, &s.v) {
+                    return Ok((e.outcome(), Some(Fragmented { t, fragments })));
+                }
+            }
+            Stop::Event { .. } => {}
+        }
+    }
 }
 
 /// Beads `first..=last` as one fragment: total mass and centre-of-mass velocity.

@@ -1,32 +1,24 @@
 //! `run --stop-when-fragmented`: the run ends at the first output frame at which no pair of beads
 //! can ever collide again, and the fragments are printed.
 //!
-//! The test is [`beadchain::analysis::final_fragments`] on the frame's state (exact at a frame:
-//! [`beadchain::engine::Engine::state`] right after a [`Stop::Frame`]): every contact open
+//! The run is [`beadchain::analysis::run_until_fragmented`]: the test is
+//! [`beadchain::analysis::final_fragments`] on each frame's state, every contact open
 //! (`δ < 0`), or touching (`δ = 0`) and not approaching, and `v_i ≤ v_{i+1}` along the chain.
 //! It needs a chain without field and walls (either can bring beads together again), so such
-//! scenes are refused before any file is written. The engine is driven through its steppable
-//! API, pausing at frames only ([`PauseAt`]: pausing changes no byte of the run), so a run that
-//! never fragments writes the same snapshot as without the option. When it stops, the frame at
-//! that time is the snapshot's last frame and the snapshot is finished as usual (its run summary
-//! has `t_end` = that time and a note saying why it ended).
+//! scenes are refused before any file is written ([`check_scene`]). The engine pauses at frames
+//! only (pausing changes no byte of the run), so a run that never fragments writes the same
+//! snapshot as without the option. When it stops, the frame at that time is the snapshot's last
+//! frame and the snapshot is finished as usual (its run summary has `t_end` = that time and a
+//! note saying why it ended).
 
 use anyhow::{bail, Result};
-use beadchain::analysis::{final_fragments, Fragment};
-use beadchain::engine::{self, EngineError, Observer, PauseAt, RunConfig, RunOutcome, Stop};
+use beadchain::analysis::Fragmented;
+use beadchain::engine::RunConfig;
 use beadchain::scene::Scene;
 use std::io::Write;
 
 /// Fragments printed one per line; beyond this, their count.
 const PRINT_AT_MOST: usize = 100;
-
-/// Where a run stopped because it fragmented: the frame time and the fragments.
-pub struct Fragmented {
-    /// Time of the frame at which no pair can collide again.
-    pub t: f64,
-    /// The fragments, left to right.
-    pub fragments: Vec<Fragment>,
-}
 
 /// Why the last frame of a run that never fragmented is not fragmented: contacts that overlap,
 /// contacts whose velocities decrease (`v_i > v_{i+1}`), and the largest such decrease.
@@ -72,32 +64,6 @@ pub fn check_scene(spec: &str, scene: &Scene) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// Runs `scene` to `cfg.until` or to the first frame where it has fragmented for good.
-pub fn run(
-    scene: &Scene,
-    cfg: &RunConfig,
-    obs: &mut dyn Observer,
-) -> Result<(RunOutcome, Option<Fragmented>), EngineError> {
-    let mut e = engine::start(scene, cfg)?;
-    e.pause_at(PauseAt {
-        frames: true,
-        events: false,
-    });
-    loop {
-        match e.advance(cfg.until, obs)? {
-            Stop::Reached { .. } => return Ok((e.outcome(), None)),
-            Stop::Requested { t } => return Err(EngineError::Interrupted(t)),
-            Stop::Frame { t } => {
-                let s = e.state();
-                if let Some(fragments) = final_fragments(&scene.chain, &s.u, &s.v) {
-                    return Ok((e.outcome(), Some(Fragmented { t, fragments })));
-                }
-            }
-            Stop::Event { .. } => {}
-        }
-    }
 }
 
 /// The snapshot note of a run that stopped because it fragmented.

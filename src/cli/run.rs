@@ -108,7 +108,11 @@ pub fn cmd_run(a: RunArgs) -> Result<i32> {
             bar.finish();
             return r;
         }
-        let r = super::fragments::run(&scene, &cfg, &mut bar.watch(s, 0.0, cfg.until, ""));
+        let r = beadchain::analysis::run_until_fragmented(
+            &scene,
+            &cfg,
+            &mut bar.watch(s, 0.0, cfg.until, ""),
+        );
         bar.finish();
         let (out, f) = r?;
         if let Some(f) = &f {
@@ -153,7 +157,7 @@ fn report(
     out_path: &Path,
     (scene, cfg): (&Scene, &RunConfig),
     out: &RunOutcome,
-    fragmented: Option<&Option<super::fragments::Fragmented>>,
+    fragmented: Option<&Option<beadchain::analysis::Fragmented>>,
 ) -> Result<()> {
     let to_stream = beadchain::files::classify_output(out_path)
         .is_ok_and(|k| k == beadchain::files::OutputKind::Stream);

@@ -45,6 +45,9 @@ pub struct DenseEngine<'a> {
     stats_base: (crate::integrate::Stats, u64),
     start: Instant,
     buf: Vec<f64>,
+    /// Scratch of [`dissipated_at`] (`3N`); a cell, as [`Engine::outcome`] reads the dissipated
+    /// energy through `&self` too.
+    diss_scratch: std::cell::RefCell<Vec<f64>>,
     pause: PauseAt,
     /// The clock before a [`Stop::Frame`] moved it to the frame (restored by the next advance).
     paused_clock: Option<f64>,
@@ -94,6 +97,7 @@ impl<'a> DenseEngine<'a> {
             stats_base: Default::default(),
             start: Instant::now(),
             buf: vec![0.0; 2 * n],
+            diss_scratch: std::cell::RefCell::new(vec![0.0; 3 * n]),
             pause: PauseAt::default(),
             paused_clock: None,
             fall: chain.free_fall(),
@@ -122,7 +126,8 @@ impl<'a> DenseEngine<'a> {
 
     /// Dissipated energy at `t` (within the last step).
     fn dissipated(&self, t: f64) -> f64 {
-        self.diss_base + dissipated_at(&*self.integ, &self.sys(), t)
+        let scratch = &mut *self.diss_scratch.borrow_mut();
+        self.diss_base + dissipated_at(&*self.integ, &self.sys(), t, scratch)
     }
 
     /// Emits the frames due up to `min(integ.t(), until)`; `Some(Stop::Frame)` right after
@@ -228,19 +233,32 @@ impl Engine for DenseEngine<'_> {
 
     fn state(&self) -> State {
         let n = self.scene.chain.len();
-        let mut z = vec![0.0; 2 * n];
+        let mut s = State {
+            t: 0.0,
+            u: Vec::with_capacity(2 * n),
+            v: Vec::with_capacity(n),
+        };
+        self.state_into(&mut s);
+        s
+    }
+
+    /// The whole state `z = (u, v)` is evaluated into `s.u` (`2N`), then its velocities moved
+    /// to `s.v`.
+    fn state_into(&self, s: &mut State) {
+        let n = self.scene.chain.len();
+        let z = &mut s.u;
+        z.clear();
+        z.resize(2 * n, 0.0);
         if self.clock == self.integ.t() {
             z.copy_from_slice(self.integ.state());
         } else {
-            self.integ.dense(self.clock, &mut z);
+            self.integ.dense(self.clock, z);
         }
-        shift_fall(self.fall.0, self.clock, &mut z, 1.0);
-        let v = z.split_off(n);
-        State {
-            t: self.clock,
-            u: z,
-            v,
-        }
+        shift_fall(self.fall.0, self.clock, z, 1.0);
+        s.v.clear();
+        s.v.extend_from_slice(&z[n..]);
+        z.truncate(n);
+        s.t = self.clock;
     }
 
     fn set_velocities(&mut self, v: &[f64]) -> Result<(), EngineError> {

@@ -108,6 +108,11 @@ pub trait Engine: Send {
     /// Every bead at [`Engine::time`] (free beads from their analytic flight, cluster beads
     /// from the continuous output).
     fn state(&self) -> State;
+    /// [`Engine::state`] into `s`, in its allocations (a caller reading the state at every
+    /// frame allocates nothing once `s` has held one). Default: a new state.
+    fn state_into(&self, s: &mut State) {
+        *s = self.state();
+    }
     /// Gives every bead the velocity `v` at [`Engine::time`] (displacements unchanged); the
     /// integration restarts there.
     fn set_velocities(&mut self, v: &[f64]) -> Result<(), EngineError>;

@@ -67,7 +67,9 @@ pub struct AutoState {
 /// test. A hybrid run makes a new integrator for every cluster it forms (one per gap event), and
 /// most clusters live a few explicit steps: building and dropping Radau IIA for each of them was
 /// ~10 % of the instructions of a 1000-bead striker run (`valgrind --tool=callgrind`). Building
-/// it later changes no number: [`Integrator::reset`] sets every array a step reads.
+/// it later changes no number: [`Integrator::reset`] sets every array a step reads. A renewed
+/// integrator ([`Integrator::renew`], the hybrid engine's reuse of a removed cluster's) keeps
+/// the Radau IIA it built and renews it at its next switch to it, as it renews DOP853.
 pub struct Auto {
     m: usize,
     tol: Tolerances,
@@ -75,6 +77,9 @@ pub struct Auto {
     dop: Dop853,
     /// Built at the first switch to the implicit method (or by `new`/`load` when implicit).
     radau: Option<Box<Radau5>>,
+    /// `radau` was built or last renewed for another cluster (this integrator was renewed
+    /// since): it is renewed for `m`, `tol` before it is used.
+    radau_stale: bool,
     mode: AutoState,
     stats: Stats,
     /// Scratch, empty until the first stiffness test or switch: state copy at a switch (`2m`),
@@ -91,6 +96,7 @@ impl Auto {
             solver,
             dop: Dop853::new(m, tol),
             radau: None,
+            radau_stale: false,
             mode: AutoState {
                 implicit,
                 ..AutoState::default()
@@ -104,9 +110,15 @@ impl Auto {
         auto
     }
 
-    /// Builds the implicit integrator if it does not exist yet.
+    /// Builds the implicit integrator if it does not exist yet, or renews the one kept from
+    /// another cluster (the integrator `new` builds, in its allocations).
     fn build_radau(&mut self) -> &mut Radau5 {
         let (m, tol, solver) = (self.m, self.tol, self.solver);
+        if std::mem::take(&mut self.radau_stale) {
+            if let Some(r) = self.radau.as_mut() {
+                r.renew(m, tol);
+            }
+        }
         self.radau
             .get_or_insert_with(|| Box::new(Radau5::new(m, tol, solver)))
     }
@@ -319,13 +331,14 @@ impl Integrator for Auto {
         }
     }
 
-    /// DOP853 renewed, Radau IIA dropped (built again at a first switch), the switching state,
-    /// counters and scratch as [`Auto::new`] (explicit) sets them.
+    /// DOP853 renewed, Radau IIA kept and renewed at the next switch to it (built there if
+    /// there is none), the switching state, counters and scratch as [`Auto::new`] (explicit)
+    /// sets them.
     fn renew(&mut self, m: usize, tol: Tolerances) -> bool {
         self.m = m;
         self.tol = tol;
         self.dop.renew(m, tol);
-        self.radau = None;
+        self.radau_stale = self.radau.is_some();
         self.mode = AutoState::default();
         self.stats = Stats::default();
         self.scratch.clear();
@@ -465,6 +478,50 @@ mod tests {
             assert_eq!(bits(a.state()), bits(b.state()));
         }
         assert_eq!(a.save(), b.save(), "after 30 steps");
+        assert_eq!(a.stats(), b.stats());
+    }
+
+    /// A renewed integrator keeps the Radau IIA it built (the same allocation) and renews it at
+    /// its next switch to the implicit method: the switch and the implicit steps after it are
+    /// bit-identical to those of a new integrator, which builds its Radau IIA there.
+    #[test]
+    fn renewed_integrator_switches_with_its_kept_radau_bit_identically() {
+        let (chain6, chain4) = (uniform_chain(6), uniform_chain(4));
+        let (u6, v6) = striker(6, 1.0);
+        let (u4, v4) = striker(4, 0.7);
+        let (sys6, sys4) = (ChainRange::whole(&chain6), ChainRange::whole(&chain4));
+        let mut a = Auto::new(6, tol_of(&chain6, &u6, &v6, 1e-12), SolverKind::Auto, true);
+        a.reset(&sys6, 0.0, &u6, &v6);
+        for _ in 0..20 {
+            a.step(&sys6, 1e4).expect("steps");
+        }
+        let kept: *const Radau5 = &**a.radau.as_ref().expect("built");
+        let tol4 = tol_of(&chain4, &u4, &v4, 1e-12);
+        assert!(a.renew(4, tol4));
+        assert!(
+            a.radau.is_some() && a.radau_stale,
+            "kept by renew, to be renewed"
+        );
+        let mut b = Auto::new(4, tol4, SolverKind::Auto, false);
+        a.reset(&sys4, 0.5, &u4, &v4);
+        b.reset(&sys4, 0.5, &u4, &v4);
+        let bits = |x: &[f64]| x.iter().map(|y| y.to_bits()).collect::<Vec<_>>();
+        for k in 0..40 {
+            if k == 10 {
+                (a.mode.pending, b.mode.pending) = (true, true);
+            }
+            let t = a.step(&sys4, 1e4).expect("steps");
+            assert_eq!(t.to_bits(), b.step(&sys4, 1e4).expect("steps").to_bits());
+            assert_eq!(bits(a.state()), bits(b.state()));
+        }
+        let implicit = a.implicit_steps();
+        assert!(
+            implicit > 0 && implicit == b.implicit_steps(),
+            "{implicit} implicit steps"
+        );
+        let now: *const Radau5 = &**a.radau.as_ref().expect("kept");
+        assert_eq!(now, kept, "the kept Radau IIA, renewed, not a new one");
+        assert_eq!(a.save(), b.save(), "after 40 steps");
         assert_eq!(a.stats(), b.stats());
     }
 

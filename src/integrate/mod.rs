@@ -496,8 +496,15 @@ const GL4: [(f64, f64); 4] = [
 
 /// Energy dissipated since the last reset at `t ∈ [t_prev, t]` of the last step: the value at
 /// the step's ends exactly, inside it the value at `t_prev` plus the 4-point Gauss–Legendre
-/// quadrature of the power along the continuous output (frames only; allocates `2m`).
-pub fn dissipated_at(integ: &dyn Integrator, sys: &dyn System, t: f64) -> f64 {
+/// quadrature of the power along the continuous output. `scratch` holds the state and
+/// accelerations at the nodes: grown to `3m` where shorter, so a caller that keeps it (the
+/// engines' workspaces, sized for the whole chain) allocates nothing.
+pub fn dissipated_at(
+    integ: &dyn Integrator,
+    sys: &dyn System,
+    t: f64,
+    scratch: &mut Vec<f64>,
+) -> f64 {
     let (d0, d1) = integ.dissipated();
     let (t0, t1) = (integ.t_prev(), integ.t());
     if !sys.dissipative() || t >= t1 {
@@ -507,12 +514,17 @@ pub fn dissipated_at(integ: &dyn Integrator, sys: &dyn System, t: f64) -> f64 {
         return d0;
     }
     let m = sys.len();
-    let (mut z, mut acc) = (vec![0.0; 2 * m], vec![0.0; m]);
+    if scratch.len() < 3 * m {
+        scratch.resize(3 * m, 0.0);
+    }
+    // both written before they are read: `dense` sets all `2m` components, `accel` all `m`
+    let (z, acc) = scratch.split_at_mut(2 * m);
+    let acc = &mut acc[..m];
     let h = t - t0;
     let mut sum = 0.0;
     for (x, w) in GL4 {
-        integ.dense(t0 + x * h, &mut z);
-        sum += w * sys.accel(&z[..m], &z[m..], &mut acc);
+        integ.dense(t0 + x * h, z);
+        sum += w * sys.accel(&z[..m], &z[m..], acc);
     }
     d0 + h * sum
 }
@@ -542,6 +554,10 @@ pub fn weighted_max_norm(
         f64::INFINITY
     }
 }
+
+#[cfg(test)]
+#[path = "renew_tests.rs"]
+mod renew_tests;
 
 /// Shared helpers of the integrators' unit tests.
 #[cfg(test)]

@@ -117,6 +117,8 @@ pub struct Radau5 {
     /// Per-bead velocity scales of the system being integrated (refreshed every step).
     vs: Vec<f64>,
     newton_tol: f64,
+    /// The linear solver asked for (`Auto` resolved per size by [`crate::linalg::resolve`]).
+    solver: SolverKind,
     real: Box<dyn TridiagSolver<f64>>,
     cplx: Box<dyn TridiagSolver<Complex64>>,
     t: f64,
@@ -160,7 +162,8 @@ impl Radau5 {
             m,
             tol,
             vs: vec![0.0; m],
-            newton_tol: (10.0 * f64::EPSILON / tol.rtol).max(0.03_f64.min(tol.rtol.sqrt())),
+            newton_tol: newton_tol(tol.rtol),
+            solver: kind,
             real: new_solver::<f64>(kind, m),
             cplx: new_solver::<Complex64>(kind, m),
             t: 0.0,
@@ -323,6 +326,11 @@ impl Radau5 {
         }
         Ok(self.t)
     }
+}
+
+/// The Newton iteration's tolerance at relative tolerance `rtol`.
+fn newton_tol(rtol: f64) -> f64 {
+    (10.0 * f64::EPSILON / rtol).max(0.03_f64.min(rtol.sqrt()))
 }
 
 /// Smallest previous error the predictive controller extrapolates from (Hairer's RADAU5 stores
@@ -506,6 +514,13 @@ impl Integrator for Radau5 {
 
     fn dissipated(&self) -> (f64, f64) {
         self.diss
+    }
+
+    /// Every array resized in place and zeroed, every other field as [`Radau5::new`] sets it,
+    /// the linear solvers prepared for the new size ([`TridiagSolver::pattern`]).
+    fn renew(&mut self, m: usize, tol: Tolerances) -> bool {
+        self.renew_arrays(m, tol);
+        true
     }
 
     fn save(&self) -> IntegratorState {

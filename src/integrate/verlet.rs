@@ -212,6 +212,27 @@ impl Integrator for Verlet {
         self.st.dt
     }
 
+    /// The integrator [`Verlet::new`]`(m, tol)` builds, in the allocations of this one (arrays
+    /// resized in place and zeroed as `new` makes them).
+    fn renew(&mut self, m: usize, tol: Tolerances) -> bool {
+        self.m = m;
+        (self.t, self.t_prev) = (0.0, 0.0);
+        let st = &mut self.st;
+        st.dt = tol.rtol * tol.scales.time();
+        (st.h_once, st.t_grid, st.k) = (None, 0.0, 0);
+        for (v, len) in [
+            (&mut st.z, 2 * m),
+            (&mut st.z_old, 2 * m),
+            (&mut st.acc, m),
+            (&mut st.acc_old, m),
+        ] {
+            v.clear();
+            v.resize(len, 0.0);
+        }
+        self.stats = Stats::default();
+        true
+    }
+
     fn save(&self) -> IntegratorState {
         IntegratorState {
             t: self.t,

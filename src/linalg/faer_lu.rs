@@ -6,7 +6,9 @@
 //!   analysis ([`factorize_symbolic_lu`], COLAMD column ordering) **once**, allocates the scratch
 //!   stack for both numeric factorization and solve, and runs two warm-up numeric factorizations
 //!   (one without and one with a row interchange at every step) so that faer's factor storage
-//!   already has the capacity that later factorizations need;
+//!   already has the capacity that later factorizations need. Called again (a renewed
+//!   integrator), it does all this for another size, and for the same size only forgets the
+//!   last factorization (what it would build is what it has);
 //! - [`TridiagSolver::factorize`] writes `d`, `e` into the existing value array and runs faer's
 //!   numeric simplicial LU with partial pivoting, then checks every pivot (`U` diagonal);
 //! - [`TridiagSolver::solve_in_place`] applies the row permutation and the two triangular solves
@@ -174,6 +176,15 @@ impl<T: Scalar + ComplexField> FaerLu<T> {
 
 impl<T: Scalar + ComplexField> TridiagSolver<T> for FaerLu<T> {
     fn pattern(&mut self, m: usize) {
+        if m == self.m && self.a.is_some() && self.symbolic.is_some() {
+            // The same size again (a renewed integrator, `crate::integrate::Integrator::renew`):
+            // the pattern, its symbolic analysis and the buffers are those this would build,
+            // and a factorization reads none of the last one's numbers; only that last
+            // factorization is forgotten, as a new solver has none.
+            let (f, i) = self.row_perm.take_arrays();
+            self.row_perm = RowPerm::Raw(f, i);
+            return;
+        }
         self.m = m;
         self.a = None;
         self.symbolic = None;

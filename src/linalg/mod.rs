@@ -85,7 +85,9 @@ pub struct SingularMatrix {
 
 /// A solver for symmetric tridiagonal systems `A x = b`, `A = tridiag(e, d, e)`.
 pub trait TridiagSolver<T: Scalar>: Send {
-    /// Prepares for systems of size `m` (symbolic analysis, buffers). Called once per size.
+    /// Prepares for systems of size `m` (symbolic analysis, buffers): by [`new_solver`], and
+    /// again by a renewed integrator for its new size (the same size included); the solver
+    /// then factorizes and solves as a new one of size `m` does, bit for bit.
     fn pattern(&mut self, m: usize);
     /// Numeric factorization of `A` with diagonal `d` (length `m`) and off-diagonal `e`
     /// (length `m − 1`).
@@ -150,13 +152,19 @@ pub fn resolve_auto(m: usize) -> SolverKind {
     SolverKind::Direct
 }
 
+/// The kind of solver [`new_solver`] builds for `kind` at size `m` (`Auto` resolved by
+/// [`resolve_auto`]).
+pub fn resolve(kind: SolverKind, m: usize) -> SolverKind {
+    match kind {
+        SolverKind::Auto => resolve_auto(m),
+        k => k,
+    }
+}
+
 /// A boxed solver of the requested kind (`Auto` resolved by [`resolve_auto`]) with
 /// [`TridiagSolver::pattern`] already called for size `m`.
 pub fn new_solver<T: SolverScalar>(kind: SolverKind, m: usize) -> Box<dyn TridiagSolver<T>> {
-    let kind = match kind {
-        SolverKind::Auto => resolve_auto(m),
-        k => k,
-    };
+    let kind = resolve(kind, m);
     let mut solver: Box<dyn TridiagSolver<T>> = match kind {
         SolverKind::Faer => Box::new(faer_lu::FaerLu::<T>::new()),
         SolverKind::Direct | SolverKind::Auto => Box::new(direct::DirectSweep::<T>::new()),

@@ -6,6 +6,7 @@
 //! [`CheckpointFile`]. Written atomically (temporary sibling, fsync, rename), so a kill at any
 //! moment leaves the previous checkpoint intact.
 
+use super::record::Value;
 use super::writer::WriterMark;
 use super::{decode_exact, encode, SnapshotError};
 use crate::engine::{EngineState, RunConfig};
@@ -42,8 +43,55 @@ pub struct CheckpointFile {
     pub engine: EngineState,
 }
 
+/// The scene of a run's checkpoints as they store it (its named record,
+/// [`super::header4::scene_as_record`]), built once per run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneRecord(Vec<(String, Value)>);
+
+impl SceneRecord {
+    /// The record of `scene`.
+    pub fn new(scene: &Scene) -> Self {
+        Self(super::header4::scene_record(scene))
+    }
+}
+
+/// A checkpoint by its parts, borrowed from the run that writes it: [`write_checkpoint_parts`]
+/// writes the bytes of the [`CheckpointFile`] of the same parts (the same fields in the same
+/// order, each encoded as its owned form is) without cloning the engine state, the scene or
+/// the configuration.
+#[derive(Serialize)]
+pub struct CheckpointParts<'a> {
+    /// The scene's record.
+    pub scene: &'a SceneRecord,
+    /// The run configuration.
+    pub config: &'a RunConfig,
+    /// Whether wall-clock time goes into the snapshot (`--timing`).
+    pub timing: bool,
+    /// Output snapshot state.
+    pub writer: &'a WriterMark,
+    /// Engine state.
+    pub engine: &'a EngineState,
+}
+
+impl Serialize for SceneRecord {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize(s)
+    }
+}
+
 /// Writes a checkpoint atomically.
 pub fn write_checkpoint(path: &Path, ck: &CheckpointFile) -> Result<(), SnapshotError> {
+    write_payload(path, ck)
+}
+
+/// Writes the checkpoint of `parts` atomically: the file [`write_checkpoint`] writes for the
+/// [`CheckpointFile`] of the same parts, byte for byte.
+pub fn write_checkpoint_parts(path: &Path, parts: &CheckpointParts) -> Result<(), SnapshotError> {
+    write_payload(path, parts)
+}
+
+/// Writes `ck` as a checkpoint file (module docs) atomically.
+fn write_payload<T: Serialize>(path: &Path, ck: &T) -> Result<(), SnapshotError> {
     let payload = encode(ck).map_err(|e| SnapshotError::Encode {
         path: path.to_path_buf(),
         section: "CHECKPOINT",

@@ -331,6 +331,13 @@ fn get_chain(r: &mut RecordReader) -> Result<Chain, RecordError> {
     })
 }
 
+/// The named record of `scene` as a checkpoint stores it ([`scene_as_record`]).
+pub(crate) fn scene_record(scene: &Scene) -> Vec<(String, Value)> {
+    let mut w = RecordWriter::default();
+    put_scene(&mut w, scene);
+    w.finish()
+}
+
 /// `#[serde(with = "scene_as_record")]`: a [`Scene`] stored as its named record (checkpoints).
 pub mod scene_as_record {
     use super::*;
@@ -338,9 +345,7 @@ pub mod scene_as_record {
 
     /// Serializes the record of `scene`.
     pub fn serialize<S: Serializer>(scene: &Scene, s: S) -> Result<S::Ok, S::Error> {
-        let mut w = RecordWriter::default();
-        put_scene(&mut w, scene);
-        w.finish().serialize(s)
+        scene_record(scene).serialize(s)
     }
 
     /// Reads a scene record.

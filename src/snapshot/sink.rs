@@ -4,7 +4,7 @@
 //! ([`super::ckpt`]). The policy is separate from the writing (argmin's habit: checkpointing is
 //! a policy, not an observer's side job), so a run without checkpoints uses the writer alone.
 
-use super::ckpt::{write_checkpoint, CheckpointFile};
+use super::ckpt::{write_checkpoint_parts, CheckpointParts, SceneRecord};
 use super::writer::observer_err;
 use super::{EventRecord, SnapshotWriter};
 use crate::engine::{Control, EngineError, EngineState, Observer, RunConfig};
@@ -61,7 +61,8 @@ pub struct SnapshotSink {
     /// Where checkpoints go (`OUT.ckpt`).
     pub ckpt_path: PathBuf,
     policy: CheckpointPolicy,
-    scene: Scene,
+    /// The scene's record, built once for every checkpoint of the run.
+    scene: SceneRecord,
     cfg: RunConfig,
     /// Whether wall-clock time goes into the snapshot (`--timing`).
     pub timing: bool,
@@ -92,7 +93,7 @@ impl SnapshotSink {
             writer,
             ckpt_path,
             policy,
-            scene: scene.clone(),
+            scene: SceneRecord::new(scene),
             cfg: cfg.clone(),
             timing,
             wrote_checkpoint: false,
@@ -135,14 +136,15 @@ impl Observer for SnapshotSink {
             )));
         }
         let mark = self.writer.mark().map_err(observer_err)?;
-        let ck = CheckpointFile {
-            scene: self.scene.clone(),
-            config: self.cfg.clone(),
+        // the parts as they are: the engine state is the caller's (no second copy)
+        let ck = CheckpointParts {
+            scene: &self.scene,
+            config: &self.cfg,
             timing: self.timing,
-            writer: mark,
-            engine: state.clone(),
+            writer: &mark,
+            engine: state,
         };
-        write_checkpoint(&self.ckpt_path, &ck).map_err(observer_err)?;
+        write_checkpoint_parts(&self.ckpt_path, &ck).map_err(observer_err)?;
         self.wrote_checkpoint = true;
         Ok(())
     }

@@ -39,6 +39,10 @@ pub(super) struct Workspace {
     pub(super) ev: Vec<f64>,
     /// Scratch of a cluster's accelerations at a hard collision ([`Hybrid::accel_of`]).
     pub(super) acc: Vec<f64>,
+    /// Scratch of [`crate::integrate::dissipated_at`] (`3N`): a damped merge, a settle, and
+    /// every frame of a damped scene read the dissipated energy inside a step. A cell, as
+    /// frames read it through `&self` ([`Hybrid::dissipated_at`]).
+    pub(super) diss: std::cell::RefCell<Vec<f64>>,
     /// Mass arrays of removed clusters, reused by the next clusters made.
     pub(super) spare_mass: Vec<Vec<f64>>,
     /// Integrators of removed clusters, renewed for the next clusters made
@@ -70,6 +74,7 @@ impl Workspace {
             eu: vec![0.0; n],
             ev: vec![0.0; n],
             acc: Vec::with_capacity(n),
+            diss: std::cell::RefCell::new(vec![0.0; 3 * n]),
             spare_mass: Vec::new(),
             spare: Vec::new(),
             spare_pairs: Vec::new(),

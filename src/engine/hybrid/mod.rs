@@ -500,12 +500,14 @@ impl<'a> Hybrid<'a> {
     fn dissipated_at(&self, t: f64) -> f64 {
         let mut e = self.st.dissipated;
         if self.ctx.chain.is_dissipative() {
+            let diss = &mut *self.ws.diss.borrow_mut();
             for cl in self.clusters.iter() {
                 let sys = cl.sys(
                     self.ctx.fall.1.as_ref().unwrap_or(self.ctx.chain),
                     &self.st.stuck,
                 );
-                e += crate::integrate::dissipated_at(&*cl.integ, &sys, t.min(cl.integ.t()));
+                let t = t.min(cl.integ.t());
+                e += crate::integrate::dissipated_at(&*cl.integ, &sys, t, diss);
             }
         }
         e

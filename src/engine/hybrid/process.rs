@@ -80,7 +80,8 @@ impl Hybrid<'_> {
                 &self.st.stuck,
             );
             let t = t.min(cl.integ.t());
-            self.st.dissipated += crate::integrate::dissipated_at(&*cl.integ, &sys, t);
+            let diss = self.ws.diss.get_mut();
+            self.st.dissipated += crate::integrate::dissipated_at(&*cl.integ, &sys, t, diss);
         }
         self.queue.remove(&Key::Cluster(slot));
         // a wall crossing its step found goes with it (the next owner searches again)
@@ -303,7 +304,8 @@ impl Hybrid<'_> {
             // A few ulps after the step start: too short to integrate (the stage times would
             // coincide); the continuous output is exact to rounding there.
             cl.integ.dense(t, z);
-            self.st.dissipated += crate::integrate::dissipated_at(&*cl.integ, &sys, t);
+            let diss = self.ws.diss.get_mut();
+            self.st.dissipated += crate::integrate::dissipated_at(&*cl.integ, &sys, t, diss);
             cl.integ.reset(&sys, t, &z[..m], &z[m..]);
             return Ok(());
         }

@@ -217,9 +217,26 @@ impl Engine for HybridEngine<'_> {
     }
 
     fn state(&self) -> State {
+        let n = self.h.ctx.n;
+        let mut s = State {
+            t: 0.0,
+            u: Vec::with_capacity(n),
+            v: Vec::with_capacity(n),
+        };
+        self.state_into(&mut s);
+        s
+    }
+
+    fn state_into(&self, s: &mut State) {
         let t = self.h.st.t;
-        let (u, v) = (0..self.h.ctx.n).map(|i| self.h.pos(i, t)).unzip();
-        State { t, u, v }
+        s.t = t;
+        s.u.clear();
+        s.v.clear();
+        for i in 0..self.h.ctx.n {
+            let (u, v) = self.h.pos(i, t);
+            s.u.push(u);
+            s.v.push(v);
+        }
     }
 
     /// Ends every cluster at the clock (their dissipation and counters are kept) and starts the
